@@ -1,0 +1,1 @@
+"""Ecosystem adapters (shapely, trimesh, Open3D, GeoJSON): installed as ``cdt_plugin.adapters``."""
