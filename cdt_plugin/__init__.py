@@ -1,4 +1,5 @@
 """cdt_plugin: constrained Delaunay triangulation and edge flips for NumPy arrays."""
+from .delaunay import delaunay
 from .errors import (
     CDTError,
     FileFormatError,
@@ -8,8 +9,12 @@ from .errors import (
     TooFewPointsError,
 )
 
+from .triangulation import Triangulation
+
 __all__ = [
     "CDTError",
+    "Triangulation",
+    "delaunay",
     "FileFormatError",
     "InputShapeError",
     "InvertedTriangleError",

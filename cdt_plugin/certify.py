@@ -1,0 +1,96 @@
+"""Certificates on a finished triangulation (output arrays only): the Delaunay
+Lemma (2.3) check that every interior edge is locally Delaunay, its weighted
+analogue, and the uniqueness test of Theorem 2.11."""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .predicates import incircle, incircle_weighted, orient2d
+
+
+@njit(cache=True)
+def opposite_vertex(triangles, neighbors, k, m):
+    """The vertex of triangle ``m`` opposite its shared edge with ``k``."""
+    for j in range(3):
+        if neighbors[m, j] == k:
+            return triangles[m, j]
+    return -1
+
+
+@njit(cache=True)
+def edge_lifted_values(vx, vy, vw, weighted, triangles, neighbors):
+    """For every interior edge (listed once): the sign of the exact lifted test of
+    the far vertex against the near triangle (> 0: not locally Delaunay,
+    0: cocircular / lifted-coplanar tie). Returns (k, j, sign) rows."""
+    out = np.empty((3 * triangles.shape[0], 3), np.int64)
+    n = 0
+    for k in range(triangles.shape[0]):
+        a = triangles[k, 0]
+        b = triangles[k, 1]
+        c = triangles[k, 2]
+        for j in range(3):
+            m = neighbors[k, j]
+            if m < 0 or m < k:
+                continue
+            d = opposite_vertex(triangles, neighbors, k, m)
+            if weighted:
+                r = incircle_weighted(vx[a], vy[a], vw[a], vx[b], vy[b], vw[b],
+                                      vx[c], vy[c], vw[c], vx[d], vy[d], vw[d])
+            else:
+                r = incircle(vx[a], vy[a], vx[b], vy[b], vx[c], vy[c], vx[d], vy[d])
+            out[n, 0] = k
+            out[n, 1] = j
+            out[n, 2] = 1 if r > 0 else (-1 if r < 0 else 0)
+            n += 1
+    return out[:n]
+
+
+@njit(cache=True)
+def locate_in_arrays(vx, vy, triangles, neighbors, px, py):
+    """Triangle containing point (px, py) (closed), by a visibility walk over
+    ``neighbors``; -1 if outside the triangulation."""
+    k = 0
+    nt = triangles.shape[0]
+    for _ in range(4 * nt + 16):
+        moved = False
+        for j in range(3):
+            a = triangles[k, (j + 1) % 3]
+            b = triangles[k, (j + 2) % 3]
+            if orient2d(vx[a], vy[a], vx[b], vy[b], px, py) < 0:
+                m = neighbors[k, j]
+                if m < 0:
+                    return -1
+                k = m
+                moved = True
+                break
+        if not moved:
+            return k
+    for k in range(nt):  # safety net: scan
+        inside = True
+        for j in range(3):
+            a = triangles[k, (j + 1) % 3]
+            b = triangles[k, (j + 2) % 3]
+            if orient2d(vx[a], vy[a], vx[b], vy[b], px, py) < 0:
+                inside = False
+        if inside:
+            return k
+    return -1
+
+
+@njit(cache=True)
+def submerged_ok(vx, vy, vw, triangles, neighbors, sx, sy, sw):
+    """For each submerged point: 1 if its lifted point lies on or above the lifted
+    triangulation (so leaving it out is right), else 0."""
+    ok = np.zeros(sx.shape[0], np.int8)
+    for i in range(sx.shape[0]):
+        k = locate_in_arrays(vx, vy, triangles, neighbors, sx[i], sy[i])
+        if k < 0:
+            continue
+        a = triangles[k, 0]
+        b = triangles[k, 1]
+        c = triangles[k, 2]
+        r = incircle_weighted(vx[a], vy[a], vw[a], vx[b], vy[b], vw[b],
+                              vx[c], vy[c], vw[c], sx[i], sy[i], sw[i])
+        ok[i] = 1 if r <= 0 else 0
+    return ok

@@ -1,0 +1,201 @@
+"""Delaunay and weighted Delaunay triangulations of point sets.
+
+Two routes to the same triangulation (unique thanks to the symbolic
+perturbation of Sec. 2.9):
+
+* ``"incremental"``: BRIO/Hilbert insertion order, walking point location,
+  Lawson flips (Sec. 2.5), ghost triangles for the hull;
+* ``"flip"``: the lexicographic triangulation (Sec. 2.1) followed by the flip
+  algorithm (Sec. 2.5).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from numba import njit
+
+from .errors import CDTError
+from .flips import flip_to_delaunay
+from .insertion import OK, insert_vertices, redundant_vertices
+from .kernel import orient
+from .locate import same_point
+from .mesh import IDX, make_first_triangle
+from .ordering import brio_order, lexicographic_order
+from .triangulation import Triangulation
+from .validate import as_points, as_weights
+
+ALGORITHMS = ("incremental", "flip")
+MAX_WEIGHTED_PASSES = 50
+
+
+@njit(cache=True)
+def seed_triangle(x, y, order):
+    """Positions in ``order`` of the 2nd and 3rd vertex of a first, non-degenerate
+    triangle (the 1st is ``order[0]``); -1 where none exists (all points equal,
+    or all collinear)."""
+    n = order.shape[0]
+    p0 = order[0]
+    k1 = -1
+    for k in range(1, n):
+        if not same_point(x, y, p0, order[k]):
+            k1 = k
+            break
+    if k1 < 0:
+        return -1, -1
+    p1 = order[k1]
+    for k in range(k1 + 1, n):
+        if orient(x, y, p0, p1, order[k]) != 0:
+            return k1, k
+    return k1, -1
+
+
+@njit(cache=True)
+def build(x, y, w, weighted, inf, order, hull_only, dup_of, submerged, counts):
+    """Triangulate ``order[0:3]`` (a non-degenerate triangle), then insert the rest.
+    Returns ``(status, tri, twin, ntri)``."""
+    n = order.shape[0]
+    cap = max(4, 2 * n + 2)
+    tri = np.full(3 * cap, -1, IDX)
+    twin = np.full(3 * cap, -1, IDX)
+    a = order[0]
+    b = order[1]
+    c = order[2]
+    if orient(x, y, a, b, c) < 0:
+        b, c = c, b
+    ntri = make_first_triangle(tri, twin, a, b, c, inf)
+    status, ntri = insert_vertices(tri, twin, x, y, w, weighted, inf, order, 3, ntri,
+                                   hull_only, dup_of, submerged, counts)
+    return status, tri, twin, ntri
+
+
+def _merge_weighted_duplicates(pts, w, dup_of, submerged):
+    """Coincident weighted points: the heaviest one stays (its lifted point is
+    lowest), lighter ones are submerged, equal weights are duplicates."""
+    order = np.lexsort((-w, pts[:, 1], pts[:, 0]))
+    p = pts[order]
+    same = np.r_[False, (p[1:] == p[:-1]).all(axis=1)]
+    if not same.any():
+        return np.ones(len(pts), bool)
+    group_start = np.maximum.accumulate(np.where(~same, np.arange(len(p)), 0))
+    head = order[group_start]            # the heaviest of each group (first in order)
+    active = np.zeros(len(pts), bool)
+    active[head] = True
+    later = order[same]
+    lighter = w[later] < w[head[same]]
+    submerged[later[lighter]] = 1
+    dup_of[later[~lighter]] = head[same][~lighter]
+    return active
+
+
+def _reorder_seed_first(order, k1, k2):
+    """Move the seed triangle's vertices to the front of the insertion order."""
+    rest = np.ones(len(order), bool)
+    rest[[0, k1, k2]] = False
+    return np.concatenate([order[[0, k1, k2]], order[rest]])
+
+
+def delaunay(points, weights=None, *, algorithm: str = "incremental", seed: int = 0) -> Triangulation:
+    """Delaunay triangulation of a point set (weighted Delaunay with ``weights``).
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2)
+        The points. Exact duplicates are merged (``vertex_map``).
+    weights : array_like, shape (n,), optional
+        Point weights for the weighted Delaunay triangulation (Sec. 2.8): point
+        ``p`` is lifted to ``|p|^2 - w``. Submerged points appear in no triangle
+        and have ``vertex_map == -1``.
+    algorithm : {"incremental", "flip"}
+        ``"incremental"`` (default): randomised incremental insertion. ``"flip"``:
+        the lexicographic triangulation followed by the flip algorithm; the
+        number of flips is ``stats["flips"]``. Both give the same triangles.
+    seed : int
+        Seed of the random insertion order (the output does not depend on it).
+
+    Returns
+    -------
+    Triangulation
+
+    Examples
+    --------
+    >>> import numpy as np, cdt_plugin
+    >>> tri = cdt_plugin.delaunay([[0, 0], [1, 0], [0, 1], [1, 1], [0, 0]])
+    >>> len(tri.triangles), tri.vertex_map.tolist(), tri.is_delaunay()
+    (2, [0, 1, 2, 3, 0], True)
+    """
+    t0 = time.perf_counter()
+    if algorithm not in ALGORITHMS:
+        raise CDTError(f"algorithm must be one of {ALGORITHMS}, got {algorithm!r}")
+    pts = as_points(points)
+    n = len(pts)
+    w_in = as_weights(weights, n)
+    weighted = w_in is not None
+    if weighted and algorithm == "flip":
+        raise CDTError("algorithm='flip' is for unweighted points: the flip algorithm can get "
+                       "stuck on weighted points (Sec. 2.8); use algorithm='incremental'")
+    x = np.zeros(n + 1)
+    y = np.zeros(n + 1)
+    x[:n] = pts[:, 0]
+    y[:n] = pts[:, 1]
+    w = np.zeros(n + 1)
+    if weighted:
+        w[:n] = w_in
+    dup_of = np.full(n, -1, np.int64)
+    submerged = np.zeros(n, np.int8)
+    active = _merge_weighted_duplicates(pts, w_in, dup_of, submerged) if weighted else None
+    idx = np.flatnonzero(active) if active is not None else None
+
+    if algorithm == "flip":
+        order = lexicographic_order(x[:n], y[:n])
+    elif idx is None:
+        order = brio_order(x[:n], y[:n], seed)
+    else:
+        order = idx[brio_order(x[idx], y[idx], seed)]
+    k1, k2 = seed_triangle(x, y, order)
+    stats = {"algorithm": algorithm, "input_points": n, "flips": 0, "submerged": 0}
+    if k2 < 0:
+        return Triangulation.from_collinear(pts, order, w_in, dup_of, submerged, stats, t0)
+
+    order = _reorder_seed_first(order, k1, k2)
+    for _ in range(MAX_WEIGHTED_PASSES):
+        tri, twin, ntri, counts = _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged)
+        if not weighted:
+            break
+        xi, yi, wi = (np.append(a[order], 0.0) for a in (x, y, w))
+        redundant, unexplained = redundant_vertices(tri, twin, xi, yi, wi, len(order), ntri)
+        if unexplained:  # pragma: no cover - never seen; refuse rather than be wrong
+            raise CDTError(f"internal error: {unexplained} weighted edges could not be made regular")
+        if len(redundant) == 0:
+            break
+        # degenerate leftovers are submerged in the true answer: rebuild without them
+        submerged[order[redundant]] = 1
+        order = order[submerged[order] == 0]
+        k1, k2 = seed_triangle(x, y, order)
+        if k2 < 0:
+            return Triangulation.from_collinear(pts, order, w_in, dup_of, submerged, stats, t0)
+        order = _reorder_seed_first(order, k1, k2)
+    stats["flips"] = int(counts[0])
+    return Triangulation.from_mesh(pts, w_in, tri, twin, ntri, order, dup_of, submerged, stats, t0)
+
+
+def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged):
+    """Triangulate the points ``order`` (seed triangle first) and record
+    duplicates and submerged points in ``dup_of`` / ``submerged`` (input ids).
+    The mesh uses coordinates stored in insertion order: vertex ids that follow
+    the Hilbert curve keep coordinate reads cache-friendly."""
+    m = len(order)
+    xi, yi, wi = (np.append(a[order], 0.0) for a in (x, y, w))
+    dup_int = np.full(m, -1, np.int64)
+    sub_int = np.zeros(m, np.int8)
+    counts = np.zeros(2, np.int64)
+    status, tri, twin, ntri = build(xi, yi, wi, weighted, m, np.arange(m), algorithm == "flip",
+                                    dup_int, sub_int, counts)
+    if status != OK:  # pragma: no cover - a located point always exists
+        raise CDTError(f"internal error: point location failed (status {status})")
+    if algorithm == "flip":
+        counts[0] = flip_to_delaunay(tri, twin, xi, yi, wi, False, m, ntri)
+    is_dup = dup_int >= 0
+    dup_of[order[is_dup]] = order[dup_int[is_dup]]
+    submerged[order[sub_int > 0]] = 1
+    return tri, twin, ntri, counts

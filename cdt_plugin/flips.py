@@ -1,0 +1,58 @@
+"""The flip algorithm (Sec. 2.5): flip edges that are not locally Delaunay until
+none is left. Used after the lexicographic triangulation and after vertices move.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .kernel import edge_is_illegal
+from .mesh import DEAD, flip, nxt, prv
+
+
+@njit(cache=True)
+def flip_to_delaunay(tri, twin, x, y, w, weighted, inf, ntri, max_flips=-1):
+    """Run the flip algorithm with an edge stack over every edge of the
+    triangulation. Returns the number of flips (Prop. 2.5 bounds it by O(n^2)),
+    or -1 when ``max_flips`` (if >= 0) is exceeded."""
+    # No "queued" flags: a flip rewrites the half-edge slots of two triangles,
+    # so a flag per slot would go stale. Pushing duplicates is harmless (each pop
+    # re-tests whatever edge sits in that slot now) and keeps the invariant that
+    # every edge not on the stack is locally Delaunay.
+    m = 3 * ntri
+    stack = np.empty(m + 16, np.int64)
+    sp = 0
+    for e in range(m):
+        if tri[3 * (e // 3)] == DEAD:
+            continue
+        if e < twin[e]:
+            stack[sp] = e
+            sp += 1
+    flips = 0
+    while sp > 0:
+        sp -= 1
+        e = stack[sp]
+        f = twin[e]
+        a = tri[e]
+        b = tri[f]
+        p = tri[prv(e)]
+        d = tri[prv(f)]
+        if not edge_is_illegal(x, y, w, weighted, inf, a, b, p, d):
+            continue
+        if flips == max_flips:
+            return -1
+        flip(tri, twin, e)
+        flips += 1
+        # the four outer edges of the quadrilateral may have become illegal
+        if sp + 4 > stack.shape[0]:
+            bigger = np.empty(2 * stack.shape[0], np.int64)
+            bigger[:sp] = stack[:sp]
+            stack = bigger
+        t1 = 3 * (e // 3)
+        t2 = 3 * (f // 3)
+        stack[sp] = t1
+        stack[sp + 1] = t1 + 1
+        stack[sp + 2] = t2 + 1
+        stack[sp + 3] = t2 + 2
+        sp += 4
+    return flips

@@ -1,0 +1,183 @@
+"""Incremental insertion (Lawson): locate, split, and flip edges until every edge
+is locally Delaunay again (Sec. 2.5; for weighted points the bistellar flips of
+Sec. 2.8 including the 3-1 flip that submerges a vertex)."""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .kernel import edge_is_illegal, lifted_test, orient
+from .locate import INSIDE, ON_EDGE, ON_VERTEX, locate
+from .mesh import DEAD, flip, nxt, prv, remove_degree3, split_edge, split_triangle
+
+# status codes returned by the compiled core
+OK = 0
+LOCATE_FAILED = 1
+
+
+@njit(cache=True)
+def push(stack, sp, e):
+    """Push ``e``; returns the (possibly grown) stack and the new size."""
+    if sp == stack.shape[0]:
+        bigger = np.empty(2 * stack.shape[0], stack.dtype)
+        bigger[:sp] = stack[:sp]
+        stack = bigger
+    stack[sp] = e
+    return stack, sp + 1
+
+
+@njit(cache=True)
+def legalize(tri, twin, x, y, w, weighted, inf, p, stack, sp, hull_only, submerged, counts):
+    """Flip the edges on ``stack`` (each opposite the new vertex ``p``) until they
+    are all locally (weighted) Delaunay. ``counts[0]`` counts 2-2 flips,
+    ``counts[1]`` the vertices submerged by 3-1 flips. With ``hull_only`` only
+    edges at the infinite vertex are flipped (building the lexicographic
+    triangulation of Sec. 2.1). Returns the stack (it may grow)."""
+    while sp > 0:
+        sp -= 1
+        e = stack[sp]
+        if tri[3 * (e // 3)] == DEAD or tri[prv(e)] != p:
+            continue  # this triangle was rewritten by a 3-1 flip
+        a = tri[e]
+        b = tri[nxt(e)]
+        f = twin[e]
+        d = tri[prv(f)]
+        if hull_only and a != inf and b != inf:
+            continue
+        if not edge_is_illegal(x, y, w, weighted, inf, a, b, p, d):
+            continue
+        if weighted and a != inf and b != inf:
+            # a weighted edge can be illegal across a reflex corner: flip only a
+            # convex quadrilateral; a reflex vertex of degree three is submerged
+            oa = orient(x, y, p, a, d)
+            ob = orient(x, y, p, d, b)
+            if oa <= 0 or ob <= 0:
+                if oa <= 0:
+                    g = twin[prv(e)]          # a -> p, in (a, p, ?)
+                    if tri[prv(g)] == d:
+                        n = remove_degree3(tri, twin, nxt(e), nxt(g), prv(f))
+                        submerged[a] = 1
+                        counts[1] += 1
+                        stack, sp = push(stack, sp, n + 2)
+                else:
+                    g = twin[nxt(e)]          # p -> b, in (p, b, ?)
+                    if tri[prv(g)] == d:
+                        n = remove_degree3(tri, twin, prv(e), nxt(f), prv(g))
+                        submerged[b] = 1
+                        counts[1] += 1
+                        stack, sp = push(stack, sp, n + 1)
+                continue
+        e1 = flip(tri, twin, e)
+        counts[0] += 1
+        stack, sp = push(stack, sp, e1)
+        stack, sp = push(stack, sp, 3 * (f // 3) + 1)
+    return stack
+
+
+@njit(cache=True)
+def submerged_at(tri, twin, x, y, w, inf, code, e, q):
+    """For weighted input: whether ``q``, located at ``(code, e)``, lies on or
+    above the lifted triangulation (Sec. 2.8), so that it is not a vertex of the
+    weighted Delaunay triangulation. Points outside the hull never are."""
+    t = 3 * (e // 3)
+    a = tri[t]
+    b = tri[t + 1]
+    c = tri[t + 2]
+    if a == inf or b == inf or c == inf:
+        if code == INSIDE:
+            return False
+        f = twin[e]  # q is on a hull edge: test the real triangle beside it
+        t = 3 * (f // 3)
+        a = tri[t]
+        b = tri[t + 1]
+        c = tri[t + 2]
+    return lifted_test(x, y, w, True, a, b, c, q) < 0
+
+
+@njit(cache=True)
+def insert_vertices(tri, twin, x, y, w, weighted, inf, order, first, ntri,
+                    hull_only, dup_of, submerged, counts):
+    """Insert ``order[first:]`` one by one. Exact duplicates are not inserted:
+    ``dup_of[q]`` receives the vertex they coincide with. Returns
+    ``(status, ntri)``."""
+    stack = np.empty(64, np.int64)
+    last = 0
+    for k in range(first, order.shape[0]):
+        q = order[k]
+        code, e = locate(tri, twin, x, y, inf, q, last, ntri)
+        if code < 0:
+            return LOCATE_FAILED, ntri
+        if code == ON_VERTEX:
+            dup_of[q] = tri[e]
+            continue
+        if weighted and submerged_at(tri, twin, x, y, w, inf, code, e, q):
+            submerged[q] = 1
+            counts[1] += 1
+            continue
+        sp = 0
+        t = e // 3
+        if code == INSIDE:
+            ntri = split_triangle(tri, twin, t, q, ntri)
+            stack, sp = push(stack, sp, 3 * t)
+            stack, sp = push(stack, sp, 3 * (ntri - 2))
+            stack, sp = push(stack, sp, 3 * (ntri - 1))
+        else:
+            t2 = twin[e] // 3
+            ntri = split_edge(tri, twin, e, q, ntri)
+            stack, sp = push(stack, sp, 3 * t)
+            stack, sp = push(stack, sp, 3 * t2)
+            stack, sp = push(stack, sp, 3 * (ntri - 2))
+            stack, sp = push(stack, sp, 3 * (ntri - 1))
+        stack = legalize(tri, twin, x, y, w, weighted, inf, q, stack, sp,
+                         hull_only, submerged, counts)
+        last = t
+        while tri[3 * last] == DEAD:  # killed by a 3-1 flip: any live triangle will do
+            last = (last + ntri - 1) % ntri
+    return OK, ntri
+
+
+@njit(cache=True)
+def redundant_vertices(tri, twin, x, y, w, inf, ntri):
+    """Weighted input, after insertion: vertices the flips could not submerge.
+
+    Lawson/Edelsbrunner-Shah flips leave two degenerate cases behind: a vertex on
+    a straight stretch of the hull, and a reflex vertex lying exactly on the
+    diagonal of a non-convex quadrilateral. Both are redundant when their lifted
+    point lies above the lifted plane of the surrounding triangle (Sec. 2.8).
+    Returns ``(redundant vertex ids, number of illegal edges no rule explains)``.
+    """
+    out = np.empty(16, np.int64)
+    n = 0
+    unexplained = 0
+    for e in range(3 * ntri):
+        if tri[3 * (e // 3)] == DEAD:
+            continue
+        f = twin[e]
+        a = tri[e]
+        b = tri[f]
+        p = tri[prv(e)]
+        d = tri[prv(f)]
+        v = -1
+        if b == inf and p != inf and d != inf:
+            # ghost edge a -> inf: hull p -> a -> d; a straight there?
+            if orient(x, y, p, a, d) == 0:
+                g = twin[prv(e)]        # a -> p in the real triangle (a, p, z)
+                z = tri[prv(g)]
+                if lifted_test(x, y, w, True, d, p, z, a) < 0:
+                    v = a
+        elif a != inf and b != inf and p != inf and d != inf and e < f:
+            if lifted_test(x, y, w, True, a, b, p, d) > 0:
+                if orient(x, y, p, a, d) <= 0 and lifted_test(x, y, w, True, d, b, p, a) < 0:
+                    v = a
+                elif orient(x, y, p, d, b) <= 0 and lifted_test(x, y, w, True, a, d, p, b) < 0:
+                    v = b
+                else:
+                    unexplained += 1
+        if v >= 0:
+            if n == out.shape[0]:
+                bigger = np.empty(2 * n, np.int64)
+                bigger[:n] = out[:n]
+                out = bigger
+            out[n] = v
+            n += 1
+    return np.unique(out[:n]), unexplained

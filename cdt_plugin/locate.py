@@ -1,0 +1,147 @@
+"""Point location by walking (visibility walk over real and ghost triangles)."""
+from __future__ import annotations
+
+from numba import njit
+
+from .kernel import orient
+from .mesh import DEAD, ghost_hull_edge, is_ghost, nxt, prv
+
+INSIDE = 0     # strictly inside the triangle of the returned half-edge
+ON_EDGE = 1    # strictly inside the edge of the returned half-edge
+ON_VERTEX = 2  # at the origin vertex of the returned half-edge
+
+
+@njit(cache=True)
+def same_point(x, y, i, j):
+    return x[i] == x[j] and y[i] == y[j]
+
+
+@njit(cache=True)
+def strictly_between(x, y, u, v, q):
+    """For ``q`` on the line ``u v``: whether it lies strictly between them."""
+    if x[u] != x[v]:
+        return (x[u] < x[q] < x[v]) or (x[v] < x[q] < x[u])
+    return (y[u] < y[q] < y[v]) or (y[v] < y[q] < y[u])
+
+
+@njit(cache=True)
+def beyond_second(x, y, u, v, q):
+    """For ``q`` on the line ``u v`` outside the segment: whether it is past ``v``."""
+    if x[u] != x[v]:
+        return (x[q] > x[v]) if x[u] < x[v] else (x[q] < x[v])
+    return (y[q] > y[v]) if y[u] < y[v] else (y[q] < y[v])
+
+
+@njit(cache=True)
+def classify_in_solid(tri, x, y, t, q, o0, o1, o2):
+    """Where ``q`` lies in solid triangle ``t`` given the three edge orientations
+    (all >= 0): strictly inside, on one edge, or on a vertex."""
+    e = 3 * t
+    zeros = 0
+    for o in (o0, o1, o2):
+        if o == 0:
+            zeros += 1
+    if zeros == 0:
+        return INSIDE, e
+    if zeros == 1:
+        if o0 == 0:
+            return ON_EDGE, e
+        if o1 == 0:
+            return ON_EDGE, e + 1
+        return ON_EDGE, e + 2
+    for k in range(3):
+        if same_point(x, y, tri[e + k], q):
+            return ON_VERTEX, e + k
+    return ON_VERTEX, -1  # unreachable for a valid triangle
+
+
+@njit(cache=True)
+def locate_in_ghost(tri, x, y, inf, t, q):
+    """Test ``q`` against ghost ``t``. Returns ``(code, half-edge)``, or
+    ``(-1, half-edge to cross)`` when ``q`` is elsewhere."""
+    e = ghost_hull_edge(tri, t, inf)
+    u = tri[e]
+    v = tri[nxt(e)]
+    o = orient(x, y, u, v, q)
+    if o > 0:
+        return INSIDE, e
+    if o < 0:
+        return -1, e
+    if same_point(x, y, u, q):
+        return ON_VERTEX, e
+    if same_point(x, y, v, q):
+        return ON_VERTEX, nxt(e)
+    if strictly_between(x, y, u, v, q):
+        return ON_EDGE, e
+    if beyond_second(x, y, u, v, q):
+        return -1, nxt(e)   # cross v -> inf into the next ghost
+    return -1, prv(e)       # cross inf -> u into the previous ghost
+
+
+@njit(cache=True)
+def locate(tri, twin, x, y, inf, q, start, ntri):
+    """Locate vertex ``q``'s position starting from triangle ``start``.
+
+    Returns ``(code, e)`` with code INSIDE / ON_EDGE / ON_VERTEX (see above).
+    A ghost triangle contains the points strictly outside its hull edge.
+    Falls back to a scan of every triangle if the walk runs unusually long
+    (it cannot cycle in a Delaunay triangulation, but the fallback makes the
+    routine safe on any valid triangulation).
+    """
+    t = start
+    came = -1
+    limit = 64 + 4 * ntri
+    for step in range(limit):
+        if is_ghost(tri, t, inf):
+            code, e = locate_in_ghost(tri, x, y, inf, t, q)
+            if code >= 0:
+                return code, e
+            came = twin[e]
+            t = came // 3
+            continue
+        e = 3 * t
+        r = (q + step) % 3
+        moved = False
+        o0 = 1.0
+        o1 = 1.0
+        o2 = 1.0
+        for k in range(3):
+            s = (r + k) % 3
+            ek = e + s
+            if ek == came:
+                continue
+            o = orient(x, y, tri[ek], tri[nxt(ek)], q)
+            if o < 0:
+                came = twin[ek]
+                t = came // 3
+                moved = True
+                break
+            if s == 0:
+                o0 = o
+            elif s == 1:
+                o1 = o
+            else:
+                o2 = o
+        if not moved:
+            return classify_in_solid(tri, x, y, t, q, o0, o1, o2)
+    return locate_by_scan(tri, x, y, inf, q, ntri)
+
+
+@njit(cache=True)
+def locate_by_scan(tri, x, y, inf, q, ntri):
+    """Brute-force location over every live triangle (the walk's safety net)."""
+    for t in range(ntri):
+        if tri[3 * t] == DEAD:
+            continue
+        if is_ghost(tri, t, inf):
+            code, e = locate_in_ghost(tri, x, y, inf, t, q)
+            if code >= 0:
+                return code, e
+            continue
+        e = 3 * t
+        o0 = orient(x, y, tri[e], tri[e + 1], q)
+        o1 = orient(x, y, tri[e + 1], tri[e + 2], q)
+        o2 = orient(x, y, tri[e + 2], tri[e], q)
+        if o0 >= 0 and o1 >= 0 and o2 >= 0:
+            return classify_in_solid(tri, x, y, t, q, o0, o1, o2)
+    return -1, -1

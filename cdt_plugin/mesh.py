@@ -1,0 +1,207 @@
+"""Half-edge triangle store: flat arrays, no geometry.
+
+Triangle ``t`` owns half-edges ``3t, 3t+1, 3t+2`` (mapbox/delaunator style).
+``tri[e]`` is the origin vertex of half-edge ``e``; it runs to ``tri[nxt(e)]``.
+``twin[e]`` is the opposite half-edge in the neighbouring triangle. The
+triangulation is closed by *ghost triangles* that share one infinite vertex
+``inf`` (an index past the last real vertex), so every half-edge has a twin and
+the convex hull is the link of ``inf``. A dead triangle (removed by a 3-1 flip)
+has ``tri[3t] == DEAD``.
+
+These functions only rewire indices; they know nothing of coordinates.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+DEAD = -2
+IDX = np.int32  # storage dtype of vertex and half-edge indices
+
+
+@njit(cache=True, inline="always")
+def nxt(e):
+    """The next half-edge of ``e`` inside its triangle (counter-clockwise)."""
+    return e - 2 if e % 3 == 2 else e + 1
+
+
+@njit(cache=True, inline="always")
+def prv(e):
+    """The previous half-edge of ``e`` inside its triangle."""
+    return e + 2 if e % 3 == 0 else e - 1
+
+
+@njit(cache=True, inline="always")
+def link(twin, e, f):
+    """Make ``e`` and ``f`` twins of each other."""
+    twin[e] = f
+    twin[f] = e
+
+
+@njit(cache=True, inline="always")
+def set_triangle(tri, t, a, b, c):
+    """Write the vertices of triangle ``t`` as ``(a, b, c)`` (counter-clockwise)."""
+    tri[3 * t] = a
+    tri[3 * t + 1] = b
+    tri[3 * t + 2] = c
+
+
+@njit(cache=True)
+def is_ghost(tri, t, inf):
+    """Whether triangle ``t`` has the infinite vertex."""
+    return tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf
+
+
+@njit(cache=True)
+def ghost_hull_edge(tri, t, inf):
+    """The half-edge ``u -> v`` of ghost triangle ``t`` that avoids ``inf``.
+
+    Its twin is the convex-hull edge ``v -> u`` of a real triangle; the outside of
+    the hull lies to the left of ``u -> v``.
+    """
+    e = 3 * t
+    for k in range(3):
+        if tri[e + k] != inf and tri[nxt(e + k)] != inf:
+            return e + k
+    return -1
+
+
+@njit(cache=True)
+def make_first_triangle(tri, twin, a, b, c, inf):
+    """Triangle 0 = (a, b, c) counter-clockwise, closed by three ghosts 1, 2, 3."""
+    set_triangle(tri, 0, a, b, c)
+    # ghost k+1 sits on real half-edge 0+k (u -> v) as (v, u, inf)
+    for k in range(3):
+        u = tri[k]
+        v = tri[nxt(k)]
+        g = k + 1
+        set_triangle(tri, g, v, u, inf)
+        link(twin, k, 3 * g)
+    # ghost (v, u, inf): half-edge u -> inf is 3g+1, inf -> v is 3g+2.
+    # u -> inf of the ghost on edge k pairs with inf -> u of the ghost on the
+    # previous edge (which ends at u).
+    for k in range(3):
+        g = k + 1
+        gp = (k + 2) % 3 + 1
+        link(twin, 3 * g + 1, 3 * gp + 2)
+    return 4
+
+
+@njit(cache=True)
+def flip(tri, twin, e):
+    """Flip the edge of half-edge ``e`` (Sec. 2.5 edge flip).
+
+    ``e = a -> b`` lies in triangle ``(a, b, p)``, its twin in ``(b, a, d)``. They
+    become ``(p, a, d)`` (kept in e's triangle) and ``(p, d, b)`` (in the twin's).
+    Returns the half-edge ``a -> d`` of the first; ``d -> b`` of the second is
+    ``3 * (twin's triangle) + 1``. Both have ``p`` as their opposite vertex.
+    """
+    f = twin[e]
+    t1 = e // 3
+    t2 = f // 3
+    a = tri[e]
+    b = tri[f]
+    p = tri[prv(e)]
+    d = tri[prv(f)]
+    tw_bp = twin[nxt(e)]
+    tw_pa = twin[prv(e)]
+    tw_ad = twin[nxt(f)]
+    tw_db = twin[prv(f)]
+    set_triangle(tri, t1, p, a, d)
+    set_triangle(tri, t2, p, d, b)
+    link(twin, 3 * t1, tw_pa)
+    link(twin, 3 * t1 + 1, tw_ad)
+    link(twin, 3 * t1 + 2, 3 * t2)
+    link(twin, 3 * t2 + 1, tw_db)
+    link(twin, 3 * t2 + 2, tw_bp)
+    return 3 * t1 + 1
+
+
+@njit(cache=True)
+def split_triangle(tri, twin, t, p, ntri):
+    """Split triangle ``t = (a, b, c)`` at new vertex ``p`` into three (1-3 flip).
+
+    ``t`` becomes ``(a, b, p)``; new triangles ``ntri`` and ``ntri+1`` are
+    ``(b, c, p)`` and ``(c, a, p)``. ``p`` is in slot 2 of all three, so the
+    half-edges opposite ``p`` are ``3t``, ``3 ntri`` and ``3 (ntri+1)``.
+    Returns the new triangle count.
+    """
+    e = 3 * t
+    a = tri[e]
+    b = tri[e + 1]
+    c = tri[e + 2]
+    tw_bc = twin[e + 1]
+    tw_ca = twin[e + 2]
+    t1 = ntri
+    t2 = ntri + 1
+    tri[e + 2] = p
+    set_triangle(tri, t1, b, c, p)
+    set_triangle(tri, t2, c, a, p)
+    link(twin, 3 * t1, tw_bc)
+    link(twin, 3 * t2, tw_ca)
+    link(twin, e + 1, 3 * t1 + 2)      # b->p  / p->b
+    link(twin, 3 * t1 + 1, 3 * t2 + 2)  # c->p  / p->c
+    link(twin, 3 * t2 + 1, e + 2)      # a->p  / p->a
+    return ntri + 2
+
+
+@njit(cache=True)
+def split_edge(tri, twin, e, p, ntri):
+    """Split the edge of half-edge ``e = a -> b`` at new vertex ``p`` (2-4 flip).
+
+    ``(a, b, c)`` and ``(b, a, d)`` become ``(c, a, p)``, ``(b, c, p)`` (the new
+    triangle ``ntri``), ``(d, b, p)`` and ``(a, d, p)`` (``ntri + 1``). Every one
+    has ``p`` in slot 2, so the half-edge opposite ``p`` is slot 0. Returns the
+    new triangle count.
+    """
+    f = twin[e]
+    t1 = e // 3
+    t2 = f // 3
+    a = tri[e]
+    b = tri[f]
+    c = tri[prv(e)]
+    d = tri[prv(f)]
+    tw_bc = twin[nxt(e)]
+    tw_ca = twin[prv(e)]
+    tw_ad = twin[nxt(f)]
+    tw_db = twin[prv(f)]
+    t3 = ntri
+    t4 = ntri + 1
+    set_triangle(tri, t1, c, a, p)
+    set_triangle(tri, t3, b, c, p)
+    set_triangle(tri, t2, d, b, p)
+    set_triangle(tri, t4, a, d, p)
+    link(twin, 3 * t1, tw_ca)
+    link(twin, 3 * t3, tw_bc)
+    link(twin, 3 * t2, tw_db)
+    link(twin, 3 * t4, tw_ad)
+    link(twin, 3 * t1 + 1, 3 * t4 + 2)  # a->p / p->a
+    link(twin, 3 * t3 + 1, 3 * t1 + 2)  # c->p / p->c
+    link(twin, 3 * t2 + 1, 3 * t3 + 2)  # b->p / p->b
+    link(twin, 3 * t4 + 1, 3 * t2 + 2)  # d->p / p->d
+    return ntri + 2
+
+
+@njit(cache=True)
+def remove_degree3(tri, twin, o1, o2, o3):
+    """Remove a vertex of degree three (3-1 flip, Sec. 2.8 weighted flips).
+
+    ``o1, o2, o3`` are the three half-edges of the vertex's link (in the three
+    triangles around it), in counter-clockwise order around the removed vertex.
+    The triangle of ``o1`` becomes the union; the other two are marked dead.
+    Returns the half-edge of the new triangle that ``o1`` became.
+    """
+    t1 = o1 // 3
+    a = tri[o1]
+    b = tri[o2]
+    c = tri[o3]
+    w1 = twin[o1]
+    w2 = twin[o2]
+    w3 = twin[o3]
+    tri[3 * (o2 // 3)] = DEAD
+    tri[3 * (o3 // 3)] = DEAD
+    set_triangle(tri, t1, a, b, c)
+    link(twin, 3 * t1, w1)
+    link(twin, 3 * t1 + 1, w2)
+    link(twin, 3 * t1 + 2, w3)
+    return 3 * t1

@@ -1,0 +1,736 @@
+"""Exact geometric predicates: orient2d, incircle and the weighted (lifted) incircle.
+
+Adaptive in the style of Shewchuk 1997 (J. R. Shewchuk, *Adaptive Precision
+Floating-Point Arithmetic and Fast Robust Geometric Predicates*, Discrete Comput.
+Geom. 18, 1997): each predicate first evaluates its determinant in ordinary
+floating point and returns it when its magnitude exceeds a rigorous forward error
+bound (``errbound * permanent``); otherwise it calls an exact fallback that
+evaluates the same determinant with expansion arithmetic (two_sum, two_diff,
+Dekker-split two_product, scale_expansion_zeroelim,
+fast_expansion_sum_zeroelim) and returns the most significant component of the
+exact result.  The SIGN of every returned value is the sign of the real-number
+determinant of the input doubles; the magnitude is only an approximation.
+
+The weighted test is the lifted orientation test of the seed chapter (Sec. 2.8):
+a weighted point ``v`` has lifted companion ``v+ = (vx, vy, vx^2 + vy^2 - w_v)``.
+
+Every function is ``@njit(cache=True, inline='never')``, nopython, allocation-free
+on the fast path; the exact fallbacks live in separate compiled functions
+(``orient2d_exact``, ``incircle_exact``, ``incircle_weighted_exact``) that use
+one preallocated local float64 workspace each.  No recursion, no epsilons other
+than the proven error bounds below.
+
+Guaranteed range (IEEE binary64, round-to-nearest-even, no FMA contraction, which
+is numba's default without ``fastmath``): the results are exact as long as no
+intermediate product overflows or underflows, which holds when every nonzero
+coordinate satisfies
+
+* ``orient2d``:  1e-130 <= |x| <= 1e130,
+* ``incircle``:  1e-60  <= |x| <= 1e60,
+* ``incircle_weighted``: coordinates as for ``incircle`` and every nonzero
+  weight 1e-120 <= |w| <= 1e120.
+
+Roughly: coordinates whose products underflow or overflow (|x| > 1e100 or
+nonzero |x| < 1e-100 for orient2d, the square root of that window for the
+circle tests) are outside the guaranteed range.  Inputs must be finite (the
+engine validates this before calling).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "EPSILON",
+    "SPLITTER",
+    "CCW_ERRBOUND_A",
+    "ICC_ERRBOUND_A",
+    "ICCW_ERRBOUND_A",
+    "orient2d",
+    "incircle",
+    "incircle_weighted",
+    "orient2d_exact",
+    "incircle_exact",
+    "incircle_weighted_exact",
+    "orient2d_fast",
+    "incircle_fast",
+]
+
+# ---------------------------------------------------------------------------
+# Constants (Shewchuk 1997, Sec. 4 and the predicates' error bounds).
+# ---------------------------------------------------------------------------
+
+#: Half an ulp of 1.0 for binary64: every correctly rounded operation has
+#: relative error at most EPSILON.
+EPSILON = 2.0 ** -53
+#: Dekker's splitter 2^ceil(53/2) + 1 (Shewchuk 1997, Theorem 17).
+SPLITTER = 2.0 ** 27 + 1.0
+#: orient2d filter: |det - det_exact| <= CCW_ERRBOUND_A * (|detleft| + |detright|).
+CCW_ERRBOUND_A = (3.0 + 16.0 * EPSILON) * EPSILON
+#: incircle filter: Shewchuk's iccerrboundA.
+ICC_ERRBOUND_A = (10.0 + 96.0 * EPSILON) * EPSILON
+#: Weighted incircle filter.  Counting roundings along every root-to-leaf path of
+#: the evaluation tree (at most 12 per monomial: 2 for adx twice, 3 for the
+#: lift, 4 for the cross product, 1 for the multiplication, 2 for the final sum)
+#: gives |det - det_exact| <= (12 eps + O(eps^2)) * permanent; 16 eps leaves a
+#: wide margin for the O(eps^2) terms and the rounding of the permanent itself.
+ICCW_ERRBOUND_A = (16.0 + 256.0 * EPSILON) * EPSILON
+
+
+
+# Explicit signatures of the public predicates: compiled once, for float64 only
+# (integer arguments are converted, never evaluated in overflowing int64).
+_F6 = "float64(" + ", ".join(["float64"] * 6) + ")"
+_F8 = "float64(" + ", ".join(["float64"] * 8) + ")"
+_F12 = "float64(" + ", ".join(["float64"] * 12) + ")"
+
+# ---------------------------------------------------------------------------
+# Error-free transformations (Shewchuk 1997, Sec. 2).
+# ---------------------------------------------------------------------------
+
+@njit(cache=True, inline='never')
+def _fast_two_sum(a, b):
+    """x + y == a + b exactly, x = fl(a + b); requires |a| >= |b| (Shewchuk 1997, Thm 6)."""
+    x = a + b
+    bvirt = x - a
+    y = b - bvirt
+    return x, y
+
+
+@njit(cache=True, inline='never')
+def _two_sum(a, b):
+    """x + y == a + b exactly, x = fl(a + b), no precondition (Shewchuk 1997, Thm 7)."""
+    x = a + b
+    bvirt = x - a
+    avirt = x - bvirt
+    bround = b - bvirt
+    around = a - avirt
+    return x, around + bround
+
+
+@njit(cache=True, inline='never')
+def _two_diff(a, b):
+    """x + y == a - b exactly, x = fl(a - b) (Shewchuk 1997, Two-Diff)."""
+    x = a - b
+    bvirt = a - x
+    avirt = x + bvirt
+    bround = bvirt - b
+    around = a - avirt
+    return x, around + bround
+
+
+@njit(cache=True, inline='never')
+def _split(a):
+    """Dekker split a = hi + lo with hi, lo of at most 26 significant bits (Shewchuk 1997, Thm 17)."""
+    c = SPLITTER * a
+    abig = c - a
+    hi = c - abig
+    return hi, a - hi
+
+
+@njit(cache=True, inline='never')
+def _two_product_presplit(a, b, bhi, blo):
+    """x + y == a * b exactly, x = fl(a * b), with b already split (Shewchuk 1997, Thm 18)."""
+    x = a * b
+    ahi, alo = _split(a)
+    err1 = x - ahi * bhi
+    err2 = err1 - alo * bhi
+    err3 = err2 - ahi * blo
+    return x, alo * blo - err3
+
+
+@njit(cache=True, inline='never')
+def _two_product(a, b):
+    """x + y == a * b exactly, x = fl(a * b), via Dekker's split (no FMA) (Shewchuk 1997, Thm 18)."""
+    bhi, blo = _split(b)
+    return _two_product_presplit(a, b, bhi, blo)
+
+
+# ---------------------------------------------------------------------------
+# Small fixed-size expansion sums on scalars (Shewchuk 1997's Two_One_Sum,
+# Two_Two_Sum, Four_One_Sum, Four_Two_Sum macros: Grow-Expansion, Thm 10).
+# Outputs are nonoverlapping and increasing except for interspersed zeros, so
+# the sign of the sum is the sign of the most significant nonzero component.
+# ---------------------------------------------------------------------------
+
+@njit(cache=True, inline='never')
+def _two_one_sum(a1, a0, b):
+    """(x2, x1, x0) == (a1, a0) + b exactly (Shewchuk 1997, Two_One_Sum)."""
+    i, x0 = _two_sum(a0, b)
+    x2, x1 = _two_sum(a1, i)
+    return x2, x1, x0
+
+
+@njit(cache=True, inline='never')
+def _two_two_sum(a1, a0, b1, b0):
+    """(x3, x2, x1, x0) == (a1, a0) + (b1, b0) exactly (Shewchuk 1997, Two_Two_Sum)."""
+    j, z, x0 = _two_one_sum(a1, a0, b0)
+    x3, x2, x1 = _two_one_sum(j, z, b1)
+    return x3, x2, x1, x0
+
+
+@njit(cache=True, inline='never')
+def _four_one_sum(a3, a2, a1, a0, b):
+    """(x4 .. x0) == (a3 .. a0) + b exactly (Shewchuk 1997, Four_One_Sum)."""
+    j, x1, x0 = _two_one_sum(a1, a0, b)
+    x4, x3, x2 = _two_one_sum(a3, a2, j)
+    return x4, x3, x2, x1, x0
+
+
+@njit(cache=True, inline='never')
+def _sign_of_sum_of_three_products(l1, c1, l2, c2, l3, c3):
+    """l1*c1 + l2*c2 + l3*c3 exactly, returned as its most significant component (Shewchuk 1997).
+
+    Three two_products (6 components) merged with Grow-Expansion steps; no arrays.
+    """
+    p1, e1 = _two_product(l1, c1)
+    p2, e2 = _two_product(l2, c2)
+    p3, e3 = _two_product(l3, c3)
+    a3, a2, a1, a0 = _two_two_sum(p1, e1, p2, e2)
+    # Four_Two_Sum(a3, a2, a1, a0, p3, e3)
+    k, z2, z1, z0, x0 = _four_one_sum(a3, a2, a1, a0, e3)
+    x5, x4, x3, x2, x1 = _four_one_sum(k, z2, z1, z0, p3)
+    if x5 != 0.0:
+        return x5
+    if x4 != 0.0:
+        return x4
+    if x3 != 0.0:
+        return x3
+    if x2 != 0.0:
+        return x2
+    if x1 != 0.0:
+        return x1
+    return x0
+
+
+# ---------------------------------------------------------------------------
+# Expansion arithmetic in one workspace array w.  An expansion is a pair
+# (offset, length) into w: nonoverlapping, increasing in magnitude,
+# zero-eliminated, and always >= 1 component (zero is [0.0]), as Shewchuk's
+# *_zeroelim routines produce.  Offsets instead of slices: a numpy slice costs
+# a reference-count round trip in numba, and these routines are called often.
+# ---------------------------------------------------------------------------
+
+@njit(cache=True, inline='never')
+def _diff_expansion(w, h, a, b):
+    """Write a - b as an exact expansion at w[h:]; return its length (1 or 2) (Shewchuk 1997)."""
+    x, y = _two_diff(a, b)
+    if y != 0.0:
+        w[h] = y
+        w[h + 1] = x
+        return 2
+    w[h] = x
+    return 1
+
+
+@njit(cache=True, inline='never')
+def _scale_expansion_zeroelim(w, e, elen, b, h):
+    """w[h:] = b * w[e:e+elen] exactly; returns the length <= 2 * elen (Shewchuk 1997, Fig. 13, zeroelim)."""
+    bhi, blo = _split(b)
+    q, hh = _two_product_presplit(w[e], b, bhi, blo)
+    hindex = h
+    if hh != 0.0:
+        w[hindex] = hh
+        hindex += 1
+    for eindex in range(e + 1, e + elen):
+        p1, p0 = _two_product_presplit(w[eindex], b, bhi, blo)
+        sm, hh = _two_sum(q, p0)
+        if hh != 0.0:
+            w[hindex] = hh
+            hindex += 1
+        q, hh = _fast_two_sum(p1, sm)
+        if hh != 0.0:
+            w[hindex] = hh
+            hindex += 1
+    if q != 0.0 or hindex == h:
+        w[hindex] = q
+        hindex += 1
+    return hindex - h
+
+
+@njit(cache=True, inline='never')
+def _fast_expansion_sum_zeroelim(w, e, elen, f, flen, h):
+    """w[h:] = w[e:e+elen] + w[f:f+flen] exactly; returns the length <= elen + flen.
+
+    Shewchuk 1997, Fig. 9 (fast_expansion_sum_zeroelim), except that it never
+    reads past the end of an input (the C code reads one element beyond).  The
+    output must not overlap the inputs.
+    """
+    eend = e + elen
+    fend = f + flen
+    ei = e
+    fi = f
+    enow = w[ei]
+    fnow = w[fi]
+    if (fnow > enow) == (fnow > -enow):
+        q = enow
+        ei += 1
+        if ei < eend:
+            enow = w[ei]
+    else:
+        q = fnow
+        fi += 1
+        if fi < fend:
+            fnow = w[fi]
+    hi = h
+    if ei < eend and fi < fend:
+        if (fnow > enow) == (fnow > -enow):
+            q, hh = _fast_two_sum(enow, q)
+            ei += 1
+            if ei < eend:
+                enow = w[ei]
+        else:
+            q, hh = _fast_two_sum(fnow, q)
+            fi += 1
+            if fi < fend:
+                fnow = w[fi]
+        if hh != 0.0:
+            w[hi] = hh
+            hi += 1
+        while ei < eend and fi < fend:
+            if (fnow > enow) == (fnow > -enow):
+                q, hh = _two_sum(q, enow)
+                ei += 1
+                if ei < eend:
+                    enow = w[ei]
+            else:
+                q, hh = _two_sum(q, fnow)
+                fi += 1
+                if fi < fend:
+                    fnow = w[fi]
+            if hh != 0.0:
+                w[hi] = hh
+                hi += 1
+    while ei < eend:
+        q, hh = _two_sum(q, enow)
+        ei += 1
+        if ei < eend:
+            enow = w[ei]
+        if hh != 0.0:
+            w[hi] = hh
+            hi += 1
+    while fi < fend:
+        q, hh = _two_sum(q, fnow)
+        fi += 1
+        if fi < fend:
+            fnow = w[fi]
+        if hh != 0.0:
+            w[hi] = hh
+            hi += 1
+    if q != 0.0 or hi == h:
+        w[hi] = q
+        hi += 1
+    return hi - h
+
+
+@njit(cache=True, inline='never')
+def _expansion_product(w, e, elen, f, flen, h, t, s):
+    """w[h:] = w[e:] * w[f:] exactly: sum over f's components of scale_expansion(e, f_i) (Shewchuk 1997).
+
+    Returns the length <= 2 * elen * flen.  Scratch: w[t:] holds >= 2 * elen
+    values, w[s:] >= 2 * elen * flen; h, t, s must not overlap e, f or each other.
+    """
+    hlen = _scale_expansion_zeroelim(w, e, elen, w[f], h)
+    for i in range(1, flen):
+        tlen = _scale_expansion_zeroelim(w, e, elen, w[f + i], t)
+        slen = _fast_expansion_sum_zeroelim(w, h, hlen, t, tlen, s)
+        for k in range(slen):
+            w[h + k] = w[s + k]
+        hlen = slen
+    return hlen
+
+
+@njit(cache=True, inline='never')
+def _cross_expansion(w, p, plen, q, qlen, r, rlen, s, slen, h, scr):
+    """w[h:] = p*q - r*s exactly for expansions of <= 2 components; returns the length <= 16.
+
+    Scratch w[scr:scr+48].  (orient2d's exact determinant; Shewchuk 1997.)
+    """
+    pq = scr
+    rs = scr + 8
+    t = scr + 16
+    u = scr + 24
+    pqlen = _expansion_product(w, p, plen, q, qlen, pq, t, u)
+    rslen = _expansion_product(w, r, rlen, s, slen, rs, t, u)
+    for k in range(rs, rs + rslen):
+        w[k] = -w[k]
+    return _fast_expansion_sum_zeroelim(w, pq, pqlen, rs, rslen, h)
+
+
+# Scratch layout of one lift * cross term (offsets relative to its scratch base).
+_LC_SQ1 = 0        # x^2, <= 8
+_LC_SQ2 = 8        # y^2, <= 8
+_LC_PQ = 16        # p*q, <= 8
+_LC_RS = 24        # r*s, <= 8
+_LC_LIFT = 32      # x^2 + y^2 (- w), <= 18
+_LC_LIFT2 = 56     # <= 18
+_LC_CROSS = 80     # p*q - r*s, <= 16
+_LC_NEGW = 96      # -w, <= 2
+_LC_T = 104        # scale scratch, >= 2 * 18
+_LC_U = 144        # product scratch, >= 2 * 18 * 16 = 576
+_LC_SIZE = _LC_U + 576
+
+
+@njit(cache=True, inline='never')
+def _lift_cross_term(w, x, xlen, y, ylen, wd, wdlen, use_w,
+                     p, plen, q, qlen, r, rlen, s, slen, h, scr):
+    """w[h:] = (x^2 + y^2 - wd) * (p*q - r*s) exactly; returns the length <= 576.
+
+    One row's contribution to the (lifted) incircle determinant expanded along
+    its third column: the lifted height of the seed's Sec. 2.8 (z = x^2 + y^2 - w,
+    relative to the apex d) times its 2x2 minor (Shewchuk 1997 expansion
+    arithmetic).  Every argument expansion has <= 2 components; wd is ignored
+    unless use_w.  Scratch w[scr:scr+_LC_SIZE].  (The four small products run
+    in one loop so that the compiled code holds a single inlined copy.)
+    """
+    t = scr + _LC_T
+    u = scr + _LC_U
+    lens = (0, 0, 0, 0)
+    for j in range(4):
+        if j == 0:
+            e, elen, f, flen, out = x, xlen, x, xlen, scr + _LC_SQ1
+        elif j == 1:
+            e, elen, f, flen, out = y, ylen, y, ylen, scr + _LC_SQ2
+        elif j == 2:
+            e, elen, f, flen, out = p, plen, q, qlen, scr + _LC_PQ
+        else:
+            e, elen, f, flen, out = r, rlen, s, slen, scr + _LC_RS
+        n = _expansion_product(w, e, elen, f, flen, out, t, u)
+        if j == 0:
+            lens = (n, lens[1], lens[2], lens[3])
+        elif j == 1:
+            lens = (lens[0], n, lens[2], lens[3])
+        elif j == 2:
+            lens = (lens[0], lens[1], n, lens[3])
+        else:
+            lens = (lens[0], lens[1], lens[2], n)
+    rs = scr + _LC_RS
+    for k in range(rs, rs + lens[3]):
+        w[k] = -w[k]
+    lift = scr + _LC_LIFT
+    liftlen = 0
+    crosslen = 0
+    # Three exact sums through one call site: lift = sq1 + sq2, lift2 = lift - w,
+    # cross = pq + (-rs).
+    for j in range(3):
+        if j == 0:
+            a, alen, b, blen, out = scr + _LC_SQ1, lens[0], scr + _LC_SQ2, lens[1], lift
+        elif j == 1:
+            if not use_w or (wdlen == 1 and w[wd] == 0.0):
+                continue
+            negw = scr + _LC_NEGW
+            for k in range(wdlen):
+                w[negw + k] = -w[wd + k]
+            a, alen, b, blen, out = lift, liftlen, negw, wdlen, scr + _LC_LIFT2
+        else:
+            a, alen, b, blen, out = scr + _LC_PQ, lens[2], rs, lens[3], scr + _LC_CROSS
+        n = _fast_expansion_sum_zeroelim(w, a, alen, b, blen, out)
+        if j == 2:
+            crosslen = n
+        else:
+            lift = out
+            liftlen = n
+    # Scale the longer expansion (the lift, <= 18) by the cross's components.
+    return _expansion_product(w, lift, liftlen, scr + _LC_CROSS, crosslen, h, t, u)
+
+
+# Workspace layout of the incircle fallback (worst case: every difference a
+# two-component expansion, every weight difference too).
+_W_LEN = 20                 # lengths of the 9 difference expansions (slots 0..17)
+_W_TERM = 32                # one lift * cross term, <= 576
+_W_ACC0 = _W_TERM + 576     # running sum of the terms, <= 1728
+_W_ACC1 = _W_ACC0 + 1728    # (double-buffered)
+_W_SCR = _W_ACC1 + 1728     # scratch of one term
+_W_SIZE = _W_SCR + _LC_SIZE
+
+
+# ---------------------------------------------------------------------------
+# Exact fallbacks.
+# ---------------------------------------------------------------------------
+
+@njit(_F6, cache=True, inline='never')
+def orient2d_exact(ax, ay, bx, by, cx, cy):
+    """Exact orient2d by expansion arithmetic (Shewchuk 1997): sign of det[[ax-cx, ay-cy], [bx-cx, by-cy]].
+
+    Returns the most significant component of the exact determinant, so its sign
+    is exact (0.0 iff a, b, c are collinear).  Always exact, never filtered: the
+    fallback of :func:`orient2d`.
+    """
+    acx, acxt = _two_diff(ax, cx)
+    bcx, bcxt = _two_diff(bx, cx)
+    acy, acyt = _two_diff(ay, cy)
+    bcy, bcyt = _two_diff(by, cy)
+    if acxt == 0.0 and bcxt == 0.0 and acyt == 0.0 and bcyt == 0.0:
+        # The differences are exact: det = acx*bcy - acy*bcx.  Rounding is
+        # monotone, so fl(acx*bcy) != fl(acy*bcx) already decides the sign;
+        # otherwise the heads cancel exactly and the roundoff tails decide.
+        left = acx * bcy
+        right = acy * bcx
+        if left != right:
+            return left - right
+        l1, l0 = _two_product(acx, bcy)
+        r1, r0 = _two_product(acy, bcx)
+        return l0 - r0
+    w = np.empty(72, np.float64)
+    n_acx = _diff_expansion(w, 0, ax, cx)
+    n_bcx = _diff_expansion(w, 2, bx, cx)
+    n_acy = _diff_expansion(w, 4, ay, cy)
+    n_bcy = _diff_expansion(w, 6, by, cy)
+    hlen = _cross_expansion(w, 0, n_acx, 6, n_bcy, 4, n_acy, 2, n_bcx, 8, 24)
+    return w[8 + hlen - 1]
+
+
+@njit(cache=True, inline='never')
+def _incircle_exact_core(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw, use_w):
+    """Exact (weighted) incircle determinant, translated to d (Shewchuk 1997; seed Sec. 2.8).
+
+    det of rows [pdx, pdy, pdx^2 + pdy^2 - (pw - dw)] for p = a, b, c.  Returns
+    the most significant component of the exact result.
+
+    Two routes, both exact.  (1) When every difference and every second-order
+    quantity (squares, 2x2 minors, lifts) happens to be exact in one double --
+    checked by their two_diff/two_product/two_sum roundoff being exactly zero,
+    as for integer or grid coordinates -- the determinant is a sum of three
+    products of doubles, evaluated exactly on scalars.  (2) Otherwise full
+    expansion arithmetic on two_diff expansions of every difference.
+    """
+    adx, adxt = _two_diff(ax, dx)
+    ady, adyt = _two_diff(ay, dy)
+    bdx, bdxt = _two_diff(bx, dx)
+    bdy, bdyt = _two_diff(by, dy)
+    cdx, cdxt = _two_diff(cx, dx)
+    cdy, cdyt = _two_diff(cy, dy)
+    awd, awdt = _two_diff(aw, dw)
+    bwd, bwdt = _two_diff(bw, dw)
+    cwd, cwdt = _two_diff(cw, dw)
+    tails = (abs(adxt) + abs(adyt) + abs(bdxt) + abs(bdyt) + abs(cdxt) + abs(cdyt)
+             + abs(awdt) + abs(bwdt) + abs(cwdt))
+    if tails == 0.0:
+        p1, t1 = _two_product(bdx, cdy)
+        p2, t2 = _two_product(cdx, bdy)
+        ca, t3 = _two_diff(p1, p2)
+        p1, t4 = _two_product(cdx, ady)
+        p2, t5 = _two_product(adx, cdy)
+        cb, t6 = _two_diff(p1, p2)
+        p1, t7 = _two_product(adx, bdy)
+        p2, t8 = _two_product(bdx, ady)
+        cc, t9 = _two_diff(p1, p2)
+        s1, u1 = _two_product(adx, adx)
+        s2, u2 = _two_product(ady, ady)
+        la, u3 = _two_sum(s1, s2)
+        la, u4 = _two_diff(la, awd)
+        s1, u5 = _two_product(bdx, bdx)
+        s2, u6 = _two_product(bdy, bdy)
+        lb, u7 = _two_sum(s1, s2)
+        lb, u8 = _two_diff(lb, bwd)
+        s1, u9 = _two_product(cdx, cdx)
+        s2, u10 = _two_product(cdy, cdy)
+        lc, u11 = _two_sum(s1, s2)
+        lc, u12 = _two_diff(lc, cwd)
+        tails = (abs(t1) + abs(t2) + abs(t3) + abs(t4) + abs(t5) + abs(t6) + abs(t7)
+                 + abs(t8) + abs(t9) + abs(u1) + abs(u2) + abs(u3) + abs(u4) + abs(u5)
+                 + abs(u6) + abs(u7) + abs(u8) + abs(u9) + abs(u10) + abs(u11) + abs(u12))
+        if tails == 0.0:
+            return _sign_of_sum_of_three_products(la, ca, lb, cb, lc, cc)
+    w = np.empty(_W_SIZE, np.float64)
+    # Slot i (offset 2 i) holds the exact difference: adx, ady, bdx, bdy, cdx,
+    # cdy, awd, bwd, cwd; its length is kept in w[_W_LEN + i].
+    minuend = (ax, ay, bx, by, cx, cy, aw, bw, cw)
+    subtrahend = (dx, dy, dx, dy, dx, dy, dw, dw, dw)
+    for i in range(9):
+        w[_W_LEN + i] = _diff_expansion(w, 2 * i, minuend[i], subtrahend[i])
+    # Term k (k = a, b, c): lift_k * minor_k, with the minor of (a, b, c) cyclic:
+    # a: bdx*cdy - cdx*bdy, b: cdx*ady - adx*cdy, c: adx*bdy - bdx*ady.
+    # One call site in a loop keeps the compiled code (and compile time) small.
+    finlen = 0
+    fin = _W_ACC0
+    for k in range(3):
+        k1 = (k + 1) % 3
+        k2 = (k + 2) % 3
+        # slots of x, y, w, p, q, r, s (expansion offset = 2 * slot)
+        sx, sy, sw = 2 * k, 2 * k + 1, 6 + k
+        sp, sq, sr, ss = 2 * k1, 2 * k2 + 1, 2 * k2, 2 * k1 + 1
+        n = _lift_cross_term(w, 2 * sx, int(w[_W_LEN + sx]), 2 * sy, int(w[_W_LEN + sy]),
+                             2 * sw, int(w[_W_LEN + sw]), use_w,
+                             2 * sp, int(w[_W_LEN + sp]), 2 * sq, int(w[_W_LEN + sq]),
+                             2 * sr, int(w[_W_LEN + sr]), 2 * ss, int(w[_W_LEN + ss]),
+                             _W_TERM, _W_SCR)
+        if k == 0:
+            for i in range(n):
+                w[fin + i] = w[_W_TERM + i]
+            finlen = n
+        else:
+            out = _W_ACC1 if fin == _W_ACC0 else _W_ACC0
+            finlen = _fast_expansion_sum_zeroelim(w, fin, finlen, _W_TERM, n, out)
+            fin = out
+    return w[fin + finlen - 1]
+
+
+@njit(_F8, cache=True, inline='never')
+def incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
+    """Exact incircle by expansion arithmetic (Shewchuk 1997); the fallback of :func:`incircle`.
+
+    Returns the most significant component of the exact determinant
+    (> 0: d strictly inside the circle through counter-clockwise a, b, c).
+    """
+    return _incircle_exact_core(ax, ay, 0.0, bx, by, 0.0, cx, cy, 0.0, dx, dy, 0.0, False)
+
+
+@njit(_F12, cache=True, inline='never')
+def incircle_weighted_exact(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
+    """Exact lifted orientation (power) test (Shewchuk 1997; seed Sec. 2.8, z = x^2 + y^2 - w).
+
+    The fallback of :func:`incircle_weighted`; returns the most significant
+    component of the exact determinant.
+    """
+    return _incircle_exact_core(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw, True)
+
+
+# ---------------------------------------------------------------------------
+# Public filtered predicates.
+# ---------------------------------------------------------------------------
+
+@njit(_F6, cache=True, inline='never')
+def orient2d(ax, ay, bx, by, cx, cy):
+    """Orientation of (a, b, c), exact in sign (Shewchuk 1997, orient2d with ccwerrboundA).
+
+    Returns a value > 0 if a, b, c are in counter-clockwise order, < 0 if
+    clockwise and 0.0 if collinear: the sign of det[[ax-cx, ay-cy], [bx-cx, by-cy]]
+    for the exact input doubles (twice the signed area of triangle abc,
+    approximately).  Fast path: the floating-point determinant, returned when
+    |det| >= CCW_ERRBOUND_A * (|detleft| + |detright|) (when both are 0 the
+    determinant is exactly 0); otherwise
+    :func:`orient2d_exact`.  Guaranteed for nonzero |coordinates| in
+    [1e-130, 1e130] (see the module docstring).
+    """
+    detleft = (ax - cx) * (by - cy)
+    detright = (ay - cy) * (bx - cx)
+    det = detleft - detright
+    # Shewchuk's bound holds for any signs of detleft, detright; his early exit
+    # on opposite signs is left out because its branches are unpredictable on
+    # random input (measured: ~40% slower per call).
+    errbound = CCW_ERRBOUND_A * (abs(detleft) + abs(detright))
+    if det >= errbound or -det >= errbound:
+        return det
+    return orient2d_exact(ax, ay, bx, by, cx, cy)
+
+
+@njit(_F8, cache=True, inline='never')
+def incircle(ax, ay, bx, by, cx, cy, dx, dy):
+    """In-circle test, exact in sign (Shewchuk 1997, incircle with iccerrboundA).
+
+    Returns > 0 if d lies strictly inside the circle through a, b, c when a, b, c
+    are counter-clockwise (the signs flip when they are clockwise), < 0 if d is
+    strictly outside and 0.0 if the four points are cocircular.  This is the
+    lifted orientation test of the seed's Sec. 2.8 with all weights zero
+    (z = x^2 + y^2): > 0 iff d+ lies below the plane through a+, b+, c+.
+    Guaranteed for nonzero |coordinates| in [1e-60, 1e60].
+    """
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+
+    bdxcdy = bdx * cdy
+    cdxbdy = cdx * bdy
+    alift = adx * adx + ady * ady
+
+    cdxady = cdx * ady
+    adxcdy = adx * cdy
+    blift = bdx * bdx + bdy * bdy
+
+    adxbdy = adx * bdy
+    bdxady = bdx * ady
+    clift = cdx * cdx + cdy * cdy
+
+    det = (alift * (bdxcdy - cdxbdy)
+           + blift * (cdxady - adxcdy)
+           + clift * (adxbdy - bdxady))
+    permanent = ((abs(bdxcdy) + abs(cdxbdy)) * alift
+                 + (abs(cdxady) + abs(adxcdy)) * blift
+                 + (abs(adxbdy) + abs(bdxady)) * clift)
+    errbound = ICC_ERRBOUND_A * permanent
+    if det > errbound or -det > errbound:
+        return det
+    return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+
+
+@njit(_F12, cache=True, inline='never')
+def incircle_weighted(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
+    """Power (weighted in-circle) test: lifted orientation, exact in sign (Shewchuk 1997 filter style).
+
+    Each weighted point p lifts to its companion p+ = (px, py, px^2 + py^2 - pw)
+    (seed Sec. 2.8).  With a, b, c counter-clockwise, returns > 0 iff d+ lies
+    strictly below the plane through a+, b+, c+ (d is strictly inside the power
+    circle: the edge is not locally weighted-Delaunay), < 0 iff strictly above,
+    0.0 iff the four lifted points are coplanar.  Computes
+    det of rows [pdx, pdy, pdx^2 + pdy^2 - (pw - dw)] for p = a, b, c (translated
+    to d; equal to the orient3d of the lifted points).  With all weights 0 it
+    equals :func:`incircle` in sign.  Filter: ICCW_ERRBOUND_A times the permanent
+    with |pw - dw| in the lift; fallback :func:`incircle_weighted_exact`.
+    Weights are arbitrary finite doubles; guaranteed for nonzero |coordinates|
+    in [1e-60, 1e60] and nonzero |weights| in [1e-120, 1e120].
+    """
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+    awd = aw - dw
+    bwd = bw - dw
+    cwd = cw - dw
+
+    bdxcdy = bdx * cdy
+    cdxbdy = cdx * bdy
+    asq = adx * adx + ady * ady
+
+    cdxady = cdx * ady
+    adxcdy = adx * cdy
+    bsq = bdx * bdx + bdy * bdy
+
+    adxbdy = adx * bdy
+    bdxady = bdx * ady
+    csq = cdx * cdx + cdy * cdy
+
+    det = ((asq - awd) * (bdxcdy - cdxbdy)
+           + (bsq - bwd) * (cdxady - adxcdy)
+           + (csq - cwd) * (adxbdy - bdxady))
+    permanent = ((abs(bdxcdy) + abs(cdxbdy)) * (asq + abs(awd))
+                 + (abs(cdxady) + abs(adxcdy)) * (bsq + abs(bwd))
+                 + (abs(adxbdy) + abs(bdxady)) * (csq + abs(cwd)))
+    errbound = ICCW_ERRBOUND_A * permanent
+    if det > errbound or -det > errbound:
+        return det
+    return incircle_weighted_exact(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw)
+
+
+# ---------------------------------------------------------------------------
+# Unfiltered float determinants (no exactness!): for benchmarks and for the
+# tests that show the adversarial inputs defeat plain floating point.
+# ---------------------------------------------------------------------------
+
+@njit(_F6, cache=True, inline='never')
+def orient2d_fast(ax, ay, bx, by, cx, cy):
+    """Plain floating-point orient2d, NOT robust (Shewchuk 1997's orient2dfast): for comparison only."""
+    return (ax - cx) * (by - cy) - (ay - cy) * (bx - cx)
+
+
+@njit(_F8, cache=True, inline='never')
+def incircle_fast(ax, ay, bx, by, cx, cy, dx, dy):
+    """Plain floating-point incircle, NOT robust (Shewchuk 1997's incirclefast): for comparison only."""
+    adx = ax - dx
+    ady = ay - dy
+    bdx = bx - dx
+    bdy = by - dy
+    cdx = cx - dx
+    cdy = cy - dy
+    abdet = adx * bdy - bdx * ady
+    bcdet = bdx * cdy - cdx * bdy
+    cadet = cdx * ady - adx * cdy
+    alift = adx * adx + ady * ady
+    blift = bdx * bdx + bdy * bdy
+    clift = cdx * cdx + cdy * cdy
+    return alift * bcdet + blift * cadet + clift * abdet

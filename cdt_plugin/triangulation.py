@@ -1,0 +1,321 @@
+"""The result of a triangulation: plain NumPy arrays plus certificates."""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from numba import njit
+
+from .certify import edge_lifted_values, submerged_ok
+from .errors import InvertedTriangleError
+from .flips import flip_to_delaunay
+from .kernel import edge_is_illegal, orient
+from .mesh import DEAD, is_ghost, nxt, prv
+from .predicates import incircle_weighted, orient2d
+from .validate import as_points
+
+
+@njit(cache=True)
+def solid_triangles(tri, twin, ntri, inf):
+    """The real (non-ghost, live) triangles and their neighbours, from the
+    half-edge store: neighbour ``j`` is opposite vertex ``j`` (-1: hull)."""
+    tid = np.full(ntri, -1, np.int64)
+    k = 0
+    for t in range(ntri):
+        if tri[3 * t] == DEAD or is_ghost(tri, t, inf):
+            continue
+        tid[t] = k
+        k += 1
+    triangles = np.empty((k, 3), np.int64)
+    neighbors = np.empty((k, 3), np.int64)
+    for t in range(ntri):
+        i = tid[t]
+        if i < 0:
+            continue
+        for j in range(3):
+            triangles[i, j] = tri[3 * t + j]
+            neighbors[i, j] = tid[twin[3 * t + (j + 1) % 3] // 3]
+    return triangles, neighbors, tid
+
+
+@njit(cache=True)
+def first_defect(tri, twin, ntri, x, y, inf, check_hull):
+    """First live triangle that stops the mesh from being a triangulation of a
+    convex region after its vertices moved: a real triangle that is not strictly
+    counter-clockwise, or (``check_hull``) a ghost edge where the hull is not
+    convex. Returns -1 when there is none. No defect means the mesh is embedded:
+    positive triangles with a convex boundary cover its inside exactly once."""
+    for t in range(ntri):
+        if tri[3 * t] == DEAD:
+            continue
+        e = 3 * t
+        if not is_ghost(tri, t, inf):
+            if orient(x, y, tri[e], tri[e + 1], tri[e + 2]) <= 0:
+                return t
+            continue
+        for k in range(3 if check_hull else 0):
+            a = tri[e + k]
+            b = tri[nxt(e + k)]
+            if a == inf or b == inf:
+                f = twin[e + k]
+                if edge_is_illegal(x, y, x, False, inf, a, b, tri[prv(e + k)], tri[prv(f)]):
+                    return t
+    return -1
+
+
+class Triangulation:
+    """A (weighted, constrained) Delaunay triangulation as NumPy arrays.
+
+    Attributes
+    ----------
+    vertices : (n, 2) float64
+        Output vertices: the distinct input points in order of first appearance.
+    triangles : (k, 3) int64
+        Vertex indices of each triangle, counter-clockwise.
+    neighbors : (k, 3) int64
+        ``neighbors[t, j]`` is the triangle across the edge opposite vertex
+        ``j`` of triangle ``t``, or -1 on the boundary.
+    vertex_map : (n_input,) int64
+        Output vertex of each input point (equal for duplicates, -1 for a
+        submerged weighted point).
+    weights : (n,) float64 or None
+        Weights of the output vertices (weighted input only).
+    stats : dict
+        Counts (``flips``, ``duplicates``, ``submerged``...) and ``seconds``.
+    """
+
+    def __init__(self, vertices, triangles, neighbors, vertex_map, stats,
+                 weights=None, edges=None, mesh=None):
+        self.vertices = vertices
+        self.triangles = triangles
+        self.neighbors = neighbors
+        self.vertex_map = vertex_map
+        self.stats = stats
+        self.weights = weights
+        self._edges = edges
+        self._mesh = mesh  # (tri, twin, ntri, inf) half-edge store in output ids
+
+    # ---------------------------------------------------------------- builders
+    @classmethod
+    def from_mesh(cls, pts, w_in, tri, twin, ntri, ids, dup_of, submerged, stats, t0):
+        """Compact a finished half-edge store into output arrays. Mesh vertex ``i``
+        is input point ``ids[i]``; ``len(ids)`` is the infinite vertex."""
+        n = len(pts)
+        vertex_map, kept = _vertex_map(n, dup_of, submerged)
+        # negative entries index from the end: -2 (DEAD) and -1 map to themselves
+        remap = np.empty(len(ids) + 3, tri.dtype)
+        remap[: len(ids)] = vertex_map[ids]
+        remap[len(ids)] = len(kept)  # the infinite vertex
+        remap[-2] = DEAD
+        remap[-1] = -1
+        tri_out = remap[tri[: 3 * ntri]]
+        twin_out = twin[: 3 * ntri].copy()
+        triangles, neighbors, _ = solid_triangles(tri_out, twin_out, ntri, len(kept))
+        _finish_stats(stats, n, vertex_map, dup_of, submerged, len(triangles), t0)
+        weights = None if w_in is None else w_in[kept]
+        out = cls(pts[kept], triangles, neighbors, vertex_map, stats, weights,
+                  mesh=(tri_out, twin_out, ntri, len(kept)))
+        out._input_points, out._input_weights = pts, w_in
+        return out
+
+    @classmethod
+    def from_collinear(cls, pts, order, w_in, dup_of, submerged, stats, t0):
+        """All points on one line (Sec. 2.1): no triangles, the chain of edges."""
+        n = len(pts)
+        _mark_collinear_duplicates(pts, order, dup_of)
+        line = np.flatnonzero((dup_of < 0) & (submerged == 0))
+        line = line[np.lexsort((pts[line, 1], pts[line, 0]))]
+        if w_in is not None:
+            line = _lower_chain(pts, w_in, line, submerged)
+        vertex_map, kept = _vertex_map(n, dup_of, submerged)
+        edges = np.column_stack([vertex_map[line[:-1]], vertex_map[line[1:]]]).astype(np.int64)
+        empty = np.empty((0, 3), np.int64)
+        _finish_stats(stats, n, vertex_map, dup_of, submerged, 0, t0)
+        stats["collinear"] = True
+        weights = None if w_in is None else w_in[kept]
+        return cls(pts[kept], empty, empty.copy(), vertex_map, stats, weights,
+                   edges=edges.reshape(-1, 2))
+
+    # ------------------------------------------------------------------ views
+    @property
+    def edges(self) -> np.ndarray:
+        """(e, 2) vertex indices of every edge, each listed once."""
+        if self._edges is None:
+            t, nb = self.triangles, self.neighbors
+            k = np.repeat(np.arange(len(t)), 3)
+            j = np.tile(np.arange(3), len(t))
+            keep = (nb[k, j] < 0) | (k < nb[k, j])
+            self._edges = np.column_stack([t[k, (j + 1) % 3], t[k, (j + 2) % 3]])[keep]
+        return self._edges
+
+    @property
+    def submerged(self) -> np.ndarray:
+        """Input indices of weighted points that are in no triangle."""
+        return np.flatnonzero(self.vertex_map < 0)
+
+    def __repr__(self) -> str:
+        return (f"Triangulation({len(self.vertices)} vertices, {len(self.triangles)} triangles, "
+                f"{len(self.edges)} edges)")
+
+    # ----------------------------------------------------------- certificates
+    def _edge_signs(self) -> np.ndarray:
+        v = self.vertices
+        w = self.weights if self.weights is not None else np.zeros(len(v))
+        return edge_lifted_values(v[:, 0].copy(), v[:, 1].copy(), w, self.weights is not None,
+                                  self.triangles, self.neighbors)
+
+    def non_delaunay_edges(self) -> np.ndarray:
+        """Interior edges that are not locally (weighted) Delaunay, as vertex pairs."""
+        s = self._edge_signs()
+        bad = s[s[:, 2] > 0]
+        t = self.triangles
+        return np.column_stack([t[bad[:, 0], (bad[:, 1] + 1) % 3], t[bad[:, 0], (bad[:, 1] + 2) % 3]])
+
+    def is_delaunay(self) -> bool:
+        """Delaunay Lemma (2.3) check, exact, in linear time: every interior edge is
+        locally Delaunay. For weighted input, every edge is locally regular and
+        every submerged point lies on or above the lifted triangulation (Sec. 2.8).
+        """
+        if len(self.non_delaunay_edges()):
+            return False
+        if self.weights is not None and len(self.triangles) and len(self.submerged):
+            return bool(self._submerged_ok().all())
+        return True
+
+    def _submerged_ok(self) -> np.ndarray:
+        v = self.vertices
+        s = self.submerged
+        pts, w = self._input_points, self._input_weights
+        return submerged_ok(v[:, 0].copy(), v[:, 1].copy(), self.weights, self.triangles,
+                            self.neighbors, pts[s, 0].copy(), pts[s, 1].copy(), w[s].copy())
+
+    def is_unique(self) -> bool:
+        """Whether this is the only Delaunay triangulation of its points
+        (Theorem 2.11): no interior edge has four exactly cocircular vertices
+        (lifted-coplanar for weighted points)."""
+        return not bool((self._edge_signs()[:, 2] == 0).any())
+
+    # -------------------------------------------------------- moving vertices
+    def move_vertices(self, new_vertices, *, rebuild: bool = True) -> int:
+        """Move the vertices to ``new_vertices`` (same shape as ``vertices``) and
+        restore the Delaunay property with flips (Sec. 2.5, the simulation case).
+
+        A hull that lost its convexity is repaired by flips too. If a move
+        inverts a triangle, flips cannot repair the mesh: with ``rebuild=True`` the triangulation is rebuilt from
+        scratch (``stats["rebuilt"]``), otherwise :class:`InvertedTriangleError`
+        is raised. Weighted triangulations are always rebuilt. Returns the number
+        of flips (0 after a rebuild).
+
+        >>> import numpy as np, cdt_plugin
+        >>> tri = cdt_plugin.delaunay([[0, 0], [2, 0], [0, 2], [2, 2.1]])
+        >>> tri.move_vertices([[0, 0], [2, 0], [0, 2], [2, 1.9]])
+        1
+        >>> tri.is_delaunay()
+        True
+        """
+        t0 = time.perf_counter()
+        new = as_points(new_vertices, "new_vertices")
+        if new.shape != self.vertices.shape:
+            from .errors import InputShapeError
+            raise InputShapeError(f"new_vertices must have shape {self.vertices.shape}, got {new.shape}")
+        flips = -1
+        defect = -1
+        if self._mesh is not None and self.weights is None:
+            # Flip from the moved mesh if no triangle inverted; ghost flips repair
+            # a hull that lost its convexity. Accept only an embedded result.
+            tri, twin, ntri, inf = (a.copy() if isinstance(a, np.ndarray) else a for a in self._mesh)
+            x = np.append(new[:, 0], 0.0)
+            y = np.append(new[:, 1], 0.0)
+            defect = first_defect(tri, twin, ntri, x, y, inf, False)
+            if defect < 0:
+                flips = int(flip_to_delaunay(tri, twin, x, y, x, False, inf, ntri, 20 * ntri + 1000))
+                if flips >= 0:
+                    defect = first_defect(tri, twin, ntri, x, y, inf, True)
+        if flips >= 0 and defect < 0:
+            self._mesh = (tri, twin, ntri, inf)
+            self.triangles, self.neighbors, _ = solid_triangles(tri, twin, ntri, inf)
+            self.vertices = new
+            self._edges = None
+            self.stats.update(move_flips=flips, rebuilt=False)
+        else:
+            if not rebuild:
+                raise InvertedTriangleError(
+                    "moving the vertices inverts triangle "
+                    f"{_triangle_name(tri, defect, new) if defect >= 0 else '(after flips)'}; "
+                    "pass rebuild=True to retriangulate")
+            from .delaunay import delaunay
+            fresh = delaunay(new, self.weights)
+            old_map = self.vertex_map
+            self.__dict__.update(fresh.__dict__)
+            self.vertex_map = np.where(old_map >= 0, fresh.vertex_map[np.maximum(old_map, 0)], -1)
+            self.stats.update(move_flips=0, rebuilt=True)
+            flips = 0
+        self.stats["move_seconds"] = time.perf_counter() - t0
+        return flips
+
+
+def _triangle_name(tri, t, xy) -> str:
+    """``t``'s vertices and their (moved) coordinates, for error messages."""
+    vs = [int(v) for v in tri[3 * t: 3 * t + 3] if 0 <= v < len(xy)]
+    return "with vertices " + ", ".join(f"{v} at ({xy[v, 0]!r}, {xy[v, 1]!r})" for v in vs)
+
+
+def _vertex_map(n, dup_of, submerged):
+    """Output index of every input point and the input index kept for each output
+    vertex: the first appearance of each distinct point, in input order."""
+    root = np.where(dup_of >= 0, dup_of, np.arange(n))
+    in_mesh = (dup_of < 0) & (submerged == 0)
+    rep = np.arange(n)
+    dups = np.flatnonzero(dup_of >= 0)
+    if dups.size:
+        np.minimum.at(rep, root[dups], dups)
+    roots = np.flatnonzero(in_mesh)
+    perm = np.argsort(rep[roots], kind="stable")
+    out_of_root = np.full(n, -1, np.int64)
+    out_of_root[roots[perm]] = np.arange(len(roots))
+    vertex_map = np.where(in_mesh[root], out_of_root[root], -1)
+    return vertex_map, rep[roots[perm]]
+
+
+def _finish_stats(stats, n, vertex_map, dup_of, submerged, ntriangles, t0):
+    stats["duplicates"] = int((dup_of >= 0).sum())
+    stats["submerged"] = int((vertex_map < 0).sum())
+    stats["vertices"] = int(vertex_map.max() + 1) if n else 0
+    stats["triangles"] = int(ntriangles)
+    stats["seconds"] = time.perf_counter() - t0
+
+
+def _mark_collinear_duplicates(pts, order, dup_of):
+    """Exact duplicates among unsorted points (collinear case): keep the first in
+    ``order``."""
+    act = order[dup_of[order] < 0]
+    srt = act[np.lexsort((pts[act, 1], pts[act, 0]))]
+    same = np.r_[False, (pts[srt[1:]] == pts[srt[:-1]]).all(axis=1)]
+    if same.any():
+        head = srt[np.maximum.accumulate(np.where(~same, np.arange(len(srt)), 0))]
+        dup_of[srt[same]] = head[same]
+
+
+def _lower_chain(pts, w, line, submerged):
+    """Weighted collinear points: keep those whose lifted points form the lower
+    chain (1D weighted Delaunay); the rest are submerged. The lifted test uses an
+    auxiliary point off the line, exact (its plane meets the line's vertical
+    plane in the lifted segment whatever the auxiliary point is)."""
+    if len(line) < 3:
+        return line
+    a, b = pts[line[0]], pts[line[-1]]
+    c = np.array([a[0] - (b[1] - a[1]), a[1] + (b[0] - a[0])])
+    ccw = orient2d(a[0], a[1], b[0], b[1], c[0], c[1]) > 0
+    keep = []
+    for i in line:
+        while len(keep) >= 2:
+            p, m = keep[-2], keep[-1]
+            (u, v) = (p, i) if ccw else (i, p)
+            r = incircle_weighted(pts[u, 0], pts[u, 1], w[u], pts[v, 0], pts[v, 1], w[v],
+                                  c[0], c[1], 0.0, pts[m, 0], pts[m, 1], w[m])
+            if r > 0:
+                break
+            submerged[m] = 1  # on or above the lifted segment (ties: Sec. 2.9)
+            keep.pop()
+        keep.append(i)
+    return np.asarray(keep, np.int64)

@@ -1,0 +1,735 @@
+"""Exactness tests for cdt_plugin.predicates (Shewchuk 1997 adaptive predicates).
+
+Every predicate's SIGN is compared with an exact ``fractions.Fraction``
+evaluation of the same determinant, on > 100 000 adversarial cases:
+near-collinear / near-cocircular points nudged by a few ulps, exactly
+cocircular Pythagorean lattice points, large coordinate offsets (1e6 .. 1e15),
+tiny coordinates (1e-10 .. 1e-30), weighted points whose lifted companions
+(seed Sec. 2.8: z = x^2 + y^2 - w) are exactly or nearly coplanar, and random
+generic points.  A separate test proves the families are adversarial: the plain
+floating-point determinants get some of them wrong.
+
+Case generation is vectorised with numpy; the compiled predicates run in small
+@njit loops over the case arrays; the Fraction reference is the slow part.
+"""
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+from numba import njit
+
+from cdt_plugin.predicates import (
+    incircle,
+    incircle_exact,
+    incircle_fast,
+    incircle_weighted,
+    incircle_weighted_exact,
+    orient2d,
+    orient2d_exact,
+    orient2d_fast,
+)
+
+# ---------------------------------------------------------------------------
+# Exact references (pure Python, fractions.Fraction).
+# ---------------------------------------------------------------------------
+
+
+def _sgn(v) -> int:
+    return (v > 0) - (v < 0)
+
+
+def orient2d_ref(ax, ay, bx, by, cx, cy) -> int:
+    """Exact sign of det[[ax-cx, ay-cy], [bx-cx, by-cy]] with Fractions."""
+    ax, ay, bx, by, cx, cy = map(Fraction, (ax, ay, bx, by, cx, cy))
+    return _sgn((ax - cx) * (by - cy) - (ay - cy) * (bx - cx))
+
+
+def incircle_ref(ax, ay, bx, by, cx, cy, dx, dy) -> int:
+    """Exact sign of Shewchuk's incircle determinant with Fractions."""
+    ax, ay, bx, by, cx, cy, dx, dy = map(Fraction, (ax, ay, bx, by, cx, cy, dx, dy))
+    adx, ady, bdx, bdy, cdx, cdy = ax - dx, ay - dy, bx - dx, by - dy, cx - dx, cy - dy
+    det = ((adx * adx + ady * ady) * (bdx * cdy - cdx * bdy)
+           + (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy)
+           + (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady))
+    return _sgn(det)
+
+
+def incircle_weighted_ref(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw) -> int:
+    """Exact sign of the lifted orientation test, from the lifted companions themselves.
+
+    Lifts every point to (x, y, x^2 + y^2 - w) (seed Sec. 2.8) and evaluates the
+    3x3 determinant of the lifted differences p+ - d+ -- deliberately NOT the
+    module's translated form, so the test also checks that algebra.
+    """
+    pts = [tuple(map(Fraction, p)) for p in ((ax, ay, aw), (bx, by, bw), (cx, cy, cw), (dx, dy, dw))]
+    lifted = [(x, y, x * x + y * y - w) for x, y, w in pts]
+    d = lifted[3]
+    (a1, a2, a3), (b1, b2, b3), (c1, c2, c3) = [tuple(p[k] - d[k] for k in range(3)) for p in lifted[:3]]
+    det = a1 * (b2 * c3 - b3 * c2) - a2 * (b1 * c3 - b3 * c1) + a3 * (b1 * c2 - b2 * c1)
+    return _sgn(det)
+
+
+def _ref_signs(fn, P: np.ndarray) -> np.ndarray:
+    return np.array([fn(*row) for row in P.tolist()], dtype=np.int64)
+
+
+# ---------------------------------------------------------------------------
+# Compiled batch runners: (filtered, exact-only, naive float) per case.
+# ---------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _run_orient(P):
+    n = P.shape[0]
+    out = np.empty((n, 3))
+    for i in range(n):
+        ax, ay, bx, by, cx, cy = P[i, 0], P[i, 1], P[i, 2], P[i, 3], P[i, 4], P[i, 5]
+        out[i, 0] = orient2d(ax, ay, bx, by, cx, cy)
+        out[i, 1] = orient2d_exact(ax, ay, bx, by, cx, cy)
+        out[i, 2] = orient2d_fast(ax, ay, bx, by, cx, cy)
+    return out
+
+
+@njit(cache=True)
+def _run_incircle(P):
+    n = P.shape[0]
+    out = np.empty((n, 3))
+    for i in range(n):
+        ax, ay, bx, by = P[i, 0], P[i, 1], P[i, 2], P[i, 3]
+        cx, cy, dx, dy = P[i, 4], P[i, 5], P[i, 6], P[i, 7]
+        out[i, 0] = incircle(ax, ay, bx, by, cx, cy, dx, dy)
+        out[i, 1] = incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+        out[i, 2] = incircle_fast(ax, ay, bx, by, cx, cy, dx, dy)
+    return out
+
+
+@njit(cache=True)
+def _naive_weighted(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
+    adx = ax - dx
+    ady = ay - dy
+    bdx = bx - dx
+    bdy = by - dy
+    cdx = cx - dx
+    cdy = cy - dy
+    alift = adx * adx + ady * ady - (aw - dw)
+    blift = bdx * bdx + bdy * bdy - (bw - dw)
+    clift = cdx * cdx + cdy * cdy - (cw - dw)
+    return (alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy)
+            + clift * (adx * bdy - bdx * ady))
+
+
+@njit(cache=True)
+def _run_weighted(P):
+    n = P.shape[0]
+    out = np.empty((n, 3))
+    for i in range(n):
+        ax, ay, aw, bx, by, bw = P[i, 0], P[i, 1], P[i, 2], P[i, 3], P[i, 4], P[i, 5]
+        cx, cy, cw, dx, dy, dw = P[i, 6], P[i, 7], P[i, 8], P[i, 9], P[i, 10], P[i, 11]
+        out[i, 0] = incircle_weighted(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw)
+        out[i, 1] = incircle_weighted_exact(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw)
+        out[i, 2] = _naive_weighted(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw)
+    return out
+
+
+# ---------------------------------------------------------------------------
+# Vectorised adversarial case generation.
+# ---------------------------------------------------------------------------
+
+ULP_NUDGE = 3  # points are moved by 0 .. ULP_NUDGE ulps per coordinate
+
+
+def nudge(x: np.ndarray, k: np.ndarray) -> np.ndarray:
+    """Move every nonzero x[i] by k[i] ulps (k may be negative) with np.nextafter.
+
+    Zeros stay zero: one ulp away from 0.0 is a subnormal, outside the
+    predicates' documented range (see the module docstring).
+    """
+    x = np.array(x, dtype=np.float64, copy=True)
+    k = np.where(x == 0.0, 0, np.broadcast_to(k, x.shape))
+    for step in range(1, int(np.abs(k).max(initial=0)) + 1):
+        up = k >= step
+        down = k <= -step
+        x[up] = np.nextafter(x[up], np.inf)
+        x[down] = np.nextafter(x[down], -np.inf)
+    return x
+
+
+def random_nudge(rng, x: np.ndarray, kmax: int = ULP_NUDGE) -> np.ndarray:
+    return nudge(x, rng.integers(-kmax, kmax + 1, size=x.shape))
+
+
+def permute_points(rng, *pts: np.ndarray) -> list[np.ndarray]:
+    """Apply an independent random permutation of the point roles to every case.
+
+    pts are (n, k) arrays (one per point); the result is the same list with rows
+    shuffled among the points, so both orientations / all roles occur.
+    """
+    stack = np.stack(pts, axis=1)  # (n, m, k)
+    n, m = stack.shape[:2]
+    perm = np.argsort(rng.random((n, m)), axis=1)
+    shuffled = np.take_along_axis(stack, perm[:, :, None], axis=1)
+    return [shuffled[:, j, :] for j in range(m)]
+
+
+def lattice_circle(r: int) -> np.ndarray:
+    """All integer points on x^2 + y^2 = r^2 (exactly cocircular), as int64 (k, 2)."""
+    x = np.arange(0, r + 1, dtype=np.int64)
+    y2 = r * r - x * x
+    y = np.round(np.sqrt(y2.astype(np.float64))).astype(np.int64)
+    for dy in (-1, 0, 1):  # guard against sqrt rounding
+        yy = y + dy
+        ok = (yy >= 0) & (yy * yy == y2)
+        y = np.where(ok, yy, y)
+    ok = y * y == y2
+    q = np.stack([x[ok], y[ok]], axis=1)
+    pts = np.concatenate([q, q * [-1, 1], q * [1, -1], q * [-1, -1]])
+    return np.unique(pts, axis=0)
+
+
+# Radii with many lattice points: 5^2*13 (20 pts), 5^2*13*17 (180), 5*13*17*29*37 (972).
+PYTHAGOREAN_RADII = (325, 5525, 1185665)
+
+
+def orient_near_collinear(rng, n, scale=1.0, offset=0.0, spread=1.0):
+    """c = a + t (b - a) rounded, then nudged by a few ulps; roles permuted."""
+    a = offset + spread * scale * rng.uniform(-1, 1, (n, 2))
+    b = offset + spread * scale * rng.uniform(-1, 1, (n, 2))
+    t = rng.uniform(-1.0, 2.0, (n, 1))
+    c = a + t * (b - a)
+    c = random_nudge(rng, c)
+    a, b, c = permute_points(rng, a, b, c)
+    return np.hstack([a, b, c])
+
+
+def orient_kettner(rng):
+    """Kettner et al.'s classroom example: p = (0.5 + i u, 0.5 + j u), q = (12, 12), r = (24, 24)."""
+    u = 2.0 ** -53
+    i, j = np.meshgrid(np.arange(64), np.arange(64), indexing="ij")
+    p = np.stack([0.5 + i.ravel() * u, 0.5 + j.ravel() * u], axis=1)
+    n = p.shape[0]
+    q = np.tile([12.0, 12.0], (n, 1))
+    r = np.tile([24.0, 24.0], (n, 1))
+    q2 = np.tile([17.300000000000001, 17.300000000000001], (n, 1))
+    r2 = np.tile([24.00000000000005, 24.0000000000000053], (n, 1))
+    return np.vstack([np.hstack([p, q, r]), np.hstack([p, q2, r2]), np.hstack([q, r, p])])
+
+
+def orient_integer_collinear(rng, n, offset):
+    """Exactly collinear integer points k*(dx, dy) + base at an integer offset."""
+    base = offset + rng.integers(-1000, 1000, (n, 2)).astype(np.float64)
+    d = rng.integers(-10**6, 10**6, (n, 2)).astype(np.float64)
+    k = rng.integers(-50, 50, (n, 3)).astype(np.float64)
+    pts = [base + k[:, [m]] * d for m in range(3)]
+    pts[2] = np.where(rng.random((n, 1)) < 0.5, pts[2], random_nudge(rng, pts[2], 2))
+    return np.hstack(pts)
+
+
+def _bezout(u, v):
+    """(s, t) with u*s + v*t == gcd(u, v) (extended Euclid on Python ints)."""
+    r0, r1, s0, s1, t0, t1 = u, v, 1, 0, 0, 1
+    while r1:
+        q = r0 // r1
+        r0, r1, s0, s1, t0, t1 = r1, r0 - q * r1, s1, s0 - q * s1, t1, t0 - q * t1
+    return r0, s0, t0
+
+
+def orient_offset_lattice(rng, n, offset):
+    """Nearly collinear points on the finest lattice the offset allows (unit = ulp(offset)).
+
+    a = o, b = o + u, c = o + v with integer lattice vectors u, v of length up to
+    ~1e9 ulps (relative spread ~1e-7 .. 1e-6) and cross(u, v) in {-2, ..., 2}
+    (v = m v0 + k u with cross(u, v0) = 1 by Bezout).  The differences are exact
+    (Sterbenz) but their products are not, so the float determinant is at the
+    mercy of rounding while the exact one is a tiny integer.
+    """
+    unit = float(np.spacing(offset))
+    base = round(offset / unit)
+    N = int(offset * 1e-6 / unit) // 8
+    rows = np.empty((n, 6))
+    for i in range(n):
+        while True:
+            ux, uy = (int(z) for z in rng.integers(-N, N, 2))
+            g, s_, t_ = _bezout(ux, uy)
+            if abs(g) == 1:
+                break
+        v0x, v0y = -t_ * g, s_ * g           # ux*v0y - uy*v0x == 1
+        m = int(rng.integers(-2, 3))
+        k = int(rng.integers(-3, 4))
+        vx, vy = m * v0x + k * ux, m * v0y + k * uy
+        assert ux * vy - uy * vx == m
+        ox, oy = (base + int(z) for z in rng.integers(-N, N, 2))
+        pts = [(ox, oy), (ox + ux, oy + uy), (ox + vx, oy + vy)]
+        rows[i] = [float(z) * unit for p in pts for z in p]
+    a, b, c = permute_points(rng, rows[:, 0:2], rows[:, 2:4], rows[:, 4:6])
+    return np.hstack([a, b, c])
+
+
+def orient_random(rng, n):
+    return rng.uniform(-1, 1, (n, 6)) * 10.0 ** rng.integers(-3, 4, (n, 1))
+
+
+def circle_points(rng, n, center, radius):
+    theta = rng.uniform(0, 2 * np.pi, (n, 4))
+    x = center[:, [0]] + radius[:, None] * np.cos(theta)
+    y = center[:, [1]] + radius[:, None] * np.sin(theta)
+    return x, y
+
+
+def incircle_near_cocircular(rng, n, scale=1.0, offset=0.0):
+    """Four rounded points on a circle, d nudged by 0..3 ulps; a, b, c in random order."""
+    center = offset + scale * rng.uniform(-1, 1, (n, 2))
+    radius = scale * 10.0 ** rng.uniform(-1, 1, n)
+    x, y = circle_points(rng, n, center, radius)
+    x[:, 3] = random_nudge(rng, x[:, 3])
+    y[:, 3] = random_nudge(rng, y[:, 3])
+    P = np.empty((n, 8))
+    P[:, 0::2] = x
+    P[:, 1::2] = y
+    a, b, c = permute_points(rng, P[:, 0:2], P[:, 2:4], P[:, 4:6])
+    return np.hstack([a, b, c, P[:, 6:8]])
+
+
+def incircle_pythagorean(rng, n, offset=0.0, scale=1.0, nudge_d=True):
+    """Exactly cocircular lattice points: (offset/scale + shift + p) * scale, p on x^2 + y^2 = r^2.
+
+    scale is a power of two, so every coordinate is an exact double (all lattice
+    integers stay below 2^53); scale = ulp(offset) puts the circle on the finest
+    lattice the offset allows.  Half the cases get d nudged by a few ulps.
+    """
+    base = round(offset / scale)
+    rows = []
+    per = n // len(PYTHAGOREAN_RADII)
+    for r in PYTHAGOREAN_RADII:
+        pts = lattice_circle(r)
+        idx = np.stack([rng.choice(len(pts), 4, replace=False) for _ in range(per)])
+        lat = pts[idx] + rng.integers(-1000, 1000, (per, 1, 2)) + base  # (per, 4, 2) int64
+        assert np.abs(lat).max() < 2 ** 53
+        rows.append(lat.astype(np.float64).reshape(per, 8) * scale)
+    P = np.vstack(rows)
+    if nudge_d:
+        half = rng.random(P.shape[0]) < 0.5
+        P[half, 6] = random_nudge(rng, P[half, 6])
+        P[half, 7] = random_nudge(rng, P[half, 7])
+    return P
+
+
+def incircle_rectangles(rng, n, offset):
+    """The four corners of axis-parallel rectangles (exactly cocircular), d nudged in half."""
+    x0 = offset + rng.uniform(-1e3, 1e3, n) * (1 + offset * 1e-9)
+    y0 = offset + rng.uniform(-1e3, 1e3, n) * (1 + offset * 1e-9)
+    x1 = x0 + rng.uniform(1, 1e3, n) * (1 + offset * 1e-9)
+    y1 = y0 + rng.uniform(1, 1e3, n) * (1 + offset * 1e-9)
+    corners = [np.stack(c, axis=1) for c in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
+    a, b, c, d = permute_points(rng, *corners)
+    half = rng.random(n) < 0.5
+    d[half] = random_nudge(rng, d[half])
+    return np.hstack([a, b, c, d])
+
+
+def incircle_random(rng, n):
+    return rng.uniform(-1, 1, (n, 8)) * 10.0 ** rng.integers(-3, 4, (n, 1))
+
+
+def _solve_planes(a, b, c):
+    """Float plane z = alpha x + beta y + gamma through three lifted points (n, 3) each."""
+    M = np.stack([np.stack([p[:, 0], p[:, 1], np.ones(len(p))], axis=1) for p in (a, b, c)], axis=1)
+    z = np.stack([p[:, 2] for p in (a, b, c)], axis=1)
+    return np.linalg.solve(M, z[:, :, None])[:, :, 0]
+
+
+def weighted_plane_integer(rng, n, spread, offset=0):
+    """Points offset + p (p integer) with integer weights w = |p|^2 - (alpha px + beta py + gamma).
+
+    The lifted companions (x, y, x^2 + y^2 - w) are then exactly coplanar:
+    their height |offset + p|^2 - w = |offset|^2 + 2 offset.p + alpha px + beta py + gamma
+    is affine in p.  Every value stays below 2^53, so inputs are exact doubles and
+    the determinant is exactly 0; half the cases get the weight of d nudged by a
+    few ulps.
+    """
+    p = rng.integers(-spread, spread, (n, 4, 2))
+    coef = rng.integers(-1000, 1000, (n, 1, 3))
+    w = (p ** 2).sum(axis=2) - (coef[:, :, 0] * p[:, :, 0] + coef[:, :, 1] * p[:, :, 1] + coef[:, :, 2])
+    xy = offset + p
+    assert np.abs(w).max() < 2 ** 53 and np.abs(xy).max() < 2 ** 53
+    P = np.concatenate([xy, w[:, :, None]], axis=2).astype(np.float64)  # (n, 4, 3)
+    half = rng.random(n) < 0.5
+    P[half, 3, 2] = random_nudge(rng, P[half, 3, 2])
+    a, b, c = permute_points(rng, P[:, 0], P[:, 1], P[:, 2])
+    return np.hstack([a, b, c, P[:, 3]])
+
+
+def weighted_near_plane(rng, n, wscale, scale=1.0, offset=0.0):
+    """Random points and weights; d's weight solved in floats to put d+ on the plane, then nudged."""
+    xy = offset + scale * rng.uniform(-1, 1, (n, 4, 2))
+    sign = rng.choice([-1.0, 1.0], (n, 3))
+    w = sign * wscale * 10.0 ** rng.uniform(-1, 1, (n, 3))
+    lifted = [np.stack([xy[:, k, 0], xy[:, k, 1], xy[:, k, 0] ** 2 + xy[:, k, 1] ** 2 - w[:, k]], axis=1)
+              for k in range(3)]
+    # Solve in translated coordinates (better conditioned at offsets).
+    o = xy[:, 3, :]
+    shifted = [np.stack([p[:, 0] - o[:, 0], p[:, 1] - o[:, 1], p[:, 2]], axis=1) for p in lifted]
+    plane = _solve_planes(*shifted)
+    dw = xy[:, 3, 0] ** 2 + xy[:, 3, 1] ** 2 - plane[:, 2]
+    dw = random_nudge(rng, dw)
+    P = np.empty((n, 12))
+    for k in range(3):
+        P[:, 3 * k:3 * k + 2] = xy[:, k]
+        P[:, 3 * k + 2] = w[:, k]
+    P[:, 9:11] = xy[:, 3]
+    P[:, 11] = dw
+    a, b, c = permute_points(rng, P[:, 0:3], P[:, 3:6], P[:, 6:9])
+    return np.hstack([a, b, c, P[:, 9:12]])
+
+
+def weighted_random(rng, n):
+    P = rng.uniform(-1, 1, (n, 12)) * 10.0 ** rng.integers(-2, 3, (n, 1))
+    P[:, 2::3] *= 10.0 ** rng.integers(-3, 4, (n, 1))
+    return P
+
+
+def _make_orient_families():
+    rng = np.random.default_rng(20240601)
+    fam = {
+        "near_collinear_unit": orient_near_collinear(rng, 12000),
+        "near_collinear_scaled": orient_near_collinear(rng, 4000, scale=1e3),
+        "kettner_classroom": orient_kettner(rng),
+        "integer_collinear": np.vstack([orient_integer_collinear(rng, 1500, off) for off in (0.0, 1e6, 1e9)]),
+        "random_generic": orient_random(rng, 4000),
+    }
+    for off in (1e6, 1e9, 1e12, 1e15):
+        fam[f"offset_{off:.0e}_lattice"] = orient_offset_lattice(rng, 2500, off)
+        fam[f"offset_{off:.0e}_float"] = orient_near_collinear(rng, 1000, offset=off, spread=off * 1e-6)
+    for s in (1e-10, 1e-20, 1e-30):
+        fam[f"tiny_{s:.0e}"] = orient_near_collinear(rng, 2000, scale=s)
+    return fam
+
+
+def _make_incircle_families():
+    rng = np.random.default_rng(20240602)
+    fam = {
+        "near_cocircular_unit": incircle_near_cocircular(rng, 9000),
+        "pythagorean": incircle_pythagorean(rng, 3000),
+        "rectangles": np.vstack([incircle_rectangles(rng, 1000, off) for off in (0.0, 1e6)]),
+        "random_generic": incircle_random(rng, 3000),
+    }
+    for off in (1e6, 1e9, 1e12, 1e15):
+        fam[f"offset_{off:.0e}_pythagorean"] = incircle_pythagorean(rng, 1500, offset=off)
+        fam[f"offset_{off:.0e}_ulp_pythagorean"] = incircle_pythagorean(
+            rng, 1200, offset=off, scale=float(np.spacing(off)))
+        fam[f"offset_{off:.0e}_float"] = incircle_near_cocircular(rng, 600, scale=off * 1e-6, offset=off)
+    for s in (1e-10, 1e-20, 1e-30):
+        fam[f"tiny_{s:.0e}_near_cocircular"] = incircle_near_cocircular(rng, 1200, scale=s)
+    fam["tiny_2^-100_pythagorean"] = incircle_pythagorean(rng, 1500, scale=2.0 ** -100)
+    return fam
+
+
+def _make_weighted_families():
+    rng = np.random.default_rng(20240603)
+    fam = {
+        "plane_integer_small": weighted_plane_integer(rng, 2000, spread=1000),
+        "plane_integer_large": weighted_plane_integer(rng, 2000, spread=10**6),
+        "plane_integer_offset_1e6": weighted_plane_integer(rng, 1000, spread=10**5, offset=10**6),
+        "plane_integer_offset_1e9": weighted_plane_integer(rng, 1000, spread=10**5, offset=10**9),
+        "plane_integer_offset_1e15": weighted_plane_integer(rng, 1000, spread=10**5, offset=10**15),
+        "near_plane_unit_w": weighted_near_plane(rng, 3000, wscale=1.0),
+        "near_plane_small_w": weighted_near_plane(rng, 1500, wscale=1e-4),
+        "near_plane_large_w": weighted_near_plane(rng, 1500, wscale=1e8),
+        "near_plane_huge_w": weighted_near_plane(rng, 1000, wscale=1e15, scale=1e3),
+        "near_plane_offset_1e6": weighted_near_plane(rng, 1000, wscale=1.0, scale=1.0, offset=1e6),
+        "near_plane_offset_1e9": weighted_near_plane(rng, 800, wscale=1e3, scale=1e3, offset=1e9),
+        "near_plane_tiny_1e-20": weighted_near_plane(rng, 1000, wscale=1e-40, scale=1e-20),
+        "random_generic": weighted_random(rng, 2000),
+    }
+    return fam
+
+
+_CACHE: dict = {}
+
+
+def _families(kind):
+    """Cases, compiled results and exact reference signs, computed once per session."""
+    if kind not in _CACHE:
+        make, run, ref = {
+            "orient": (_make_orient_families, _run_orient, orient2d_ref),
+            "incircle": (_make_incircle_families, _run_incircle, incircle_ref),
+            "weighted": (_make_weighted_families, _run_weighted, incircle_weighted_ref),
+        }[kind]
+        out = {}
+        for name, P in make().items():
+            P = np.ascontiguousarray(P, dtype=np.float64)
+            assert np.isfinite(P).all()
+            out[name] = (P, run(P), _ref_signs(ref, P))
+        _CACHE[kind] = out
+    return _CACHE[kind]
+
+
+ORIENT_NAMES = list(_make_orient_families().keys())
+INCIRCLE_NAMES = list(_make_incircle_families().keys())
+WEIGHTED_NAMES = list(_make_weighted_families().keys())
+
+# Families where plain floating point must fail (they exist to defeat it).
+# Excluded: random generic points (sanity only) and the "float" offset families:
+# there the points are rounded to the offset's ulp, so after the translation to
+# the last point (exact by Sterbenz) they are never closer to degenerate than
+# one ulp of the offset, which the float determinant resolves; the "lattice"
+# and "pythagorean" offset families are the ones built to defeat it.
+NAIVE_MUST_FAIL = {
+    kind: [n for n in names if n != "random_generic" and not n.endswith("_float")
+           and not n.startswith("near_plane_offset")]
+    for kind, names in (("orient", ORIENT_NAMES), ("incircle", INCIRCLE_NAMES), ("weighted", WEIGHTED_NAMES))
+}
+
+
+def _check(P, res, ref, label):
+    for col, what in ((0, "filtered"), (1, "exact fallback")):
+        got = np.sign(res[:, col]).astype(np.int64)
+        bad = np.flatnonzero(got != ref)
+        assert bad.size == 0, (
+            f"{label} ({what}): {bad.size} wrong signs of {len(ref)}; first case "
+            f"{P[bad[0]].tolist()!r} gave {res[bad[0], col]!r}, exact sign {ref[bad[0]]}")
+
+
+# ---------------------------------------------------------------------------
+# Exactness on every family.
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ORIENT_NAMES)
+def test_orient2d_exact_sign(name):
+    P, res, ref = _families("orient")[name]
+    _check(P, res, ref, f"orient2d/{name}")
+
+
+@pytest.mark.parametrize("name", INCIRCLE_NAMES)
+def test_incircle_exact_sign(name):
+    P, res, ref = _families("incircle")[name]
+    _check(P, res, ref, f"incircle/{name}")
+
+
+@pytest.mark.parametrize("name", WEIGHTED_NAMES)
+def test_incircle_weighted_exact_sign(name):
+    P, res, ref = _families("weighted")[name]
+    _check(P, res, ref, f"incircle_weighted/{name}")
+
+
+@pytest.mark.parametrize("name", INCIRCLE_NAMES)
+def test_weighted_with_zero_or_equal_weights_is_incircle(name):
+    """All weights 0 (or all equal) must reproduce incircle's exact sign."""
+    P, _, ref = _families("incircle")[name]
+    n = P.shape[0]
+    W = np.zeros((n, 12))
+    for k in range(4):
+        W[:, 3 * k:3 * k + 2] = P[:, 2 * k:2 * k + 2]
+    res0 = _run_weighted(W)
+    _check(W, res0, ref, f"weighted-zero/{name}")
+    rng = np.random.default_rng(7)
+    W[:, 2::3] = rng.normal(size=(n, 1)) * 10.0 ** rng.integers(-5, 6, (n, 1))
+    res1 = _run_weighted(W)
+    _check(W, res1, ref, f"weighted-equal/{name}")
+
+
+def test_pythagorean_cocircular_is_exactly_zero():
+    rng = np.random.default_rng(11)
+    for off in (0.0, 1e6, 1e12, 1e15):
+        P = incircle_pythagorean(rng, 600, offset=off, nudge_d=False)
+        res = _run_incircle(P)
+        assert (res[:, :2] == 0.0).all(), off
+        W = np.zeros((P.shape[0], 12))
+        for k in range(4):
+            W[:, 3 * k:3 * k + 2] = P[:, 2 * k:2 * k + 2]
+        assert (_run_weighted(W)[:, :2] == 0.0).all(), off
+
+
+def test_total_case_count():
+    """The brief: at least 100 000 adversarial cases checked against Fractions."""
+    total = sum(len(v[2]) for kind in ("orient", "incircle", "weighted") for v in _families(kind).values())
+    # the zero/equal-weight test re-checks every incircle case twice more
+    total += 2 * sum(len(v[2]) for v in _families("incircle").values())
+    assert total >= 100_000, total
+
+
+# ---------------------------------------------------------------------------
+# The families are adversarial: plain floating point gets some wrong.
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("kind,name", [(k, n) for k, names in NAIVE_MUST_FAIL.items() for n in names])
+def test_naive_float_determinant_fails_on_family(kind, name):
+    P, res, ref = _families(kind)[name]
+    naive_wrong = int((np.sign(res[:, 2]).astype(np.int64) != ref).sum())
+    assert naive_wrong > 0, f"{kind}/{name}: the naive determinant got all {len(ref)} cases right"
+
+
+def test_naive_float_fails_often_overall():
+    wrong = {}
+    for kind in ("orient", "incircle", "weighted"):
+        wrong[kind] = sum(int((np.sign(res[:, 2]).astype(np.int64) != ref).sum())
+                          for P, res, ref in _families(kind).values())
+    assert min(wrong.values()) > 100, wrong
+
+
+# ---------------------------------------------------------------------------
+# Symmetries (pure consistency, on every case of every family).
+# ---------------------------------------------------------------------------
+
+
+def _all(kind):
+    return np.vstack([v[0] for v in _families(kind).values()])
+
+
+def test_orient2d_antisymmetry_and_rotation():
+    P = _all("orient")
+    s = np.sign(_run_orient(P)[:, 0])
+    swapped = np.sign(_run_orient(P[:, [2, 3, 0, 1, 4, 5]])[:, 0])   # (b, a, c)
+    rotated = np.sign(_run_orient(P[:, [2, 3, 4, 5, 0, 1]])[:, 0])   # (b, c, a)
+    swapped_bc = np.sign(_run_orient(P[:, [0, 1, 4, 5, 2, 3]])[:, 0])  # (a, c, b)
+    np.testing.assert_array_equal(swapped, -s)
+    np.testing.assert_array_equal(rotated, s)
+    np.testing.assert_array_equal(swapped_bc, -s)
+
+
+def test_incircle_rotation_and_swap():
+    P = _all("incircle")
+    s = np.sign(_run_incircle(P)[:, 0])
+    rot = np.sign(_run_incircle(P[:, [2, 3, 4, 5, 0, 1, 6, 7]])[:, 0])  # (b, c, a, d)
+    rot2 = np.sign(_run_incircle(P[:, [4, 5, 0, 1, 2, 3, 6, 7]])[:, 0])  # (c, a, b, d)
+    swap = np.sign(_run_incircle(P[:, [2, 3, 0, 1, 4, 5, 6, 7]])[:, 0])  # (b, a, c, d)
+    np.testing.assert_array_equal(rot, s)
+    np.testing.assert_array_equal(rot2, s)
+    np.testing.assert_array_equal(swap, -s)
+
+
+def test_incircle_weighted_rotation_and_swap():
+    P = _all("weighted")
+    s = np.sign(_run_weighted(P)[:, 0])
+    idx = np.arange(12)
+    rot = np.concatenate([idx[3:6], idx[6:9], idx[0:3], idx[9:12]])
+    swap = np.concatenate([idx[3:6], idx[0:3], idx[6:9], idx[9:12]])
+    np.testing.assert_array_equal(np.sign(_run_weighted(P[:, rot])[:, 0]), s)
+    np.testing.assert_array_equal(np.sign(_run_weighted(P[:, swap])[:, 0]), -s)
+
+
+def test_weighted_adding_constant_to_all_weights_is_invariant():
+    """A common weight shift moves all lifts by the same height: the test must not change."""
+    P, _, ref = _families("weighted")["plane_integer_small"]
+    integral = (P[:, 2::3] == np.round(P[:, 2::3])).all(axis=1)  # the un-nudged cases
+    assert integral.sum() > 500
+    Q = P[integral].copy()
+    Q[:, 2::3] += 4096.0  # exact for these integer weights
+    assert np.array_equal(np.sign(_run_weighted(Q)[:, 0]).astype(np.int64), ref[integral])
+
+
+# ---------------------------------------------------------------------------
+# Range edges named in the module docstring, and hand-checked values.
+# ---------------------------------------------------------------------------
+
+
+def test_documented_range_edges():
+    rng = np.random.default_rng(5)
+    cases = []
+    for s in (2.0 ** -430, 2.0 ** 430):  # ~1e-130 and ~1e130
+        cases.append(("orient", orient_near_collinear(rng, 300, scale=s)))
+    for s in (2.0 ** -195, 2.0 ** 195):  # ~1e-59 and ~1e59
+        cases.append(("incircle", incircle_near_cocircular(rng, 300, scale=s)))
+        cases.append(("incircle", incircle_pythagorean(rng, 300, scale=s)))
+        cases.append(("weighted", weighted_near_plane(rng, 300, wscale=s * s, scale=s)))
+    run = {"orient": (_run_orient, orient2d_ref), "incircle": (_run_incircle, incircle_ref),
+           "weighted": (_run_weighted, incircle_weighted_ref)}
+    for kind, P in cases:
+        fn, ref = run[kind]
+        _check(P, fn(P), _ref_signs(ref, P), f"range/{kind}")
+
+
+def test_simple_values():
+    assert orient2d(0.0, 0.0, 1.0, 0.0, 0.0, 1.0) > 0
+    assert orient2d(0.0, 0.0, 0.0, 1.0, 1.0, 0.0) < 0
+    assert orient2d(0.1, 0.1, 0.3, 0.3, 0.7, 0.7) == 0.0
+    assert incircle(5.0, 0.0, 0.0, 5.0, -5.0, 0.0, 0.0, 0.0) > 0
+    assert incircle(5.0, 0.0, 0.0, 5.0, -5.0, 0.0, 3.0, 4.0) == 0.0
+    assert incircle(5.0, 0.0, 0.0, 5.0, -5.0, 0.0, 9.0, 9.0) < 0
+    assert incircle(0.0, 5.0, 5.0, 0.0, -5.0, 0.0, 0.0, 0.0) < 0  # clockwise a, b, c flips
+    # power test: a heavy d (large weight) is "inside", a light one outside
+    args = (5.0, 0.0, 0.0, 0.0, 5.0, 0.0, -5.0, 0.0, 0.0, 3.0, 4.0)
+    assert incircle_weighted(*args, 0.0) == 0.0
+    assert incircle_weighted(*args, 1.0) > 0
+    assert incircle_weighted(*args, -1.0) < 0
+    # weight 16 on a, b, c: the orthogonal circle has r^2 = 25 - 16 = 9, so an
+    # unweighted d = (3, 0) lies on it; (2, 0) inside, (4, 0) outside
+    abc = (5.0, 0.0, 16.0, 0.0, 5.0, 16.0, -5.0, 0.0, 16.0)
+    assert incircle_weighted(*abc, 3.0, 0.0, 0.0) == 0.0
+    assert incircle_weighted(*abc, 2.0, 0.0, 0.0) > 0
+    assert incircle_weighted(*abc, 4.0, 0.0, 0.0) < 0
+
+
+# ---------------------------------------------------------------------------
+# Property-based tests (hypothesis): ulp nudges of exact degeneracies.
+# ---------------------------------------------------------------------------
+
+# Coordinates inside the documented range: 0 or 1e-100 <= |x| <= 1e6.
+_coord = st.one_of(st.just(0.0), st.floats(min_value=1e-100, max_value=1e6),
+                   st.floats(min_value=-1e6, max_value=-1e-100))
+_ulps = st.integers(min_value=-4, max_value=4)
+
+
+def _nudge1(x, k):
+    return float(nudge(np.array([x]), np.array([k]))[0])
+
+
+def _in_range(args, lo):
+    """Every nonzero |value| >= lo (the predicates' documented lower limit)."""
+    return all(v == 0.0 or abs(v) >= lo for v in args)
+
+
+@settings(max_examples=300, deadline=None)
+@given(_coord, _coord, _coord, _coord, st.floats(-2, 3), _ulps, _ulps)
+def test_orient2d_hypothesis_near_collinear(ax, ay, bx, by, t, kx, ky):
+    cx = _nudge1(ax + t * (bx - ax), kx)
+    cy = _nudge1(ay + t * (by - ay), ky)
+    args = (ax, ay, bx, by, cx, cy)
+    assume(_in_range(args, 1e-130))
+    ref = orient2d_ref(*args)
+    assert np.sign(orient2d(*args)) == ref
+    assert np.sign(orient2d_exact(*args)) == ref
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.sampled_from(PYTHAGOREAN_RADII[:2]), st.integers(0, 10**6), st.integers(-2**40, 2**40),
+       st.integers(-2**40, 2**40), _ulps, _ulps)
+def test_incircle_hypothesis_pythagorean(r, seed, ox, oy, kx, ky):
+    pts = lattice_circle(r)
+    rng = np.random.default_rng(seed)
+    sel = pts[rng.choice(len(pts), 4, replace=False)].astype(np.float64) + [ox, oy]
+    sel[3, 0] = _nudge1(sel[3, 0], kx)
+    sel[3, 1] = _nudge1(sel[3, 1], ky)
+    args = tuple(sel.ravel().tolist())
+    ref = incircle_ref(*args)
+    assert np.sign(incircle(*args)) == ref
+    assert np.sign(incircle_exact(*args)) == ref
+    w = (args[0], args[1], 0.0, args[2], args[3], 0.0, args[4], args[5], 0.0, args[6], args[7], 0.0)
+    assert np.sign(incircle_weighted(*w)) == ref
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.integers(-10**6, 10**6), min_size=8, max_size=8),
+       st.lists(st.integers(-10**4, 10**4), min_size=3, max_size=3),
+       _ulps, st.floats(-1e12, 1e12))
+def test_incircle_weighted_hypothesis_plane(xy, coef, k, shift):
+    al, be, ga = coef
+    pts = [(xy[2 * i], xy[2 * i + 1]) for i in range(4)]
+    ws = [x * x + y * y - (al * x + be * y + ga) for x, y in pts]
+    args = []
+    for (x, y), w in zip(pts, ws):
+        args += [float(x), float(y), float(w)]
+    args[11] = _nudge1(args[11], k)
+    ref = incircle_weighted_ref(*args)
+    assert np.sign(incircle_weighted(*args)) == ref
+    assert np.sign(incircle_weighted_exact(*args)) == ref
+    # weights rounded after an arbitrary shift: still exact against the reference
+    shifted = list(args)
+    for i in (2, 5, 8, 11):
+        shifted[i] = shifted[i] + shift
+    assert np.sign(incircle_weighted(*shifted)) == incircle_weighted_ref(*shifted)
