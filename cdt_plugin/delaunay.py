@@ -51,22 +51,25 @@ def seed_triangle(x, y, order):
 
 
 @njit(cache=True)
-def build(x, y, w, weighted, inf, order, hull_only, dup_of, submerged, counts):
+def build(x, y, w, weighted, inf, order, hull_only, dup_of, submerged, counts, extra, with_cons):
     """Triangulate ``order[0:3]`` (a non-degenerate triangle), then insert the rest.
-    Returns ``(status, tri, twin, ntri)``."""
+    ``extra`` reserves room for that many more vertices (Steiner points);
+    ``with_cons`` allocates the per-half-edge segment ids.
+    Returns ``(status, tri, twin, cons, ntri)``."""
     n = order.shape[0]
-    cap = max(4, 2 * n + 2)
+    cap = max(4, 2 * (n + extra) + 2)
     tri = np.full(3 * cap, -1, IDX)
     twin = np.full(3 * cap, -1, IDX)
+    cons = np.zeros(3 * cap if with_cons else 0, IDX)
     a = order[0]
     b = order[1]
     c = order[2]
     if orient(x, y, a, b, c) < 0:
         b, c = c, b
     ntri = make_first_triangle(tri, twin, a, b, c, inf)
-    status, ntri = insert_vertices(tri, twin, x, y, w, weighted, inf, order, 3, ntri,
+    status, ntri = insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, 3, ntri,
                                    hull_only, dup_of, submerged, counts)
-    return status, tri, twin, ntri
+    return status, tri, twin, cons, ntri
 
 
 def _merge_weighted_duplicates(pts, w, dup_of, submerged):
@@ -159,7 +162,7 @@ def delaunay(points, weights=None, *, algorithm: str = "incremental", seed: int 
 
     order = _reorder_seed_first(order, k1, k2)
     for _ in range(MAX_WEIGHTED_PASSES):
-        tri, twin, ntri, counts = _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged)
+        tri, twin, cons, ntri, counts = _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged)
         if not weighted:
             break
         xi, yi, wi = (np.append(a[order], 0.0) for a in (x, y, w))
@@ -176,7 +179,7 @@ def delaunay(points, weights=None, *, algorithm: str = "incremental", seed: int 
             return Triangulation.from_collinear(pts, order, w_in, dup_of, submerged, stats, t0)
         order = _reorder_seed_first(order, k1, k2)
     stats["flips"] = int(counts[0])
-    return Triangulation.from_mesh(pts, w_in, tri, twin, ntri, order, dup_of, submerged, stats, t0)
+    return Triangulation.from_mesh(pts, w_in, tri, twin, cons, ntri, order, dup_of, submerged, stats, t0)
 
 
 def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged):
@@ -189,13 +192,13 @@ def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged):
     dup_int = np.full(m, -1, np.int64)
     sub_int = np.zeros(m, np.int8)
     counts = np.zeros(2, np.int64)
-    status, tri, twin, ntri = build(xi, yi, wi, weighted, m, np.arange(m), algorithm == "flip",
-                                    dup_int, sub_int, counts)
+    status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, m, np.arange(m), algorithm == "flip",
+                                          dup_int, sub_int, counts, 0, False)
     if status != OK:  # pragma: no cover - a located point always exists
         raise CDTError(f"internal error: point location failed (status {status})")
     if algorithm == "flip":
-        counts[0] = flip_to_delaunay(tri, twin, xi, yi, wi, False, m, ntri)
+        counts[0] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, m, ntri)
     is_dup = dup_int >= 0
     dup_of[order[is_dup]] = order[dup_int[is_dup]]
     submerged[order[sub_int > 0]] = 1
-    return tri, twin, ntri, counts
+    return tri, twin, cons, ntri, counts

@@ -11,9 +11,10 @@ from .mesh import DEAD, flip, nxt, prv
 
 
 @njit(cache=True)
-def flip_to_delaunay(tri, twin, x, y, w, weighted, inf, ntri, max_flips=-1):
+def flip_to_delaunay(tri, twin, cons, x, y, w, weighted, inf, ntri, max_flips=-1):
     """Run the flip algorithm with an edge stack over every edge of the
-    triangulation. Returns the number of flips (Prop. 2.5 bounds it by O(n^2)),
+    triangulation; edges on segments (``cons``) are never flipped, which makes
+    it the modified flip algorithm of Sec. 2.10.3. Returns the number of flips (Prop. 2.5 bounds it by O(n^2)),
     or -1 when ``max_flips`` (if >= 0) is exceeded."""
     # No "queued" flags: a flip rewrites the half-edge slots of two triangles,
     # so a flag per slot would go stale. Pushing duplicates is harmless (each pop
@@ -33,6 +34,8 @@ def flip_to_delaunay(tri, twin, x, y, w, weighted, inf, ntri, max_flips=-1):
         sp -= 1
         e = stack[sp]
         f = twin[e]
+        if cons.shape[0] > 0 and cons[e] != 0:
+            continue
         a = tri[e]
         b = tri[f]
         p = tri[prv(e)]
@@ -41,7 +44,7 @@ def flip_to_delaunay(tri, twin, x, y, w, weighted, inf, ntri, max_flips=-1):
             continue
         if flips == max_flips:
             return -1
-        flip(tri, twin, e)
+        flip(tri, twin, cons, e)
         flips += 1
         # the four outer edges of the quadrilateral may have become illegal
         if sp + 4 > stack.shape[0]:

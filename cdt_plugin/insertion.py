@@ -16,23 +16,15 @@ LOCATE_FAILED = 1
 
 
 @njit(cache=True)
-def push(stack, sp, e):
-    """Push ``e``; returns the (possibly grown) stack and the new size."""
-    if sp == stack.shape[0]:
-        bigger = np.empty(2 * stack.shape[0], stack.dtype)
-        bigger[:sp] = stack[:sp]
-        stack = bigger
-    stack[sp] = e
-    return stack, sp + 1
-
-
-@njit(cache=True)
-def legalize(tri, twin, x, y, w, weighted, inf, p, stack, sp, hull_only, submerged, counts):
+def legalize(tri, twin, cons, x, y, w, weighted, inf, p, stack, sp, hull_only, submerged, counts):
     """Flip the edges on ``stack`` (each opposite the new vertex ``p``) until they
     are all locally (weighted) Delaunay. ``counts[0]`` counts 2-2 flips,
     ``counts[1]`` the vertices submerged by 3-1 flips. With ``hull_only`` only
     edges at the infinite vertex are flipped (building the lexicographic
-    triangulation of Sec. 2.1). Returns the stack (it may grow)."""
+    triangulation of Sec. 2.1). The stack never outgrows its capacity: each
+    flip pops one edge and pushes two, and a vertex gains one edge per flip, so
+    ``sp <= 4 + number of vertices``. (A fixed array avoids the reference
+    counting that returning a grown array costs in the hot loop.)"""
     while sp > 0:
         sp -= 1
         e = stack[sp]
@@ -44,6 +36,8 @@ def legalize(tri, twin, x, y, w, weighted, inf, p, stack, sp, hull_only, submerg
         d = tri[prv(f)]
         if hull_only and a != inf and b != inf:
             continue
+        if cons.shape[0] > 0 and cons[e] != 0:
+            continue  # a segment is never flipped (Lemma 2.14)
         if not edge_is_illegal(x, y, w, weighted, inf, a, b, p, d):
             continue
         if weighted and a != inf and b != inf:
@@ -58,20 +52,22 @@ def legalize(tri, twin, x, y, w, weighted, inf, p, stack, sp, hull_only, submerg
                         n = remove_degree3(tri, twin, nxt(e), nxt(g), prv(f))
                         submerged[a] = 1
                         counts[1] += 1
-                        stack, sp = push(stack, sp, n + 2)
+                        stack[sp] = n + 2
+                        sp += 1
                 else:
                     g = twin[nxt(e)]          # p -> b, in (p, b, ?)
                     if tri[prv(g)] == d:
                         n = remove_degree3(tri, twin, prv(e), nxt(f), prv(g))
                         submerged[b] = 1
                         counts[1] += 1
-                        stack, sp = push(stack, sp, n + 1)
+                        stack[sp] = n + 1
+                        sp += 1
                 continue
-        e1 = flip(tri, twin, e)
+        e1 = flip(tri, twin, cons, e)
         counts[0] += 1
-        stack, sp = push(stack, sp, e1)
-        stack, sp = push(stack, sp, 3 * (f // 3) + 1)
-    return stack
+        stack[sp] = e1
+        stack[sp + 1] = 3 * (f // 3) + 1
+        sp += 2
 
 
 @njit(cache=True)
@@ -95,12 +91,12 @@ def submerged_at(tri, twin, x, y, w, inf, code, e, q):
 
 
 @njit(cache=True)
-def insert_vertices(tri, twin, x, y, w, weighted, inf, order, first, ntri,
+def insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
                     hull_only, dup_of, submerged, counts):
     """Insert ``order[first:]`` one by one. Exact duplicates are not inserted:
     ``dup_of[q]`` receives the vertex they coincide with. Returns
     ``(status, ntri)``."""
-    stack = np.empty(64, np.int64)
+    stack = np.empty(order.shape[0] + 8, np.int64)
     last = 0
     for k in range(first, order.shape[0]):
         q = order[k]
@@ -114,21 +110,22 @@ def insert_vertices(tri, twin, x, y, w, weighted, inf, order, first, ntri,
             submerged[q] = 1
             counts[1] += 1
             continue
-        sp = 0
         t = e // 3
         if code == INSIDE:
-            ntri = split_triangle(tri, twin, t, q, ntri)
-            stack, sp = push(stack, sp, 3 * t)
-            stack, sp = push(stack, sp, 3 * (ntri - 2))
-            stack, sp = push(stack, sp, 3 * (ntri - 1))
+            ntri = split_triangle(tri, twin, cons, t, q, ntri)
+            stack[0] = 3 * t
+            stack[1] = 3 * (ntri - 2)
+            stack[2] = 3 * (ntri - 1)
+            sp = 3
         else:
             t2 = twin[e] // 3
-            ntri = split_edge(tri, twin, e, q, ntri)
-            stack, sp = push(stack, sp, 3 * t)
-            stack, sp = push(stack, sp, 3 * t2)
-            stack, sp = push(stack, sp, 3 * (ntri - 2))
-            stack, sp = push(stack, sp, 3 * (ntri - 1))
-        stack = legalize(tri, twin, x, y, w, weighted, inf, q, stack, sp,
+            ntri = split_edge(tri, twin, cons, e, q, ntri)
+            stack[0] = 3 * t
+            stack[1] = 3 * t2
+            stack[2] = 3 * (ntri - 2)
+            stack[3] = 3 * (ntri - 1)
+            sp = 4
+        legalize(tri, twin, cons, x, y, w, weighted, inf, q, stack, sp,
                          hull_only, submerged, counts)
         last = t
         while tri[3 * last] == DEAD:  # killed by a 3-1 flip: any live triangle will do

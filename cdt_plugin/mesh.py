@@ -2,7 +2,10 @@
 
 Triangle ``t`` owns half-edges ``3t, 3t+1, 3t+2`` (mapbox/delaunator style).
 ``tri[e]`` is the origin vertex of half-edge ``e``; it runs to ``tri[nxt(e)]``.
-``twin[e]`` is the opposite half-edge in the neighbouring triangle. The
+``twin[e]`` is the opposite half-edge in the neighbouring triangle.
+``cons[e]`` (optional: an empty array when there are no constraints) is the
+1-based id of the segment that half-edge ``e`` lies on, or 0; the topological
+operations below carry it along with the edges they move. The
 triangulation is closed by *ghost triangles* that share one infinite vertex
 ``inf`` (an index past the last real vertex), so every half-edge has a twin and
 the convex hull is the link of ``inf``. A dead triangle (removed by a 3-1 flip)
@@ -88,7 +91,7 @@ def make_first_triangle(tri, twin, a, b, c, inf):
 
 
 @njit(cache=True)
-def flip(tri, twin, e):
+def flip(tri, twin, cons, e):
     """Flip the edge of half-edge ``e`` (Sec. 2.5 edge flip).
 
     ``e = a -> b`` lies in triangle ``(a, b, p)``, its twin in ``(b, a, d)``. They
@@ -107,6 +110,13 @@ def flip(tri, twin, e):
     tw_pa = twin[prv(e)]
     tw_ad = twin[nxt(f)]
     tw_db = twin[prv(f)]
+    if cons.shape[0] > 0:
+        c_bp = cons[nxt(e)]
+        c_pa = cons[prv(e)]
+        c_ad = cons[nxt(f)]
+        c_db = cons[prv(f)]
+        set_triangle(cons, t1, c_pa, c_ad, 0)
+        set_triangle(cons, t2, 0, c_db, c_bp)
     set_triangle(tri, t1, p, a, d)
     set_triangle(tri, t2, p, d, b)
     link(twin, 3 * t1, tw_pa)
@@ -118,7 +128,7 @@ def flip(tri, twin, e):
 
 
 @njit(cache=True)
-def split_triangle(tri, twin, t, p, ntri):
+def split_triangle(tri, twin, cons, t, p, ntri):
     """Split triangle ``t = (a, b, c)`` at new vertex ``p`` into three (1-3 flip).
 
     ``t`` becomes ``(a, b, p)``; new triangles ``ntri`` and ``ntri+1`` are
@@ -134,6 +144,11 @@ def split_triangle(tri, twin, t, p, ntri):
     tw_ca = twin[e + 2]
     t1 = ntri
     t2 = ntri + 1
+    if cons.shape[0] > 0:
+        set_triangle(cons, t1, cons[e + 1], 0, 0)
+        set_triangle(cons, t2, cons[e + 2], 0, 0)
+        cons[e + 1] = 0
+        cons[e + 2] = 0
     tri[e + 2] = p
     set_triangle(tri, t1, b, c, p)
     set_triangle(tri, t2, c, a, p)
@@ -146,7 +161,7 @@ def split_triangle(tri, twin, t, p, ntri):
 
 
 @njit(cache=True)
-def split_edge(tri, twin, e, p, ntri):
+def split_edge(tri, twin, cons, e, p, ntri):
     """Split the edge of half-edge ``e = a -> b`` at new vertex ``p`` (2-4 flip).
 
     ``(a, b, c)`` and ``(b, a, d)`` become ``(c, a, p)``, ``(b, c, p)`` (the new
@@ -167,6 +182,16 @@ def split_edge(tri, twin, e, p, ntri):
     tw_db = twin[prv(f)]
     t3 = ntri
     t4 = ntri + 1
+    if cons.shape[0] > 0:
+        s_ab = cons[e]  # both halves of a split segment stay on it
+        c_bc = cons[nxt(e)]
+        c_ca = cons[prv(e)]
+        c_ad = cons[nxt(f)]
+        c_db = cons[prv(f)]
+        set_triangle(cons, t1, c_ca, s_ab, 0)
+        set_triangle(cons, t3, c_bc, 0, s_ab)
+        set_triangle(cons, t2, c_db, s_ab, 0)
+        set_triangle(cons, t4, c_ad, 0, s_ab)
     set_triangle(tri, t1, c, a, p)
     set_triangle(tri, t3, b, c, p)
     set_triangle(tri, t2, d, b, p)

@@ -33,8 +33,9 @@ def hilbert_index(ix, iy, order):
 
 
 @njit(cache=True)
-def hilbert_keys(x, y, idx):
-    """Hilbert keys of the points ``idx`` on a grid over their bounding box."""
+def hilbert_keys(x, y, idx, bits):
+    """Hilbert keys of the points ``idx`` on a ``2^bits`` grid over their
+    bounding box."""
     n = idx.shape[0]
     keys = np.empty(n, np.int64)
     if n == 0:
@@ -49,14 +50,14 @@ def hilbert_keys(x, y, idx):
         x1 = max(x1, x[i])
         y0 = min(y0, y[i])
         y1 = max(y1, y[i])
-    cells = (1 << HILBERT_BITS) - 1
+    cells = (1 << bits) - 1
     span = max(x1 - x0, y1 - y0)
     scale = cells / span if span > 0 else 0.0
     for k in range(n):
         i = idx[k]
         ix = min(cells, max(0, int((x[i] - x0) * scale)))
         iy = min(cells, max(0, int((y[i] - y0) * scale)))
-        keys[k] = hilbert_index(ix, iy, HILBERT_BITS)
+        keys[k] = hilbert_index(ix, iy, bits)
     return keys
 
 
@@ -79,8 +80,10 @@ def brio_order(x: np.ndarray, y: np.ndarray, seed: int = 0) -> np.ndarray:
     bounds = bounds[::-1]
     for lo, hi in zip(bounds[:-1], bounds[1:]):
         chunk = perm[lo:hi]
-        keys = hilbert_keys(x, y, chunk)
-        out[lo:hi] = chunk[np.argsort(keys, kind="stable")]
+        # about four points per grid cell is fine enough for walking
+        bits = int(min(HILBERT_BITS, max(1, np.ceil(np.log2(max(hi - lo, 2)) / 2))))
+        keys = hilbert_keys(x, y, chunk, bits)
+        out[lo:hi] = chunk[np.argsort(keys)]
     return out
 
 

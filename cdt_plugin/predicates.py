@@ -14,11 +14,16 @@ determinant of the input doubles; the magnitude is only an approximation.
 The weighted test is the lifted orientation test of the seed chapter (Sec. 2.8):
 a weighted point ``v`` has lifted companion ``v+ = (vx, vy, vx^2 + vy^2 - w_v)``.
 
-Every function is ``@njit(cache=True, inline='never')``, nopython, allocation-free
-on the fast path; the exact fallbacks live in separate compiled functions
-(``orient2d_exact``, ``incircle_exact``, ``incircle_weighted_exact``) that use
-one preallocated local float64 workspace each.  No recursion, no epsilons other
-than the proven error bounds below.
+Every function is ``@njit(cache=True, inline='never')`` with an explicit
+signature (compiled once, float64 only), nopython, allocation-free on the fast
+path.  The exact fallbacks live in separate compiled functions
+(``orient2d_exact``, ``incircle_exact``, ``incircle_weighted_exact``).  They
+first try a scalar route that is exact whenever the coordinate differences (and,
+for the circle tests, the squares and 2x2 minors) come out exact in one double
+-- the common degenerate case of integer or grid coordinates, which costs tens
+of nanoseconds -- and otherwise run full expansion arithmetic in one local
+float64 workspace (np.empty), addressed by integer offsets (no slicing).  No
+recursion, no epsilons other than the proven error bounds below.
 
 Guaranteed range (IEEE binary64, round-to-nearest-even, no FMA contraction, which
 is numba's default without ``fastmath``): the results are exact as long as no
@@ -30,15 +35,16 @@ coordinate satisfies
 * ``incircle_weighted``: coordinates as for ``incircle`` and every nonzero
   weight 1e-120 <= |w| <= 1e120.
 
-Roughly: coordinates whose products underflow or overflow (|x| > 1e100 or
-nonzero |x| < 1e-100 for orient2d, the square root of that window for the
-circle tests) are outside the guaranteed range.  Inputs must be finite (the
-engine validates this before calling).
+In short, coordinates whose products underflow or overflow are outside the
+guaranteed range: roughly |x| > 1e100 or nonzero |x| < 1e-100 for orient2d
+(products of two differences), and already |x| > 1e60 or nonzero |x| < 1e-60 for
+the circle tests (products of four).  Subnormal inputs are outside it too.
+Inputs must be finite (the engine validates this before calling).
 """
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 
 __all__ = [
     "EPSILON",
@@ -76,10 +82,18 @@ ICC_ERRBOUND_A = (10.0 + 96.0 * EPSILON) * EPSILON
 #: wide margin for the O(eps^2) terms and the rounding of the permanent itself.
 ICCW_ERRBOUND_A = (16.0 + 256.0 * EPSILON) * EPSILON
 
-
-
-# Explicit signatures of the public predicates: compiled once, for float64 only
-# (integer arguments are converted, never evaluated in overflowing int64).
+# Explicit signatures everywhere: every function is compiled exactly once (numba
+# would otherwise specialise the expansion routines on every literal offset),
+# and the public predicates take float64 only (integer arguments are converted,
+# never evaluated in overflowing int64).
+_f8 = types.float64
+_i8 = types.int64
+_b1 = types.boolean
+_W = types.float64[::1]
+_T2 = types.UniTuple(_f8, 2)
+_T3 = types.UniTuple(_f8, 3)
+_T4 = types.UniTuple(_f8, 4)
+_T5 = types.UniTuple(_f8, 5)
 _F6 = "float64(" + ", ".join(["float64"] * 6) + ")"
 _F8 = "float64(" + ", ".join(["float64"] * 8) + ")"
 _F12 = "float64(" + ", ".join(["float64"] * 12) + ")"
@@ -88,7 +102,7 @@ _F12 = "float64(" + ", ".join(["float64"] * 12) + ")"
 # Error-free transformations (Shewchuk 1997, Sec. 2).
 # ---------------------------------------------------------------------------
 
-@njit(cache=True, inline='never')
+@njit(_T2(_f8, _f8), cache=True, inline='never')
 def _fast_two_sum(a, b):
     """x + y == a + b exactly, x = fl(a + b); requires |a| >= |b| (Shewchuk 1997, Thm 6)."""
     x = a + b
@@ -97,7 +111,7 @@ def _fast_two_sum(a, b):
     return x, y
 
 
-@njit(cache=True, inline='never')
+@njit(_T2(_f8, _f8), cache=True, inline='never')
 def _two_sum(a, b):
     """x + y == a + b exactly, x = fl(a + b), no precondition (Shewchuk 1997, Thm 7)."""
     x = a + b
@@ -108,7 +122,7 @@ def _two_sum(a, b):
     return x, around + bround
 
 
-@njit(cache=True, inline='never')
+@njit(_T2(_f8, _f8), cache=True, inline='never')
 def _two_diff(a, b):
     """x + y == a - b exactly, x = fl(a - b) (Shewchuk 1997, Two-Diff)."""
     x = a - b
@@ -119,7 +133,7 @@ def _two_diff(a, b):
     return x, around + bround
 
 
-@njit(cache=True, inline='never')
+@njit(_T2(_f8), cache=True, inline='never')
 def _split(a):
     """Dekker split a = hi + lo with hi, lo of at most 26 significant bits (Shewchuk 1997, Thm 17)."""
     c = SPLITTER * a
@@ -128,7 +142,7 @@ def _split(a):
     return hi, a - hi
 
 
-@njit(cache=True, inline='never')
+@njit(_T2(_f8, _f8, _f8, _f8), cache=True, inline='never')
 def _two_product_presplit(a, b, bhi, blo):
     """x + y == a * b exactly, x = fl(a * b), with b already split (Shewchuk 1997, Thm 18)."""
     x = a * b
@@ -139,7 +153,7 @@ def _two_product_presplit(a, b, bhi, blo):
     return x, alo * blo - err3
 
 
-@njit(cache=True, inline='never')
+@njit(_T2(_f8, _f8), cache=True, inline='never')
 def _two_product(a, b):
     """x + y == a * b exactly, x = fl(a * b), via Dekker's split (no FMA) (Shewchuk 1997, Thm 18)."""
     bhi, blo = _split(b)
@@ -153,7 +167,7 @@ def _two_product(a, b):
 # the sign of the sum is the sign of the most significant nonzero component.
 # ---------------------------------------------------------------------------
 
-@njit(cache=True, inline='never')
+@njit(_T3(_f8, _f8, _f8), cache=True, inline='never')
 def _two_one_sum(a1, a0, b):
     """(x2, x1, x0) == (a1, a0) + b exactly (Shewchuk 1997, Two_One_Sum)."""
     i, x0 = _two_sum(a0, b)
@@ -161,7 +175,7 @@ def _two_one_sum(a1, a0, b):
     return x2, x1, x0
 
 
-@njit(cache=True, inline='never')
+@njit(_T4(_f8, _f8, _f8, _f8), cache=True, inline='never')
 def _two_two_sum(a1, a0, b1, b0):
     """(x3, x2, x1, x0) == (a1, a0) + (b1, b0) exactly (Shewchuk 1997, Two_Two_Sum)."""
     j, z, x0 = _two_one_sum(a1, a0, b0)
@@ -169,7 +183,7 @@ def _two_two_sum(a1, a0, b1, b0):
     return x3, x2, x1, x0
 
 
-@njit(cache=True, inline='never')
+@njit(_T5(_f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
 def _four_one_sum(a3, a2, a1, a0, b):
     """(x4 .. x0) == (a3 .. a0) + b exactly (Shewchuk 1997, Four_One_Sum)."""
     j, x1, x0 = _two_one_sum(a1, a0, b)
@@ -177,7 +191,7 @@ def _four_one_sum(a3, a2, a1, a0, b):
     return x4, x3, x2, x1, x0
 
 
-@njit(cache=True, inline='never')
+@njit(_f8(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
 def _sign_of_sum_of_three_products(l1, c1, l2, c2, l3, c3):
     """l1*c1 + l2*c2 + l3*c3 exactly, returned as its most significant component (Shewchuk 1997).
 
@@ -211,7 +225,7 @@ def _sign_of_sum_of_three_products(l1, c1, l2, c2, l3, c3):
 # a reference-count round trip in numba, and these routines are called often.
 # ---------------------------------------------------------------------------
 
-@njit(cache=True, inline='never')
+@njit(_i8(_W, _i8, _f8, _f8), cache=True, inline='never')
 def _diff_expansion(w, h, a, b):
     """Write a - b as an exact expansion at w[h:]; return its length (1 or 2) (Shewchuk 1997)."""
     x, y = _two_diff(a, b)
@@ -223,7 +237,7 @@ def _diff_expansion(w, h, a, b):
     return 1
 
 
-@njit(cache=True, inline='never')
+@njit(_i8(_W, _i8, _i8, _f8, _i8), cache=True, inline='never')
 def _scale_expansion_zeroelim(w, e, elen, b, h):
     """w[h:] = b * w[e:e+elen] exactly; returns the length <= 2 * elen (Shewchuk 1997, Fig. 13, zeroelim)."""
     bhi, blo = _split(b)
@@ -248,7 +262,7 @@ def _scale_expansion_zeroelim(w, e, elen, b, h):
     return hindex - h
 
 
-@njit(cache=True, inline='never')
+@njit(_i8(_W, _i8, _i8, _i8, _i8, _i8), cache=True, inline='never')
 def _fast_expansion_sum_zeroelim(w, e, elen, f, flen, h):
     """w[h:] = w[e:e+elen] + w[f:f+flen] exactly; returns the length <= elen + flen.
 
@@ -323,7 +337,7 @@ def _fast_expansion_sum_zeroelim(w, e, elen, f, flen, h):
     return hi - h
 
 
-@njit(cache=True, inline='never')
+@njit(_i8(_W, _i8, _i8, _i8, _i8, _i8, _i8, _i8), cache=True, inline='never')
 def _expansion_product(w, e, elen, f, flen, h, t, s):
     """w[h:] = w[e:] * w[f:] exactly: sum over f's components of scale_expansion(e, f_i) (Shewchuk 1997).
 
@@ -340,7 +354,7 @@ def _expansion_product(w, e, elen, f, flen, h, t, s):
     return hlen
 
 
-@njit(cache=True, inline='never')
+@njit(_i8(_W, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8), cache=True, inline='never')
 def _cross_expansion(w, p, plen, q, qlen, r, rlen, s, slen, h, scr):
     """w[h:] = p*q - r*s exactly for expansions of <= 2 components; returns the length <= 16.
 
@@ -371,7 +385,7 @@ _LC_U = 144        # product scratch, >= 2 * 18 * 16 = 576
 _LC_SIZE = _LC_U + 576
 
 
-@njit(cache=True, inline='never')
+@njit(_i8(_W, _i8, _i8, _i8, _i8, _i8, _i8, _b1, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8), cache=True, inline='never')
 def _lift_cross_term(w, x, xlen, y, ylen, wd, wdlen, use_w,
                      p, plen, q, qlen, r, rlen, s, slen, h, scr):
     """w[h:] = (x^2 + y^2 - wd) * (p*q - r*s) exactly; returns the length <= 576.
@@ -385,7 +399,7 @@ def _lift_cross_term(w, x, xlen, y, ylen, wd, wdlen, use_w,
     """
     t = scr + _LC_T
     u = scr + _LC_U
-    lens = (0, 0, 0, 0)
+    nsq1 = nsq2 = npq = nrs = 0
     for j in range(4):
         if j == 0:
             e, elen, f, flen, out = x, xlen, x, xlen, scr + _LC_SQ1
@@ -397,15 +411,15 @@ def _lift_cross_term(w, x, xlen, y, ylen, wd, wdlen, use_w,
             e, elen, f, flen, out = r, rlen, s, slen, scr + _LC_RS
         n = _expansion_product(w, e, elen, f, flen, out, t, u)
         if j == 0:
-            lens = (n, lens[1], lens[2], lens[3])
+            nsq1 = n
         elif j == 1:
-            lens = (lens[0], n, lens[2], lens[3])
+            nsq2 = n
         elif j == 2:
-            lens = (lens[0], lens[1], n, lens[3])
+            npq = n
         else:
-            lens = (lens[0], lens[1], lens[2], n)
+            nrs = n
     rs = scr + _LC_RS
-    for k in range(rs, rs + lens[3]):
+    for k in range(rs, rs + nrs):
         w[k] = -w[k]
     lift = scr + _LC_LIFT
     liftlen = 0
@@ -414,7 +428,7 @@ def _lift_cross_term(w, x, xlen, y, ylen, wd, wdlen, use_w,
     # cross = pq + (-rs).
     for j in range(3):
         if j == 0:
-            a, alen, b, blen, out = scr + _LC_SQ1, lens[0], scr + _LC_SQ2, lens[1], lift
+            a, alen, b, blen, out = scr + _LC_SQ1, nsq1, scr + _LC_SQ2, nsq2, lift
         elif j == 1:
             if not use_w or (wdlen == 1 and w[wd] == 0.0):
                 continue
@@ -423,7 +437,7 @@ def _lift_cross_term(w, x, xlen, y, ylen, wd, wdlen, use_w,
                 w[negw + k] = -w[wd + k]
             a, alen, b, blen, out = lift, liftlen, negw, wdlen, scr + _LC_LIFT2
         else:
-            a, alen, b, blen, out = scr + _LC_PQ, lens[2], rs, lens[3], scr + _LC_CROSS
+            a, alen, b, blen, out = scr + _LC_PQ, npq, rs, nrs, scr + _LC_CROSS
         n = _fast_expansion_sum_zeroelim(w, a, alen, b, blen, out)
         if j == 2:
             crosslen = n
@@ -436,7 +450,8 @@ def _lift_cross_term(w, x, xlen, y, ylen, wd, wdlen, use_w,
 
 # Workspace layout of the incircle fallback (worst case: every difference a
 # two-component expansion, every weight difference too).
-_W_LEN = 20                 # lengths of the 9 difference expansions (slots 0..17)
+# Slot i = 0..8 (adx, ady, bdx, bdy, cdx, cdy, awd, bwd, cwd) at offset 2 i.
+_W_LEN = 20                 # the 9 slot lengths (stored as floats)
 _W_TERM = 32                # one lift * cross term, <= 576
 _W_ACC0 = _W_TERM + 576     # running sum of the terms, <= 1728
 _W_ACC1 = _W_ACC0 + 1728    # (double-buffered)
@@ -480,7 +495,7 @@ def orient2d_exact(ax, ay, bx, by, cx, cy):
     return w[8 + hlen - 1]
 
 
-@njit(cache=True, inline='never')
+@njit(_f8(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _b1), cache=True, inline='never')
 def _incircle_exact_core(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw, use_w):
     """Exact (weighted) incircle determinant, translated to d (Shewchuk 1997; seed Sec. 2.8).
 

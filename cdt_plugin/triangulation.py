@@ -93,11 +93,11 @@ class Triangulation:
         self.stats = stats
         self.weights = weights
         self._edges = edges
-        self._mesh = mesh  # (tri, twin, ntri, inf) half-edge store in output ids
+        self._mesh = mesh  # (tri, twin, cons, ntri, inf) half-edge store in output ids
 
     # ---------------------------------------------------------------- builders
     @classmethod
-    def from_mesh(cls, pts, w_in, tri, twin, ntri, ids, dup_of, submerged, stats, t0):
+    def from_mesh(cls, pts, w_in, tri, twin, cons, ntri, ids, dup_of, submerged, stats, t0):
         """Compact a finished half-edge store into output arrays. Mesh vertex ``i``
         is input point ``ids[i]``; ``len(ids)`` is the infinite vertex."""
         n = len(pts)
@@ -109,12 +109,12 @@ class Triangulation:
         remap[-2] = DEAD
         remap[-1] = -1
         tri_out = remap[tri[: 3 * ntri]]
-        twin_out = twin[: 3 * ntri].copy()
+        twin_out = twin[: 3 * ntri]
         triangles, neighbors, _ = solid_triangles(tri_out, twin_out, ntri, len(kept))
         _finish_stats(stats, n, vertex_map, dup_of, submerged, len(triangles), t0)
         weights = None if w_in is None else w_in[kept]
         out = cls(pts[kept], triangles, neighbors, vertex_map, stats, weights,
-                  mesh=(tri_out, twin_out, ntri, len(kept)))
+                  mesh=(tri_out, twin_out, cons[: 3 * ntri], ntri, len(kept)))
         out._input_points, out._input_weights = pts, w_in
         return out
 
@@ -223,16 +223,16 @@ class Triangulation:
         if self._mesh is not None and self.weights is None:
             # Flip from the moved mesh if no triangle inverted; ghost flips repair
             # a hull that lost its convexity. Accept only an embedded result.
-            tri, twin, ntri, inf = (a.copy() if isinstance(a, np.ndarray) else a for a in self._mesh)
+            tri, twin, cons, ntri, inf = (a.copy() if isinstance(a, np.ndarray) else a for a in self._mesh)
             x = np.append(new[:, 0], 0.0)
             y = np.append(new[:, 1], 0.0)
             defect = first_defect(tri, twin, ntri, x, y, inf, False)
             if defect < 0:
-                flips = int(flip_to_delaunay(tri, twin, x, y, x, False, inf, ntri, 20 * ntri + 1000))
+                flips = int(flip_to_delaunay(tri, twin, cons, x, y, x, False, inf, ntri, 20 * ntri + 1000))
                 if flips >= 0:
                     defect = first_defect(tri, twin, ntri, x, y, inf, True)
         if flips >= 0 and defect < 0:
-            self._mesh = (tri, twin, ntri, inf)
+            self._mesh = (tri, twin, cons, ntri, inf)
             self.triangles, self.neighbors, _ = solid_triangles(tri, twin, ntri, inf)
             self.vertices = new
             self._edges = None
@@ -263,10 +263,12 @@ def _triangle_name(tri, t, xy) -> str:
 def _vertex_map(n, dup_of, submerged):
     """Output index of every input point and the input index kept for each output
     vertex: the first appearance of each distinct point, in input order."""
+    dups = np.flatnonzero(dup_of >= 0)
+    if dups.size == 0 and not submerged.any():  # the common case: nothing merged
+        return np.arange(n), np.arange(n)
     root = np.where(dup_of >= 0, dup_of, np.arange(n))
     in_mesh = (dup_of < 0) & (submerged == 0)
     rep = np.arange(n)
-    dups = np.flatnonzero(dup_of >= 0)
     if dups.size:
         np.minimum.at(rep, root[dups], dups)
     roots = np.flatnonzero(in_mesh)

@@ -14,6 +14,7 @@ Case generation is vectorised with numpy; the compiled predicates run in small
 """
 from __future__ import annotations
 
+import zlib
 from fractions import Fraction
 
 import numpy as np
@@ -391,85 +392,82 @@ def weighted_random(rng, n):
     return P
 
 
-def _make_orient_families():
-    rng = np.random.default_rng(20240601)
-    fam = {
-        "near_collinear_unit": orient_near_collinear(rng, 12000),
-        "near_collinear_scaled": orient_near_collinear(rng, 4000, scale=1e3),
-        "kettner_classroom": orient_kettner(rng),
-        "integer_collinear": np.vstack([orient_integer_collinear(rng, 1500, off) for off in (0.0, 1e6, 1e9)]),
-        "random_generic": orient_random(rng, 4000),
-    }
-    for off in (1e6, 1e9, 1e12, 1e15):
-        fam[f"offset_{off:.0e}_lattice"] = orient_offset_lattice(rng, 2500, off)
-        fam[f"offset_{off:.0e}_float"] = orient_near_collinear(rng, 1000, offset=off, spread=off * 1e-6)
-    for s in (1e-10, 1e-20, 1e-30):
-        fam[f"tiny_{s:.0e}"] = orient_near_collinear(rng, 2000, scale=s)
-    return fam
+# Every family: name -> generator(rng).  Each family draws from its own
+# generator (seeded from its name), so the families are independent and lazily
+# built: a test run for one family builds only that family.
+ORIENT_FAMILIES = {
+    "near_collinear_unit": lambda rng: orient_near_collinear(rng, 12000),
+    "near_collinear_scaled": lambda rng: orient_near_collinear(rng, 4000, scale=1e3),
+    "kettner_classroom": orient_kettner,
+    "integer_collinear": lambda rng: np.vstack(
+        [orient_integer_collinear(rng, 1500, off) for off in (0.0, 1e6, 1e9)]),
+    "random_generic": lambda rng: orient_random(rng, 4000),
+    **{f"offset_{off:.0e}_lattice": (lambda rng, off=off: orient_offset_lattice(rng, 2500, off))
+       for off in (1e6, 1e9, 1e12, 1e15)},
+    **{f"offset_{off:.0e}_float": (lambda rng, off=off: orient_near_collinear(
+        rng, 1000, offset=off, spread=off * 1e-6)) for off in (1e6, 1e9, 1e12, 1e15)},
+    **{f"tiny_{sc:.0e}": (lambda rng, sc=sc: orient_near_collinear(rng, 2000, scale=sc))
+       for sc in (1e-10, 1e-20, 1e-30)},
+}
 
+INCIRCLE_FAMILIES = {
+    "near_cocircular_unit": lambda rng: incircle_near_cocircular(rng, 9000),
+    "pythagorean": lambda rng: incircle_pythagorean(rng, 3000),
+    "rectangles": lambda rng: np.vstack([incircle_rectangles(rng, 1000, off) for off in (0.0, 1e6)]),
+    "random_generic": lambda rng: incircle_random(rng, 3000),
+    **{f"offset_{off:.0e}_pythagorean": (lambda rng, off=off: incircle_pythagorean(rng, 1500, offset=off))
+       for off in (1e6, 1e9, 1e12, 1e15)},
+    **{f"offset_{off:.0e}_ulp_pythagorean": (lambda rng, off=off: incircle_pythagorean(
+        rng, 1200, offset=off, scale=float(np.spacing(off)))) for off in (1e6, 1e9, 1e12, 1e15)},
+    **{f"offset_{off:.0e}_float": (lambda rng, off=off: incircle_near_cocircular(
+        rng, 600, scale=off * 1e-6, offset=off)) for off in (1e6, 1e9, 1e12, 1e15)},
+    **{f"tiny_{sc:.0e}_near_cocircular": (lambda rng, sc=sc: incircle_near_cocircular(rng, 1200, scale=sc))
+       for sc in (1e-10, 1e-20, 1e-30)},
+    "tiny_2^-100_pythagorean": lambda rng: incircle_pythagorean(rng, 1500, scale=2.0 ** -100),
+}
 
-def _make_incircle_families():
-    rng = np.random.default_rng(20240602)
-    fam = {
-        "near_cocircular_unit": incircle_near_cocircular(rng, 9000),
-        "pythagorean": incircle_pythagorean(rng, 3000),
-        "rectangles": np.vstack([incircle_rectangles(rng, 1000, off) for off in (0.0, 1e6)]),
-        "random_generic": incircle_random(rng, 3000),
-    }
-    for off in (1e6, 1e9, 1e12, 1e15):
-        fam[f"offset_{off:.0e}_pythagorean"] = incircle_pythagorean(rng, 1500, offset=off)
-        fam[f"offset_{off:.0e}_ulp_pythagorean"] = incircle_pythagorean(
-            rng, 1200, offset=off, scale=float(np.spacing(off)))
-        fam[f"offset_{off:.0e}_float"] = incircle_near_cocircular(rng, 600, scale=off * 1e-6, offset=off)
-    for s in (1e-10, 1e-20, 1e-30):
-        fam[f"tiny_{s:.0e}_near_cocircular"] = incircle_near_cocircular(rng, 1200, scale=s)
-    fam["tiny_2^-100_pythagorean"] = incircle_pythagorean(rng, 1500, scale=2.0 ** -100)
-    return fam
+WEIGHTED_FAMILIES = {
+    "plane_integer_small": lambda rng: weighted_plane_integer(rng, 2000, spread=1000),
+    "plane_integer_large": lambda rng: weighted_plane_integer(rng, 2000, spread=10**6),
+    **{f"plane_integer_offset_1e{e}": (lambda rng, e=e: weighted_plane_integer(
+        rng, 1000, spread=10**5, offset=10**e)) for e in (6, 9, 15)},
+    "near_plane_unit_w": lambda rng: weighted_near_plane(rng, 3000, wscale=1.0),
+    "near_plane_small_w": lambda rng: weighted_near_plane(rng, 1500, wscale=1e-4),
+    "near_plane_large_w": lambda rng: weighted_near_plane(rng, 1500, wscale=1e8),
+    "near_plane_huge_w": lambda rng: weighted_near_plane(rng, 1000, wscale=1e15, scale=1e3),
+    "near_plane_offset_1e6": lambda rng: weighted_near_plane(rng, 1000, wscale=1.0, offset=1e6),
+    "near_plane_offset_1e9": lambda rng: weighted_near_plane(rng, 800, wscale=1e3, scale=1e3, offset=1e9),
+    "near_plane_tiny_1e-20": lambda rng: weighted_near_plane(rng, 1000, wscale=1e-40, scale=1e-20),
+    "random_generic": lambda rng: weighted_random(rng, 2000),
+}
 
-
-def _make_weighted_families():
-    rng = np.random.default_rng(20240603)
-    fam = {
-        "plane_integer_small": weighted_plane_integer(rng, 2000, spread=1000),
-        "plane_integer_large": weighted_plane_integer(rng, 2000, spread=10**6),
-        "plane_integer_offset_1e6": weighted_plane_integer(rng, 1000, spread=10**5, offset=10**6),
-        "plane_integer_offset_1e9": weighted_plane_integer(rng, 1000, spread=10**5, offset=10**9),
-        "plane_integer_offset_1e15": weighted_plane_integer(rng, 1000, spread=10**5, offset=10**15),
-        "near_plane_unit_w": weighted_near_plane(rng, 3000, wscale=1.0),
-        "near_plane_small_w": weighted_near_plane(rng, 1500, wscale=1e-4),
-        "near_plane_large_w": weighted_near_plane(rng, 1500, wscale=1e8),
-        "near_plane_huge_w": weighted_near_plane(rng, 1000, wscale=1e15, scale=1e3),
-        "near_plane_offset_1e6": weighted_near_plane(rng, 1000, wscale=1.0, scale=1.0, offset=1e6),
-        "near_plane_offset_1e9": weighted_near_plane(rng, 800, wscale=1e3, scale=1e3, offset=1e9),
-        "near_plane_tiny_1e-20": weighted_near_plane(rng, 1000, wscale=1e-40, scale=1e-20),
-        "random_generic": weighted_random(rng, 2000),
-    }
-    return fam
-
-
+_KINDS = {
+    "orient": (ORIENT_FAMILIES, _run_orient, orient2d_ref),
+    "incircle": (INCIRCLE_FAMILIES, _run_incircle, incircle_ref),
+    "weighted": (WEIGHTED_FAMILIES, _run_weighted, incircle_weighted_ref),
+}
 _CACHE: dict = {}
 
 
+def _family(kind, name):
+    """(cases, compiled results, exact reference signs) of one family, built once per session."""
+    key = (kind, name)
+    if key not in _CACHE:
+        families, run, ref = _KINDS[kind]
+        rng = np.random.default_rng(zlib.crc32(f"{kind}/{name}".encode()))
+        P = np.ascontiguousarray(families[name](rng), dtype=np.float64)
+        assert np.isfinite(P).all()
+        _CACHE[key] = (P, run(P), _ref_signs(ref, P))
+    return _CACHE[key]
+
+
 def _families(kind):
-    """Cases, compiled results and exact reference signs, computed once per session."""
-    if kind not in _CACHE:
-        make, run, ref = {
-            "orient": (_make_orient_families, _run_orient, orient2d_ref),
-            "incircle": (_make_incircle_families, _run_incircle, incircle_ref),
-            "weighted": (_make_weighted_families, _run_weighted, incircle_weighted_ref),
-        }[kind]
-        out = {}
-        for name, P in make().items():
-            P = np.ascontiguousarray(P, dtype=np.float64)
-            assert np.isfinite(P).all()
-            out[name] = (P, run(P), _ref_signs(ref, P))
-        _CACHE[kind] = out
-    return _CACHE[kind]
+    return {name: _family(kind, name) for name in _KINDS[kind][0]}
 
 
-ORIENT_NAMES = list(_make_orient_families().keys())
-INCIRCLE_NAMES = list(_make_incircle_families().keys())
-WEIGHTED_NAMES = list(_make_weighted_families().keys())
+ORIENT_NAMES = list(ORIENT_FAMILIES)
+INCIRCLE_NAMES = list(INCIRCLE_FAMILIES)
+WEIGHTED_NAMES = list(WEIGHTED_FAMILIES)
 
 # Families where plain floating point must fail (they exist to defeat it).
 # Excluded: random generic points (sanity only) and the "float" offset families:
@@ -500,26 +498,26 @@ def _check(P, res, ref, label):
 
 @pytest.mark.parametrize("name", ORIENT_NAMES)
 def test_orient2d_exact_sign(name):
-    P, res, ref = _families("orient")[name]
+    P, res, ref = _family("orient", name)
     _check(P, res, ref, f"orient2d/{name}")
 
 
 @pytest.mark.parametrize("name", INCIRCLE_NAMES)
 def test_incircle_exact_sign(name):
-    P, res, ref = _families("incircle")[name]
+    P, res, ref = _family("incircle", name)
     _check(P, res, ref, f"incircle/{name}")
 
 
 @pytest.mark.parametrize("name", WEIGHTED_NAMES)
 def test_incircle_weighted_exact_sign(name):
-    P, res, ref = _families("weighted")[name]
+    P, res, ref = _family("weighted", name)
     _check(P, res, ref, f"incircle_weighted/{name}")
 
 
 @pytest.mark.parametrize("name", INCIRCLE_NAMES)
 def test_weighted_with_zero_or_equal_weights_is_incircle(name):
     """All weights 0 (or all equal) must reproduce incircle's exact sign."""
-    P, _, ref = _families("incircle")[name]
+    P, _, ref = _family("incircle", name)
     n = P.shape[0]
     W = np.zeros((n, 12))
     for k in range(4):
@@ -559,7 +557,7 @@ def test_total_case_count():
 
 @pytest.mark.parametrize("kind,name", [(k, n) for k, names in NAIVE_MUST_FAIL.items() for n in names])
 def test_naive_float_determinant_fails_on_family(kind, name):
-    P, res, ref = _families(kind)[name]
+    P, res, ref = _family(kind, name)
     naive_wrong = int((np.sign(res[:, 2]).astype(np.int64) != ref).sum())
     assert naive_wrong > 0, f"{kind}/{name}: the naive determinant got all {len(ref)} cases right"
 
@@ -615,7 +613,7 @@ def test_incircle_weighted_rotation_and_swap():
 
 def test_weighted_adding_constant_to_all_weights_is_invariant():
     """A common weight shift moves all lifts by the same height: the test must not change."""
-    P, _, ref = _families("weighted")["plane_integer_small"]
+    P, _, ref = _family("weighted", "plane_integer_small")
     integral = (P[:, 2::3] == np.round(P[:, 2::3])).all(axis=1)  # the un-nudged cases
     assert integral.sum() > 500
     Q = P[integral].copy()
