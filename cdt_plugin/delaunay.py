@@ -182,22 +182,28 @@ def delaunay(points, weights=None, *, algorithm: str = "incremental", seed: int 
     return Triangulation.from_mesh(pts, w_in, tri, twin, cons, ntri, order, dup_of, submerged, stats, t0)
 
 
-def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged):
+def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, extra=0,
+                    with_cons=False, coords=None):
     """Triangulate the points ``order`` (seed triangle first) and record
     duplicates and submerged points in ``dup_of`` / ``submerged`` (input ids).
     The mesh uses coordinates stored in insertion order: vertex ids that follow
-    the Hilbert curve keep coordinate reads cache-friendly."""
+    the Hilbert curve keep coordinate reads cache-friendly. ``extra`` reserves
+    vertex ids for Steiner points; the infinite vertex is ``len(order) + extra``.
+    ``coords`` (a list) receives the mesh's ``(x, y, w)`` arrays."""
     m = len(order)
-    xi, yi, wi = (np.append(a[order], 0.0) for a in (x, y, w))
+    inf = m + extra
+    xi, yi, wi = (np.concatenate([a[order], np.zeros(extra + 1)]) for a in (x, y, w))
+    if coords is not None:
+        coords.extend((xi, yi, wi))
     dup_int = np.full(m, -1, np.int64)
     sub_int = np.zeros(m, np.int8)
     counts = np.zeros(2, np.int64)
-    status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, m, np.arange(m), algorithm == "flip",
-                                          dup_int, sub_int, counts, 0, False)
+    status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, inf, np.arange(m), algorithm == "flip",
+                                          dup_int, sub_int, counts, extra, with_cons)
     if status != OK:  # pragma: no cover - a located point always exists
         raise CDTError(f"internal error: point location failed (status {status})")
     if algorithm == "flip":
-        counts[0] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, m, ntri)
+        counts[0] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, inf, ntri)
     is_dup = dup_int >= 0
     dup_of[order[is_dup]] = order[dup_int[is_dup]]
     submerged[order[sub_int > 0]] = 1

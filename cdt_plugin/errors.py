@@ -30,3 +30,28 @@ class FileFormatError(CDTError):
 
 class InvertedTriangleError(CDTError):
     """Moving vertices inverted a triangle and no rebuild was allowed."""
+
+
+class SegmentIndexError(CDTError):
+    """A segment names a vertex index that does not exist (or is not an integer)."""
+
+
+class SegmentIntersectionError(CDTError):
+    """Two segments cross at a point inside both (``intersections="raise"``).
+
+    ``segments`` holds the two input segment indices, ``point`` the crossing
+    (as accurately as double precision allows)."""
+
+    def __init__(self, message: str, segments=(), point=None):
+        super().__init__(message)
+        self.segments = tuple(segments)
+        self.point = point
+
+
+class OverlappingSegmentsError(SegmentIntersectionError):
+    """Two collinear segments share more than a point (``intersections="raise"``)."""
+
+
+class InvalidGeometryError(CDTError):
+    """A polygon is not valid (e.g. a hole outside its shell, a ring with fewer
+    than three distinct points); the message names the polygon and ring."""

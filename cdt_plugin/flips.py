@@ -14,12 +14,9 @@ from .mesh import DEAD, flip, nxt, prv
 def flip_to_delaunay(tri, twin, cons, x, y, w, weighted, inf, ntri, max_flips=-1):
     """Run the flip algorithm with an edge stack over every edge of the
     triangulation; edges on segments (``cons``) are never flipped, which makes
-    it the modified flip algorithm of Sec. 2.10.3. Returns the number of flips (Prop. 2.5 bounds it by O(n^2)),
-    or -1 when ``max_flips`` (if >= 0) is exceeded."""
-    # No "queued" flags: a flip rewrites the half-edge slots of two triangles,
-    # so a flag per slot would go stale. Pushing duplicates is harmless (each pop
-    # re-tests whatever edge sits in that slot now) and keeps the invariant that
-    # every edge not on the stack is locally Delaunay.
+    it the modified flip algorithm of Sec. 2.10.3. Returns the number of flips
+    (Prop. 2.5 bounds it by O(n^2)), or -1 when ``max_flips`` (if >= 0) is
+    exceeded."""
     m = 3 * ntri
     stack = np.empty(m + 16, np.int64)
     sp = 0
@@ -29,6 +26,19 @@ def flip_to_delaunay(tri, twin, cons, x, y, w, weighted, inf, ntri, max_flips=-1
         if e < twin[e]:
             stack[sp] = e
             sp += 1
+    return flip_from_stack(tri, twin, cons, x, y, w, weighted, inf, stack, sp, max_flips)
+
+
+@njit(cache=True)
+def flip_from_stack(tri, twin, cons, x, y, w, weighted, inf, stack, sp, max_flips):
+    """The flip loop: pop an edge, flip it if it is not locally Delaunay (and not
+    a segment), push the four outer edges of its quadrilateral.
+
+    No "queued" flags: a flip rewrites the half-edge slots of two triangles, so
+    a flag per slot would go stale. Pushing duplicates is harmless (each pop
+    re-tests whatever edge sits in that slot now) and keeps the invariant that
+    every edge not on the stack is locally Delaunay.
+    """
     flips = 0
     while sp > 0:
         sp -= 1
@@ -46,9 +56,8 @@ def flip_to_delaunay(tri, twin, cons, x, y, w, weighted, inf, ntri, max_flips=-1
             return -1
         flip(tri, twin, cons, e)
         flips += 1
-        # the four outer edges of the quadrilateral may have become illegal
         if sp + 4 > stack.shape[0]:
-            bigger = np.empty(2 * stack.shape[0], np.int64)
+            bigger = np.empty(2 * stack.shape[0] + 8, np.int64)
             bigger[:sp] = stack[:sp]
             stack = bigger
         t1 = 3 * (e // 3)

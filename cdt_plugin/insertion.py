@@ -91,6 +91,48 @@ def submerged_at(tri, twin, x, y, w, inf, code, e, q):
 
 
 @njit(cache=True)
+def insert_vertex(tri, twin, cons, x, y, w, weighted, inf, q, last, ntri, hull_only,
+                  submerged, counts, stack):
+    """Insert vertex ``q``: locate it from triangle ``last``, split, flip.
+
+    Returns ``(code, v, ntri, last)``: code ``ON_VERTEX`` with ``v`` the vertex
+    ``q`` coincides with (not inserted), ``-2`` if ``q`` is submerged (weighted),
+    ``-1`` if location failed, else the located code (``INSIDE``/``ON_EDGE``)
+    with ``v == q``. ``last`` is a live triangle near ``q`` for the next walk.
+    """
+    code, e = locate(tri, twin, x, y, inf, q, last, ntri)
+    if code < 0:
+        return -1, -1, ntri, last
+    if code == ON_VERTEX:
+        return ON_VERTEX, tri[e], ntri, e // 3
+    if weighted and submerged_at(tri, twin, x, y, w, inf, code, e, q):
+        submerged[q] = 1
+        counts[1] += 1
+        return -2, -1, ntri, e // 3
+    t = e // 3
+    if code == INSIDE:
+        ntri = split_triangle(tri, twin, cons, t, q, ntri)
+        stack[0] = 3 * t
+        stack[1] = 3 * (ntri - 2)
+        stack[2] = 3 * (ntri - 1)
+        sp = 3
+    else:
+        t2 = twin[e] // 3
+        ntri = split_edge(tri, twin, cons, e, q, ntri)
+        stack[0] = 3 * t
+        stack[1] = 3 * t2
+        stack[2] = 3 * (ntri - 2)
+        stack[3] = 3 * (ntri - 1)
+        sp = 4
+    legalize(tri, twin, cons, x, y, w, weighted, inf, q, stack, sp,
+             hull_only, submerged, counts)
+    last = t
+    while tri[3 * last] == DEAD:  # killed by a 3-1 flip: any live triangle will do
+        last = (last + ntri - 1) % ntri
+    return code, q, ntri, last
+
+
+@njit(cache=True)
 def insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
                     hull_only, dup_of, submerged, counts):
     """Insert ``order[first:]`` one by one. Exact duplicates are not inserted:
@@ -100,36 +142,12 @@ def insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
     last = 0
     for k in range(first, order.shape[0]):
         q = order[k]
-        code, e = locate(tri, twin, x, y, inf, q, last, ntri)
-        if code < 0:
+        code, v, ntri, last = insert_vertex(tri, twin, cons, x, y, w, weighted, inf, q, last,
+                                            ntri, hull_only, submerged, counts, stack)
+        if code == -1:
             return LOCATE_FAILED, ntri
         if code == ON_VERTEX:
-            dup_of[q] = tri[e]
-            continue
-        if weighted and submerged_at(tri, twin, x, y, w, inf, code, e, q):
-            submerged[q] = 1
-            counts[1] += 1
-            continue
-        t = e // 3
-        if code == INSIDE:
-            ntri = split_triangle(tri, twin, cons, t, q, ntri)
-            stack[0] = 3 * t
-            stack[1] = 3 * (ntri - 2)
-            stack[2] = 3 * (ntri - 1)
-            sp = 3
-        else:
-            t2 = twin[e] // 3
-            ntri = split_edge(tri, twin, cons, e, q, ntri)
-            stack[0] = 3 * t
-            stack[1] = 3 * t2
-            stack[2] = 3 * (ntri - 2)
-            stack[3] = 3 * (ntri - 1)
-            sp = 4
-        legalize(tri, twin, cons, x, y, w, weighted, inf, q, stack, sp,
-                         hull_only, submerged, counts)
-        last = t
-        while tri[3 * last] == DEAD:  # killed by a 3-1 flip: any live triangle will do
-            last = (last + ntri - 1) % ntri
+            dup_of[q] = v
     return OK, ntri
 
 

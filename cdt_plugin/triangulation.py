@@ -7,7 +7,7 @@ import numpy as np
 from numba import njit
 
 from .certify import edge_lifted_values, submerged_ok
-from .errors import InvertedTriangleError
+from .errors import CDTError, InvertedTriangleError
 from .flips import flip_to_delaunay
 from .kernel import edge_is_illegal, orient
 from .mesh import DEAD, is_ghost, nxt, prv
@@ -82,10 +82,28 @@ class Triangulation:
         Weights of the output vertices (weighted input only).
     stats : dict
         Counts (``flips``, ``duplicates``, ``submerged``...) and ``seconds``.
+    constrained : (k, 3) bool
+        Whether the edge opposite vertex ``j`` of triangle ``t`` lies on a segment.
+    segments : (s, 2) int64
+        Every constrained edge (segment piece) once, as output vertex pairs.
+    segment_ids : (s,) int64
+        The input segment each piece comes from.
+    regions : (k,) int64
+        Input polygon (geometry input) or region seed index of each triangle, -1 if none.
+    region_attributes : (r, 4) float64 or None
+        The region seeds ``x, y, attribute, max_area`` (index with ``regions``).
+    steiner : (p,) int64
+        Output indices of vertices that are not input points (intersection points).
     """
 
     def __init__(self, vertices, triangles, neighbors, vertex_map, stats,
                  weights=None, edges=None, mesh=None):
+        self.constrained = np.zeros(triangles.shape, bool)
+        self.segments = np.empty((0, 2), np.int64)
+        self.segment_ids = np.empty(0, np.int64)
+        self.regions = np.full(len(triangles), -1, np.int64)
+        self.region_attributes = None
+        self.steiner = np.empty(0, np.int64)
         self.vertices = vertices
         self.triangles = triangles
         self.neighbors = neighbors
@@ -136,6 +154,40 @@ class Triangulation:
         return cls(pts[kept], empty, empty.copy(), vertex_map, stats, weights,
                    edges=edges.reshape(-1, 2))
 
+    @classmethod
+    def from_cdt(cls, plc, mesh, order, dup_of, submerged, T, N, cflag, inside, region,
+                 attributes, stats, t0):
+        """Output arrays of a constrained triangulation: the triangles marked
+        ``inside``, input vertices (distinct, in input order) then Steiner ones."""
+        n = len(plc.vertices)
+        vertex_map, kept = _vertex_map(n, dup_of, submerged)
+        m = len(order)
+        nst = mesh.nv - m
+        remap = np.full(mesh.inf + 1, -1, np.int64)
+        remap[:m] = vertex_map[order]
+        remap[m:mesh.nv] = len(kept) + np.arange(nst)
+        vertices = np.vstack([plc.vertices[kept], np.column_stack([mesh.x[m:mesh.nv], mesh.y[m:mesh.nv]])])
+        keep = np.flatnonzero(inside)
+        newid = np.full(len(T) + 1, -1, np.int64)
+        newid[keep] = np.arange(len(keep))
+        neighbors = newid[N[keep]]  # N == -1 reads the trailing -1
+        # each segment piece once: edges with a real neighbour listed from the lower id
+        k = np.repeat(np.arange(len(T)), 3)
+        j = np.tile(np.arange(3), len(T))
+        piece = (cflag[k, j] != 0) & ((N[k, j] < 0) | (k < N[k, j]))
+        k, j = k[piece], j[piece]
+        out = cls(vertices, remap[T[keep]], neighbors, vertex_map, stats)
+        out.constrained = cflag[keep] != 0
+        out.segments = np.column_stack([remap[T[k, (j + 1) % 3]], remap[T[k, (j + 2) % 3]]])
+        out.segment_ids = cflag[k, j] - 1
+        out.regions = region[keep]
+        out.region_attributes = attributes
+        out.steiner = len(kept) + np.arange(nst)
+        _finish_stats(stats, n, vertex_map, dup_of, submerged, len(keep), t0)
+        stats["steiner"] = int(nst)
+        stats["vertices"] = len(vertices)
+        return out
+
     # ------------------------------------------------------------------ views
     @property
     def edges(self) -> np.ndarray:
@@ -159,10 +211,12 @@ class Triangulation:
 
     # ----------------------------------------------------------- certificates
     def _edge_signs(self) -> np.ndarray:
+        """(triangle, j, sign) for every interior edge that is not a segment."""
         v = self.vertices
         w = self.weights if self.weights is not None else np.zeros(len(v))
-        return edge_lifted_values(v[:, 0].copy(), v[:, 1].copy(), w, self.weights is not None,
-                                  self.triangles, self.neighbors)
+        s = edge_lifted_values(v[:, 0].copy(), v[:, 1].copy(), w, self.weights is not None,
+                               self.triangles, self.neighbors)
+        return s[~self.constrained[s[:, 0], s[:, 1]]]
 
     def non_delaunay_edges(self) -> np.ndarray:
         """Interior edges that are not locally (weighted) Delaunay, as vertex pairs."""
@@ -173,7 +227,7 @@ class Triangulation:
 
     def is_delaunay(self) -> bool:
         """Delaunay Lemma (2.3) check, exact, in linear time: every interior edge is
-        locally Delaunay. For weighted input, every edge is locally regular and
+        locally Delaunay (Constrained Delaunay Lemma 2.14: or a segment). For weighted input, every edge is locally regular and
         every submerged point lies on or above the lifted triangulation (Sec. 2.8).
         """
         if len(self.non_delaunay_edges()):
@@ -215,6 +269,8 @@ class Triangulation:
         """
         t0 = time.perf_counter()
         new = as_points(new_vertices, "new_vertices")
+        if self.constrained.any() or len(self.segments):
+            raise CDTError("move_vertices supports unconstrained Delaunay triangulations only")
         if new.shape != self.vertices.shape:
             from .errors import InputShapeError
             raise InputShapeError(f"new_vertices must have shape {self.vertices.shape}, got {new.shape}")

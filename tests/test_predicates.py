@@ -626,18 +626,35 @@ def test_weighted_adding_constant_to_all_weights_is_invariant():
 # ---------------------------------------------------------------------------
 
 
+def _in_documented_range(P, lo, hi, wlo=None, whi=None, wcols=()):
+    """Rows whose nonzero |values| all lie in [lo, hi] (weights, if any, in [wlo, whi])."""
+    A = np.abs(P)
+    ok = np.ones(len(P), dtype=bool)
+    for j in range(P.shape[1]):
+        a, b = (wlo, whi) if j in wcols else (lo, hi)
+        ok &= (A[:, j] == 0) | ((A[:, j] >= a) & (A[:, j] <= b))
+    return P[ok]
+
+
 def test_documented_range_edges():
+    """Cases near both ends of the range promised in the module docstring."""
     rng = np.random.default_rng(5)
     cases = []
-    for s in (2.0 ** -430, 2.0 ** 430):  # ~1e-130 and ~1e130
-        cases.append(("orient", orient_near_collinear(rng, 300, scale=s)))
-    for s in (2.0 ** -195, 2.0 ** 195):  # ~1e-59 and ~1e59
-        cases.append(("incircle", incircle_near_cocircular(rng, 300, scale=s)))
-        cases.append(("incircle", incircle_pythagorean(rng, 300, scale=s)))
-        cases.append(("weighted", weighted_near_plane(rng, 300, wscale=s * s, scale=s)))
+    for s in (2.0 ** -425, 2.0 ** 428):  # ~1.2e-128 and ~7e128
+        cases.append(("orient", _in_documented_range(orient_near_collinear(rng, 300, scale=s), 1e-130, 1e130)))
+    # circle tests: coordinates kept in [~20 s, ~50 s] by an offset of 40 s
+    for s in (2.0 ** -200, 2.0 ** 192):  # 20 s ~ 1.2e-59, 50 s ~ 3e59
+        cases.append(("incircle", _in_documented_range(
+            incircle_near_cocircular(rng, 300, scale=s, offset=40 * s), 1e-60, 1e60)))
+        cases.append(("weighted", _in_documented_range(
+            weighted_near_plane(rng, 300, wscale=100 * s * s, scale=s, offset=40 * s),
+            1e-60, 1e60, 1e-120, 1e120, (2, 5, 8, 11))))
+    for s in (2.0 ** -199, 2.0 ** 178):  # lattice unit ~1.2e-60; radius 1.2e6 units ~4e59
+        cases.append(("incircle", _in_documented_range(incircle_pythagorean(rng, 300, scale=s), 1e-60, 1e60)))
     run = {"orient": (_run_orient, orient2d_ref), "incircle": (_run_incircle, incircle_ref),
            "weighted": (_run_weighted, incircle_weighted_ref)}
     for kind, P in cases:
+        assert len(P) >= 200, (kind, len(P))
         fn, ref = run[kind]
         _check(P, fn(P), _ref_signs(ref, P), f"range/{kind}")
 

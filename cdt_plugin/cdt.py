@@ -1,0 +1,323 @@
+"""Constrained Delaunay triangulation of a PLC (Sec. 2.10).
+
+Route: Delaunay triangulation of the vertices (or the lexicographic
+triangulation with ``algorithm="flip"``), segments inserted by cavity
+retriangulation (Sec. 2.10.1), optionally the modified flip algorithm
+(Sec. 2.10.3), then the domain classified by a flood fill that stops at
+segments.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from numba import njit
+
+from .delaunay import _build_in_order, _reorder_seed_first, seed_triangle
+from .errors import CDTError, InvalidGeometryError, OverlappingSegmentsError, SegmentIntersectionError
+from .flips import flip_to_delaunay
+from .certify import locate_in_arrays
+from .mesh import DEAD, IDX
+from .ordering import brio_order, lexicographic_order
+from .plc import PLC, as_plc
+from .regions import segment_depths
+from .segments import (ALL_DONE, LOST, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING, STOP_LIMIT,
+                       STOP_OVERLAP, insert_segments, intersection_point, make_buffers)
+from .triangulation import Triangulation, solid_triangles, _vertex_map
+
+INTERSECTIONS = ("raise", "split")
+
+
+def triangulate(vertices, segments=None, *, holes=None, regions=None, intersections: str = "raise",
+                keep_hull: bool = False, algorithm: str = "incremental",
+                max_steiner: int | None = None) -> Triangulation:
+    """Constrained Delaunay triangulation of a planar straight-line complex.
+
+    Parameters
+    ----------
+    vertices : (n, 2) array, a :class:`PLC`, or a geometry
+        Vertices; or any object with ``__geo_interface__`` (shapely Polygon,
+        MultiPolygon, GeometryCollection, LineString, Point...), read from its
+        GeoJSON-like mapping: rings give the domain exactly, any winding.
+    segments : (m, 2) int array, optional
+        Vertex index pairs that must be edges. A vertex lying on a segment
+        splits it. Zero-length segments are dropped and repeated segments
+        merged (both reported in ``stats``).
+    holes : (h, 2) array, optional
+        Hole seed points (Triangle's convention): when given, the triangles
+        reachable from outside the hull without crossing a segment are removed
+        (unless ``keep_hull``) and so is the segment-bounded region around each
+        hole point. Without holes or regions the inside is decided by depth
+        parity: odd numbers of segments crossed from outside are inside.
+    regions : (r, 2..4) array, optional
+        Region seeds ``x, y[, attribute[, max_area]]``: each paints its
+        segment-bounded region; ``tri.regions`` gives the seed index per
+        triangle and ``tri.region_attributes`` the attribute.
+    intersections : {"raise", "split"}
+        Crossing or collinear-overlapping segments raise
+        :class:`SegmentIntersectionError` / :class:`OverlappingSegmentsError`
+        naming both segments and the point, or (``"split"``) the crossing point
+        is inserted — computed as accurately as double precision allows, so it
+        may lie off the exact segments by a rounding error — and overlaps merged.
+    keep_hull : bool
+        Keep every triangle of the convex hull (Triangle's ``-c``).
+    algorithm : {"incremental", "flip"}
+        ``"flip"``: lexicographic triangulation, segment insertion, then the
+        modified flip algorithm (Sec. 2.10.3). Same result for generic input.
+    max_steiner : int, optional
+        Cap on intersection points inserted with ``"split"``.
+
+    Examples
+    --------
+    >>> import cdt_plugin
+    >>> square = [[0, 0], [4, 0], [4, 4], [0, 4], [1, 1], [3, 1], [3, 3], [1, 3]]
+    >>> rings = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4]]
+    >>> tri = cdt_plugin.triangulate(square, rings)   # a square with a square hole
+    >>> len(tri.triangles), tri.is_delaunay()
+    (8, True)
+    """
+    t0 = time.perf_counter()
+    if intersections not in INTERSECTIONS:
+        raise CDTError(f"intersections must be one of {INTERSECTIONS}, got {intersections!r}")
+    if algorithm not in ("incremental", "flip"):
+        raise CDTError(f"algorithm must be 'incremental' or 'flip', got {algorithm!r}")
+    plc = as_plc(vertices, segments, holes, regions)
+    split = intersections == "split"
+    if plc.degenerate_rings and not split:
+        p, r = plc.degenerate_rings[0]
+        raise InvalidGeometryError(
+            f"ring {r} of polygon {p} has fewer than three distinct points or zero area "
+            f"({len(plc.degenerate_rings)} such rings); use intersections='split' to keep their "
+            "points as isolated vertices")
+    pts = plc.vertices
+    n = len(pts)
+    x, y = pts[:, 0].copy(), pts[:, 1].copy()
+    order = lexicographic_order(x, y) if algorithm == "flip" else brio_order(x, y)
+    dup_of = np.full(n, -1, np.int64)
+    submerged = np.zeros(n, np.int8)
+    stats = {"algorithm": algorithm, "input_points": n, "input_segments": len(plc.segments)}
+    k1, k2 = seed_triangle(x, y, order)
+    if k2 < 0:
+        return _collinear_result(plc, order, dup_of, submerged, stats, t0)
+    order = _reorder_seed_first(order, k1, k2)
+    m = len(order)
+    extra = 16 + len(plc.segments) // 2 if split else 0
+    coords = []
+    tri, twin, cons, ntri, counts = _build_in_order(x, y, np.zeros(n), False, order, algorithm,
+                                                     dup_of, submerged, extra, True, coords)
+    xi, yi, wi = coords
+    mesh_of = np.empty(n, np.int64)
+    mesh_of[order] = np.arange(m)
+    dups = np.flatnonzero(dup_of >= 0)
+    mesh_of[dups] = mesh_of[dup_of[dups]]
+
+    segs = mesh_of[plc.segments]
+    tasks, kept, mult = _segment_tasks(segs, stats)
+    mesh = _Mesh(tri, twin, cons, ntri, xi, yi, wi, m + extra, m, tasks, len(kept))
+    _insert_all_segments(mesh, segs, split, max_steiner, stats, plc)
+    if algorithm == "flip":
+        stats["flips"] = int(flip_to_delaunay(mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.w,
+                                              False, mesh.inf, mesh.ntri))
+    else:
+        stats["flips"] = int(counts[0])
+    return _classify_and_output(plc, mesh, order, dup_of, submerged, keep_hull, split, mult, stats, t0)
+
+
+class _Mesh:
+    """The growing half-edge store plus its coordinate arrays and task queue."""
+
+    def __init__(self, tri, twin, cons, ntri, x, y, w, inf, nv, tasks, ntask):
+        self.tri, self.twin, self.cons, self.ntri = tri, twin, cons, ntri
+        self.x, self.y, self.w, self.inf, self.nv = x, y, w, inf, nv
+        self.tasks, self.ntask = tasks, ntask
+
+    def grow_vertices(self):
+        """Double the room for Steiner vertices (the infinite vertex moves)."""
+        old_inf = self.inf
+        new_inf = 2 * old_inf + 16
+        for name in ("x", "y", "w"):
+            a = np.zeros(new_inf + 1)
+            a[: self.nv] = getattr(self, name)[: self.nv]
+            setattr(self, name, a)
+        self.tri[self.tri == old_inf] = new_inf
+        self.inf = new_inf
+        cap = 2 * new_inf + 2
+        for name in ("tri", "twin", "cons"):
+            old = getattr(self, name)
+            a = np.full(3 * cap, -1 if name != "cons" else 0, IDX)
+            a[: len(old)] = old
+            setattr(self, name, a)
+        tasks = np.empty((2 * len(self.tasks) + 16, 3), np.int64)
+        tasks[: self.ntask] = self.tasks[: self.ntask]
+        self.tasks = tasks
+
+
+def _segment_tasks(segs, stats):
+    """Drop zero-length segments, merge repeated ones; the rest become tasks
+    (processed in input order: the queue is a stack). Returns the tasks, the
+    kept segment indices and each kept segment's multiplicity (by 1-based id)."""
+    zero = segs[:, 0] == segs[:, 1]
+    stats["zero_length_segments"] = np.flatnonzero(zero).tolist()
+    key = np.sort(segs, axis=1)
+    idx = np.flatnonzero(~zero)
+    mult = np.zeros(len(segs) + 1, np.int64)
+    if len(idx):
+        _, first, inverse = np.unique(key[idx], axis=0, return_index=True, return_inverse=True)
+        mult[idx[first] + 1] = np.bincount(inverse.ravel(), minlength=len(first))
+        kept = idx[np.sort(first)]
+    else:
+        kept = idx
+    stats["duplicate_segments"] = int(len(idx) - len(kept))
+    tasks = np.empty((len(kept) + 16, 3), np.int64)
+    tasks[: len(kept), 0] = segs[kept[::-1], 0]
+    tasks[: len(kept), 1] = segs[kept[::-1], 1]
+    tasks[: len(kept), 2] = kept[::-1] + 1
+    return tasks, kept, mult
+
+
+def _insert_all_segments(mesh, segs, split, max_steiner, stats, plc):
+    counts = np.zeros(3, np.int64)
+    info = np.zeros(4, np.int64)
+    buf = make_buffers(mesh.ntri)
+    limit = max_steiner if max_steiner is not None else 10 * len(segs) + 1000
+    while True:
+        stack = np.empty(mesh.inf + 16, np.int64)
+        status, mesh.ntri, mesh.nv, mesh.ntask = insert_segments(
+            mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.w, mesh.inf, mesh.ntri, mesh.nv,
+            mesh.tasks, mesh.ntask, segs, split, limit, counts, info, stack, buf)
+        if status == ALL_DONE:
+            break
+        if status == NEED_VERTEX_ROOM:
+            mesh.grow_vertices()
+        elif status == NEED_EDGE_ROOM:
+            buf = make_buffers(2 * mesh.ntri)
+        elif status in (STOP_CROSSING, STOP_OVERLAP):
+            _raise_intersection(status, info, segs, plc)
+        elif status == STOP_LIMIT:
+            raise CDTError(f"max_steiner={limit} intersection points inserted and segments "
+                           f"{info[0] - 1} and {info[1] - 1} still cross; raise max_steiner")
+        else:  # pragma: no cover
+            raise CDTError(f"internal error while inserting segment {info[0] - 1} (status {status})")
+    stats["vertices_on_segments"] = int(counts[0])
+    stats["merged_overlaps"] = int(counts[1])
+    stats["intersection_points"] = int(counts[2])
+
+
+def _raise_intersection(status, info, segs, plc):
+    s, t = int(info[0]) - 1, int(info[1]) - 1
+    P = plc.vertices
+    a, b = plc.segments[s]
+    c, d = plc.segments[t]
+    if status == STOP_CROSSING:
+        xy = np.array([P[a], P[b], P[c], P[d]])
+        px, py = intersection_point(xy[:, 0].copy(), xy[:, 1].copy(), 0, 1, 2, 3)
+        raise SegmentIntersectionError(
+            f"segments {s} ({_fmt(P[a])}-{_fmt(P[b])}) and {t} ({_fmt(P[c])}-{_fmt(P[d])}) "
+            f"cross at about ({px!r}, {py!r}); use intersections='split' to insert the crossing",
+            segments=(s, t), point=(px, py))
+    raise OverlappingSegmentsError(
+        f"segments {s} ({_fmt(P[a])}-{_fmt(P[b])}) and {t} ({_fmt(P[c])}-{_fmt(P[d])}) overlap "
+        f"(collinear, sharing more than a point); use intersections='split' to merge them",
+        segments=(s, t))
+
+
+def _fmt(p):
+    return f"({float(p[0])!r}, {float(p[1])!r})"
+
+
+@njit(cache=True)
+def _flood_arrays(neighbors, cflag, start, label, value):
+    """Paint ``label = value`` over triangles reachable from ``start`` without
+    crossing a constrained edge (``cflag != 0``)."""
+    stack = np.empty(label.shape[0], np.int64)
+    label[start] = value
+    stack[0] = start
+    sp = 1
+    while sp > 0:
+        sp -= 1
+        t = stack[sp]
+        for j in range(3):
+            m = neighbors[t, j]
+            if m < 0 or cflag[t, j] != 0 or label[m] == value:
+                continue
+            label[m] = value
+            stack[sp] = m
+            sp += 1
+
+
+@njit(cache=True)
+def _edge_segment_ids(tri, cons, ntri, tid, k):
+    """Segment id (1-based, 0 none) of the edge opposite each vertex of each
+    real triangle, in the order of ``tid``."""
+    out = np.zeros((k, 3), np.int64)
+    for t in range(ntri):
+        i = tid[t]
+        if i < 0:
+            continue
+        for j in range(3):
+            out[i, j] = cons[3 * t + (j + 1) % 3]
+    return out
+
+
+def _classify_and_output(plc, mesh, order, dup_of, submerged, keep_hull, split, mult, stats, t0):
+    tri, twin, cons, ntri, inf = mesh.tri, mesh.twin, mesh.cons, mesh.ntri, mesh.inf
+    T, N, tid = solid_triangles(tri, twin, ntri, inf)
+    cflag = _edge_segment_ids(tri, cons, ntri, tid, len(T))
+    depth_mesh, entry_mesh = segment_depths(tri, twin, cons, ntri, inf, mult)
+    live = tid >= 0
+    depth = np.empty(len(T), np.int64)
+    entry = np.empty(len(T), np.int64)
+    depth[tid[live]] = depth_mesh[live]
+    entry[tid[live]] = entry_mesh[live]
+    has_segments = bool((cons[: 3 * ntri] != 0).any())
+    triangle_rule = plc.holes is not None or plc.regions is not None
+    if keep_hull or not has_segments:
+        inside = np.ones(len(T), bool)
+    elif triangle_rule:
+        inside = depth > 0
+    else:
+        inside = depth % 2 == 1
+    region = np.full(len(T), -1, np.int64)
+    if plc.has_rings:
+        ring = np.where(entry > 0, plc.segment_ring[np.maximum(entry - 1, 0)], -1)
+        region = np.where(ring >= 0, plc.ring_polygon[np.maximum(ring, 0)], -1)
+        if not split and not keep_hull:
+            _check_hole_sides(plc, inside, ring)
+    vx, vy = mesh.x, mesh.y
+    label = np.zeros(len(T), np.int64)
+    if plc.holes is not None:
+        for hx, hy in plc.holes:
+            k = locate_in_arrays(vx, vy, T, N, hx, hy)
+            if k >= 0 and inside[k]:
+                _flood_arrays(N, cflag, k, label, 1)
+        inside &= label == 0
+    attributes = None
+    if plc.regions is not None and len(plc.regions):
+        label[:] = -1
+        for r, (rx, ry, _, _) in enumerate(plc.regions):
+            k = locate_in_arrays(vx, vy, T, N, rx, ry)
+            if k >= 0:
+                _flood_arrays(N, cflag, k, label, r)
+        region = label
+        attributes = plc.regions
+    return Triangulation.from_cdt(plc, mesh, order, dup_of, submerged, T, N, cflag, inside,
+                                  region, attributes, stats, t0)
+
+
+def _check_hole_sides(plc, inside, ring):
+    """A hole ring is entered from its shell's inside: a region inside the
+    domain entered through a hole ring means the hole lies outside its shell."""
+    bad = inside & (ring >= 0) & plc.ring_is_hole[np.maximum(ring, 0)]
+    if bad.any():
+        r = int(ring[np.flatnonzero(bad)[0]])
+        p = int(plc.ring_polygon[r])
+        raise InvalidGeometryError(
+            f"a hole of polygon {p} (ring {r}) lies outside its shell or overlaps another ring; "
+            "use intersections='split' to mesh by even-odd depth instead")
+
+
+def _collinear_result(plc, order, dup_of, submerged, stats, t0):
+    tri = Triangulation.from_collinear(plc.vertices, order, None, dup_of, submerged, stats, t0)
+    tri.segments = np.empty((0, 2), np.int64)
+    tri.segment_ids = np.empty(0, np.int64)
+    return tri

@@ -1,0 +1,108 @@
+"""Which triangles of a constrained triangulation are inside the domain.
+
+A flood fill over the triangles that stops at segments (and counts them):
+starting outside the convex hull at depth 0, crossing a segment adds one
+(DESIGN.md, Regions). The default keeps odd depths (a loop inside a loop is a
+hole, an island inside it is solid again, whatever the windings). Triangle's
+convention instead keeps everything not reachable from outside and eats from
+hole seed points; region seed points paint their flood region.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .mesh import DEAD, is_ghost
+
+
+@njit(cache=True)
+def segment_depths(tri, twin, cons, ntri, inf, mult):
+    """Depth of every triangle (ghosts 0): the fewest segments crossed to reach
+    it from outside the hull, and the segment id crossed to enter its component
+    (``entry``, 0 at depth 0). ``mult[sid]`` is how many input segments lie on
+    segment ``sid`` (repeated segments are merged into one) and crossing it
+    adds that many, so a ring given twice encloses nothing under the parity
+    rule. Levels are flooded in increasing depth."""
+    depth = np.full(ntri, -1, np.int64)
+    entry = np.zeros(ntri, np.int64)
+    cur = np.empty(ntri, np.int64)
+    pend = np.empty(3 * ntri + 1, np.int64)      # triangles behind a segment
+    pend_depth = np.empty(3 * ntri + 1, np.int64)
+    pend_sid = np.empty(3 * ntri + 1, np.int64)
+    npend = 0
+    nc = 0
+    for t in range(ntri):
+        if tri[3 * t] != DEAD and is_ghost(tri, t, inf):
+            depth[t] = 0
+            cur[nc] = t
+            nc += 1
+    level = 0
+    while True:
+        i = 0
+        while i < nc:            # flood this level; `cur` grows as it goes
+            t = cur[i]
+            i += 1
+            for k in range(3):
+                e = 3 * t + k
+                m = twin[e] // 3
+                if depth[m] >= 0:
+                    continue
+                if cons[e] == 0:
+                    depth[m] = level
+                    entry[m] = entry[t]
+                    cur[nc] = m
+                    nc += 1
+                else:
+                    pend[npend] = m
+                    pend_depth[npend] = level + mult[cons[e]]
+                    pend_sid[npend] = cons[e]
+                    npend += 1
+        level = -1               # the next level: the shallowest waiting triangle
+        for j in range(npend):
+            if depth[pend[j]] < 0 and (level < 0 or pend_depth[j] < level):
+                level = pend_depth[j]
+        if level < 0:
+            return depth, entry
+        nc = 0
+        keep = 0
+        for j in range(npend):
+            m = pend[j]
+            if depth[m] >= 0:
+                continue
+            if pend_depth[j] == level:
+                depth[m] = level
+                entry[m] = pend_sid[j]
+                cur[nc] = m
+                nc += 1
+            else:
+                pend[keep] = m
+                pend_depth[keep] = pend_depth[j]
+                pend_sid[keep] = pend_sid[j]
+                keep += 1
+        npend = keep
+
+
+@njit(cache=True)
+def flood(tri, twin, cons, start, label, value, inf):
+    """Set ``label`` to ``value`` on every real triangle reachable from ``start``
+    without crossing a segment."""
+    stack = np.empty(label.shape[0], np.int64)
+    sp = 0
+    if label[start] == value:
+        return
+    label[start] = value
+    stack[0] = start
+    sp = 1
+    while sp > 0:
+        sp -= 1
+        t = stack[sp]
+        for k in range(3):
+            e = 3 * t + k
+            if cons[e] != 0:
+                continue
+            m = twin[e] // 3
+            if label[m] == value or is_ghost(tri, m, inf):
+                continue
+            label[m] = value
+            stack[sp] = m
+            sp += 1

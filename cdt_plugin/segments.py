@@ -1,0 +1,369 @@
+"""Segment insertion into a constrained Delaunay triangulation (Sec. 2.10).
+
+A segment ``a b`` that is not an edge is inserted by walking from ``a`` to
+``b`` through the triangles it crosses, flipping the crossed edges until the
+segment is an edge (Sloan 1993: the cavity of Sec. 2.10.1 is retriangulated
+by flips, which also copes with edges dangling into the cavity), then
+restoring the constrained Delaunay property inside the cavity with flips that
+never flip a segment (Lemma 2.14). A vertex exactly on the segment splits it
+there (T-junction).
+A segment that crosses another segment stops the walk and is reported; the
+caller either raises or inserts the intersection point and splits both.
+
+Work items are *tasks* ``(a, b, segment id)`` on a queue, so splitting a
+segment just queues its pieces. ``cons[e]`` holds the 1-based segment id of a
+constrained half-edge.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .kernel import orient
+from .insertion import insert_vertex
+from .locate import ON_VERTEX, locate
+from .flips import flip_from_stack
+from .mesh import flip, nxt, prv
+
+# outcome of one task
+DONE = 0          # the segment (or its first piece) is an edge now
+SPLIT_AT = 1      # a vertex lies on the segment: pieces queued
+CROSSING = 2      # the segment crosses a constrained edge (``info`` = half-edge)
+OVERLAP = 3       # the edge is already a piece of another segment
+
+
+@njit(cache=True)
+def forward(x, y, a, b, v):
+    """For ``v`` exactly on the line ``a b``: whether it lies ahead of ``a``
+    towards ``b`` (strictly)."""
+    if x[a] != x[b]:
+        return (x[v] > x[a]) if x[b] > x[a] else (x[v] < x[a])
+    return (y[v] > y[a]) if y[b] > y[a] else (y[v] < y[a])
+
+
+@njit(cache=True)
+def vertex_edge(tri, twin, x, y, inf, v, hint, ntri):
+    """A half-edge whose origin is vertex ``v``, found by locating ``v``."""
+    code, e = locate(tri, twin, x, y, inf, v, hint, ntri)
+    if code != ON_VERTEX or tri[e] != v:
+        return -1
+    return e
+
+
+@njit(cache=True)
+def first_crossing(tri, twin, x, y, inf, a, b, e0):
+    """Look around ``a`` (``e0`` leaves ``a``) for the way towards ``b``.
+
+    Returns ``(kind, e)``: ``(DONE, a->b)`` if the edge exists; ``(SPLIT_AT,
+    a->v)`` if a neighbour ``v`` lies on the open segment; else
+    ``(CROSSING, u->w)``: the first edge the segment crosses, ``u`` right and
+    ``w`` left of ``a -> b``.
+    """
+    e = e0
+    for _ in range(tri.shape[0]):
+        u = tri[nxt(e)]
+        w = tri[prv(e)]
+        if u == b:
+            return DONE, e
+        if u != inf and w != inf:
+            ou = orient(x, y, a, b, u)
+            if ou == 0 and forward(x, y, a, b, u):
+                return SPLIT_AT, e
+            ow = orient(x, y, a, b, w)
+            if ow == 0 and forward(x, y, a, b, w):
+                return SPLIT_AT, prv(e)  # w -> a; its twin leaves a towards w
+            if ou < 0 and ow > 0:
+                return CROSSING, nxt(e)
+        e = twin[prv(e)]  # next triangle counter-clockwise around a
+        if e == e0:
+            break
+    return -1, -1
+
+
+@njit(cache=True)
+def crossed_edges(tri, twin, cons, x, y, a, b, h, qu, qw, qh, slots):
+    """Walk from crossing half-edge ``h`` (``u -> w``) towards ``b``, recording
+    every crossed edge (``qu, qw, qh``: endpoints and half-edge) and every
+    crossed triangle (``slots``). Stops at ``b`` or at the first vertex on the
+    segment. Nothing is modified.
+
+    Returns ``(end vertex, crossed edges, triangles, constrained half-edge hit
+    or -1)``.
+    """
+    k = 0
+    slots[0] = h // 3
+    ns = 1
+    while True:
+        if cons[h] != 0:
+            return -1, k, ns, h
+        qu[k] = tri[h]
+        qw[k] = tri[nxt(h)]
+        qh[k] = h
+        k += 1
+        g = twin[h]                  # w -> u in (w, u, v)
+        v = tri[prv(g)]
+        slots[ns] = g // 3
+        ns += 1
+        if v == b:
+            return v, k, ns, -1
+        o = orient(x, y, a, b, v)
+        if o == 0:
+            return v, k, ns, -1
+        h = nxt(g) if o > 0 else prv(g)
+
+
+@njit(cache=True)
+def find_edge_near(tri, twin, x, y, inf, u, w, hint, ntri):
+    """Half-edge ``u -> w`` (locating ``u`` from triangle ``hint``), or -1."""
+    e0 = vertex_edge(tri, twin, x, y, inf, u, hint, ntri)
+    if e0 < 0:
+        return -1
+    e = e0
+    while True:
+        if tri[nxt(e)] == w:
+            return e
+        e = twin[prv(e)]
+        if e == e0:
+            return -1
+
+
+@njit(cache=True)
+def flip_in_segment(tri, twin, cons, x, y, inf, ntri, a, b, qu, qw, qh, k, hint):
+    """Flip the crossed edges until none crosses segment ``a b`` (Sloan 1993):
+    a crossed edge with a convex quadrilateral is flipped, and its new diagonal
+    goes back on the (circular) queue if it still crosses; an edge that cannot
+    be flipped yet goes back too. Returns False if the loop (finite in theory)
+    ran away."""
+    head = 0
+    size = k
+    cap = qu.shape[0]
+    budget = 64 * (k + 4) * (k + 4)
+    while size > 0:
+        budget -= 1
+        if budget < 0:
+            return False
+        u = qu[head]
+        w = qw[head]
+        h = qh[head]
+        head = (head + 1) % cap
+        size -= 1
+        if tri[h] != u or tri[nxt(h)] != w:  # the slot was rewritten by a flip
+            h = find_edge_near(tri, twin, x, y, inf, u, w, hint, ntri)
+            if h < 0:
+                return False
+        p = tri[prv(h)]
+        f = twin[h]
+        d = tri[prv(f)]
+        tail = (head + size) % cap
+        if orient(x, y, p, u, d) > 0 and orient(x, y, p, d, w) > 0:
+            flip(tri, twin, cons, h)
+            op = orient(x, y, a, b, p)
+            od = orient(x, y, a, b, d)
+            if (op > 0 and od < 0) or (op < 0 and od > 0):
+                qu[tail] = p
+                qw[tail] = d
+                qh[tail] = 3 * (f // 3)    # p -> d, slot 0 of (p, d, w)
+                size += 1
+        else:
+            qu[tail] = u
+            qw[tail] = w
+            qh[tail] = h
+            size += 1
+    return True
+
+
+@njit(cache=True)
+def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf):
+    """Make ``a -> b`` (or its first piece, up to a vertex on it) a constrained
+    edge with id ``sid``, then restore the constrained Delaunay property around
+    it with flips that never flip a segment (Lemma 2.14).
+
+    Returns ``(kind, info, hint)``: DONE (``info`` = end vertex: ``b`` or a
+    vertex on the segment), OVERLAP (``info`` = the half-edge already on another
+    segment) or CROSSING (``info`` = the constrained half-edge crossed);
+    ``kind < 0`` on an internal failure, -2 if the buffers are too small.
+    """
+    qu, qw, qh, slots, stack = buf
+    e0 = vertex_edge(tri, twin, x, y, inf, a, hint, ntri)
+    if e0 < 0:
+        return -1, -1, hint
+    kind, e = first_crossing(tri, twin, x, y, inf, a, b, e0)
+    if kind == DONE or kind == SPLIT_AT:
+        if kind == SPLIT_AT and tri[e] != a:
+            e = twin[e]
+        v = tri[nxt(e)]
+        if cons[e] != 0 and cons[e] != sid:
+            return OVERLAP, e, e // 3
+        cons[e] = sid
+        cons[twin[e]] = sid
+        return DONE, v, e // 3
+    if kind < 0:
+        return -1, -1, hint
+    if qu.shape[0] < ntri + 3:  # room for the longest possible walk
+        return -2, -1, hint
+    end, k, ns, hit = crossed_edges(tri, twin, cons, x, y, a, b, e, qu, qw, qh, slots)
+    if hit >= 0:
+        return CROSSING, hit, hint
+    if not flip_in_segment(tri, twin, cons, x, y, inf, ntri, a, end, qu, qw, qh, k, slots[0]):
+        return -1, -1, hint
+    s = find_edge_near(tri, twin, x, y, inf, a, end, slots[0], ntri)
+    if s < 0:
+        return -1, -1, hint
+    cons[s] = sid
+    cons[twin[s]] = sid
+    # the crossed triangles' slots now hold the new triangles: re-check their edges
+    sp = 0
+    for i in range(ns):
+        for j in range(3):
+            stack[sp] = 3 * slots[i] + j
+            sp += 1
+    flip_from_stack(tri, twin, cons, x, y, w, False, inf, stack, sp, -1)
+    return DONE, end, slots[0]
+
+
+@njit(cache=True)
+def intersection_point(x, y, p0, p1, q0, q1):
+    """The crossing point of segments ``p0 p1`` and ``q0 q1`` (known to cross),
+    as accurately as double precision allows: parametrised along the segment
+    whose endpoints are closer to the crossing, and clamped to both boxes."""
+    d0 = orient(x, y, q0, q1, p0)
+    d1 = orient(x, y, q0, q1, p1)
+    t = d0 / (d0 - d1)
+    if t <= 0.5:
+        px = x[p0] + t * (x[p1] - x[p0])
+        py = y[p0] + t * (y[p1] - y[p0])
+    else:
+        px = x[p1] + (1.0 - t) * (x[p0] - x[p1])
+        py = y[p1] + (1.0 - t) * (y[p0] - y[p1])
+    lo = max(min(x[p0], x[p1]), min(x[q0], x[q1]))
+    hi = min(max(x[p0], x[p1]), max(x[q0], x[q1]))
+    px = min(max(px, lo), hi)
+    lo = max(min(y[p0], y[p1]), min(y[q0], y[q1]))
+    hi = min(max(y[p0], y[p1]), max(y[q0], y[q1]))
+    py = min(max(py, lo), hi)
+    return px, py
+
+
+# status of the whole task loop
+ALL_DONE = 0
+STOP_CROSSING = 1      # intersections="raise": info = (segment, other segment)
+STOP_OVERLAP = 2       # intersections="raise": info = (segment, other segment)
+NEED_VERTEX_ROOM = 3   # a Steiner point needs room: grow and call again
+NEED_EDGE_ROOM = 4     # the walk buffers are too small: grow and call again
+STOP_LIMIT = 5         # too many Steiner points: refuse rather than loop
+LOST = 6               # internal failure (a vertex could not be found)
+
+
+@njit(cache=True)
+def make_buffers(n):
+    """Work arrays for :func:`insert_one`, sized for walks through ``n`` triangles:
+    the crossed-edge queue (endpoints, half-edge), the crossed triangles, and a
+    flip stack."""
+    return (np.empty(n + 3, np.int64), np.empty(n + 3, np.int64), np.empty(n + 3, np.int64),
+            np.empty(n + 3, np.int64), np.empty(3 * (n + 3), np.int64))
+
+
+@njit(cache=True)
+def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_ends,
+                    split, max_steiner, counts, info, stack, buf):
+    """Process the segment tasks ``tasks[:ntask]`` (rows ``a, b, sid``; LIFO).
+
+    ``seg_ends[sid - 1]`` are the original endpoints of segment ``sid`` (for
+    intersection points). With ``split`` False a crossing or an overlap stops
+    the loop (``info`` names the two segment ids); with ``split`` True the
+    crossing point is inserted as a Steiner vertex ``nv`` (room permitting),
+    both segments are split there, and overlaps are merged.
+    ``counts``: [T-junction splits, merged overlaps, Steiner points].
+    Returns ``(status, ntri, nv, ntask)``; on NEED_* the unfinished task is back
+    on the queue so the caller can grow the arrays and call again.
+    """
+    hint = 0
+    flip_counts = np.zeros(2, np.int64)
+    no_weights = np.zeros(1, np.int8)
+    while ntask > 0:
+        ntask -= 1
+        a = tasks[ntask, 0]
+        b = tasks[ntask, 1]
+        sid = tasks[ntask, 2]
+        kind, res, hint = insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf)
+        if kind == -2:
+            ntask += 1
+            return NEED_EDGE_ROOM, ntri, nv, ntask
+        if kind < 0:
+            info[0] = sid
+            return LOST, ntri, nv, ntask
+        if kind == DONE:
+            if res != b:
+                counts[0] += 1
+                tasks[ntask, 0] = res
+                tasks[ntask, 1] = b
+                tasks[ntask, 2] = sid
+                ntask += 1
+            continue
+        if kind == OVERLAP:
+            if not split:
+                info[0] = sid
+                info[1] = cons[res]
+                info[2] = tri[res]
+                info[3] = tri[nxt(res)]
+                return STOP_OVERLAP, ntri, nv, ntask
+            counts[1] += 1
+            v = tri[nxt(res)]
+            if v != b:
+                tasks[ntask, 0] = v
+                tasks[ntask, 1] = b
+                tasks[ntask, 2] = sid
+                ntask += 1
+            continue
+        # a crossing with the segment of constrained half-edge `res`
+        other = cons[res]
+        u = tri[res]
+        v2 = tri[nxt(res)]
+        if not split:
+            info[0] = sid
+            info[1] = other
+            info[2] = u
+            info[3] = v2
+            return STOP_CROSSING, ntri, nv, ntask
+        if counts[2] >= max_steiner:
+            info[0] = sid
+            info[1] = other
+            return STOP_LIMIT, ntri, nv, ntask
+        if nv >= inf or ntri + 2 > tri.shape[0] // 3 or ntask + 4 > tasks.shape[0]:
+            ntask += 1
+            return NEED_VERTEX_ROOM, ntri, nv, ntask
+        px, py = intersection_point(x, y, seg_ends[sid - 1, 0], seg_ends[sid - 1, 1],
+                                    seg_ends[other - 1, 0], seg_ends[other - 1, 1])
+        x[nv] = px
+        y[nv] = py
+        code, p, ntri, hint = insert_vertex(tri, twin, cons, x, y, w, False, inf, nv, hint,
+                                            ntri, False, no_weights, flip_counts, stack)
+        if code == -1:
+            info[0] = sid
+            return LOST, ntri, nv, ntask
+        if p == nv:
+            nv += 1
+            counts[2] += 1
+        # the crossed piece u-v2 of `other` must now pass through p
+        e = find_edge_near(tri, twin, x, y, inf, u, v2, hint, ntri)
+        if e >= 0 and cons[e] == other and p != u and p != v2:
+            cons[e] = 0
+            cons[twin[e]] = 0
+            fstack = buf[4]
+            fstack[0] = e  # no longer a segment: it may need a flip now
+            flip_from_stack(tri, twin, cons, x, y, w, False, inf, fstack, 1, -1)
+            tasks[ntask, 0] = u
+            tasks[ntask, 1] = p
+            tasks[ntask, 2] = other
+            tasks[ntask + 1, 0] = p
+            tasks[ntask + 1, 1] = v2
+            tasks[ntask + 1, 2] = other
+            ntask += 2
+        tasks[ntask, 0] = p
+        tasks[ntask, 1] = b
+        tasks[ntask, 2] = sid
+        tasks[ntask + 1, 0] = a
+        tasks[ntask + 1, 1] = p
+        tasks[ntask + 1, 2] = sid
+        ntask += 2
+    return ALL_DONE, ntri, nv, ntask
