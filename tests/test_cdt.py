@@ -1,0 +1,317 @@
+"""Engine tests for cdt_plugin.triangulate (constrained Delaunay triangulation).
+
+Every result is verified by the exact checker: a valid triangulation, every
+segment present (as an edge or a chain of collinear edges), every non-segment
+edge locally Delaunay (Constrained Delaunay Lemma 2.14)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import cdt_plugin
+from cdt_plugin import (CDTError, InvalidGeometryError, OverlappingSegmentsError, SegmentIndexError,
+                        SegmentIntersectionError)
+from checker import canonical_triangles, check_triangulation
+
+rng = np.random.default_rng(7)
+
+
+def verify_cdt(vertices, segments, tri, *, domain="segments", split=False):
+    """Exact check of a CDT result. With ``domain="hull"`` (keep_hull) every vertex
+    must be used; segments are the input ones (or our pieces after splitting)."""
+    if domain == "segments":
+        # the domain's own segment pieces (dangling ones outside it are checked
+        # on the whole-hull triangulation below)
+        T = tri.triangles
+        edges = {frozenset(e) for t in T.tolist() for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
+        segs = np.array([p for p in tri.segments.tolist() if frozenset(p) in edges], np.int64).reshape(-1, 2)
+    elif split:
+        segs = tri.segments
+    else:
+        vm = tri.vertex_map[np.asarray(segments, np.int64).reshape(-1, 2)]
+        segs = vm[vm[:, 0] != vm[:, 1]]
+    rep = check_triangulation(tri.vertices, tri.triangles, segments=segs, domain=domain,
+                              require_all_vertices=(domain == "hull"))
+    assert rep.ok, str(rep)
+    assert tri.is_delaunay()
+    if domain == "segments" and not split:
+        # the domain's triangles are a subset of the (checked) whole-hull CDT
+        full = cdt_plugin.triangulate(vertices, segments, keep_hull=True)
+        verify_cdt(vertices, segments, full, domain="hull")
+        assert canonical_triangles(tri.vertices, tri.triangles) <= canonical_triangles(full.vertices, full.triangles)
+    return rep
+
+
+def ring(points, start=0):
+    k = len(points)
+    return [[start + i, start + (i + 1) % k] for i in range(k)]
+
+
+SQUARE = [[0, 0], [4, 0], [4, 4], [0, 4]]
+HOLE = [[1, 1], [3, 1], [3, 3], [1, 3]]
+
+
+def test_square_with_hole():
+    v = SQUARE + HOLE
+    s = ring(SQUARE) + ring(HOLE, 4)
+    tri = cdt_plugin.triangulate(v, s)
+    verify_cdt(v, s, tri)
+    assert len(tri.triangles) == 8          # n + 2h - 2
+    area = _area(tri)
+    assert area == pytest.approx(16 - 4)
+    assert set(tri.segment_ids.tolist()) == set(range(8))
+
+
+def _area(tri):
+    v, t = tri.vertices, tri.triangles
+    a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
+    return float(np.sum((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])) / 2)
+
+
+def test_segment_that_is_not_a_delaunay_edge():
+    # a thin rhombus: the long diagonal is not Delaunay, insert it as a segment
+    v = [[0, 0], [10, -1], [20, 0], [10, 1]]
+    tri = cdt_plugin.triangulate(v, [[0, 2]], keep_hull=True)
+    verify_cdt(v, [[0, 2]], tri, domain="hull")
+    assert {0, 2} in [set(e) for e in tri.segments.tolist()]
+    assert not cdt_plugin.delaunay(v).constrained.any()
+
+
+def test_long_segment_through_random_points():
+    p = rng.random((2000, 2))
+    v = np.vstack([p, [[-0.1, 0.5], [1.1, 0.52]]])
+    seg = [[2000, 2001]]
+    tri = cdt_plugin.triangulate(v, seg, keep_hull=True)
+    verify_cdt(v, seg, tri, domain="hull")
+    tri2 = cdt_plugin.triangulate(v, seg, keep_hull=True, algorithm="flip")
+    assert canonical_triangles(tri.vertices, tri.triangles) == canonical_triangles(tri2.vertices, tri2.triangles)
+
+
+def test_vertex_on_segment_splits_it():
+    v = [[0, 0], [4, 0], [4, 4], [0, 4], [2, 0]]   # vertex 4 on the bottom edge 0-1
+    s = [[0, 1], [1, 2], [2, 3], [3, 0]]
+    tri = cdt_plugin.triangulate(v, s)
+    verify_cdt(v, s, tri)
+    assert tri.stats["vertices_on_segments"] == 1
+    pieces = {tuple(sorted(e)) for e in tri.segments.tolist()}
+    assert (0, 4) in pieces and (1, 4) in pieces
+
+
+def test_hole_touching_shell_at_a_vertex():
+    v = SQUARE + [[0, 0], [2, 1], [1, 2]]       # hole shares the corner (0, 0)
+    s = ring(SQUARE) + ring([[0, 0], [2, 1], [1, 2]], 4)
+    tri = cdt_plugin.triangulate(v, s)
+    verify_cdt(v, s, tri)
+    assert _area(tri) == pytest.approx(16 - 1.5)
+
+
+def test_nested_island_by_parity():
+    big = [[0, 0], [10, 0], [10, 10], [0, 10]]
+    hole = [[2, 2], [8, 2], [8, 8], [2, 8]]
+    island = [[4, 4], [6, 4], [6, 6], [4, 6]]
+    v = big + hole + island
+    s = ring(big) + ring(hole, 4) + ring(island, 8)
+    tri = cdt_plugin.triangulate(v, s)
+    verify_cdt(v, s, tri)
+    assert _area(tri) == pytest.approx(100 - 36 + 4)
+    # windings do not matter
+    s_rev = ring(big) + [[b, a] for a, b in ring(hole, 4)] + ring(island, 8)
+    assert _area(cdt_plugin.triangulate(v, s_rev)) == pytest.approx(68)
+
+
+def test_hole_points_follow_triangles_convention():
+    v = SQUARE + HOLE
+    s = ring(SQUARE) + ring(HOLE, 4)
+    with_hole = cdt_plugin.triangulate(v, s, holes=[[2, 2]])
+    assert _area(with_hole) == pytest.approx(12)
+    filled = cdt_plugin.triangulate(v, s, holes=[])
+    assert _area(filled) == pytest.approx(16)
+    hull = cdt_plugin.triangulate(v, s, keep_hull=True)
+    verify_cdt(v, s, hull, domain="hull")
+    assert _area(hull) == pytest.approx(16)
+
+
+def test_regions_paint_their_areas():
+    v = SQUARE + [[2, 0], [2, 4]]
+    s = ring(SQUARE) + [[4, 5]]
+    tri = cdt_plugin.triangulate(v, s, regions=[[1, 1, 10.0], [3, 1, 20.0]])
+    verify_cdt(v, s, tri)
+    left = tri.vertices[tri.triangles].mean(axis=1)[:, 0] < 2
+    assert (tri.regions[left] == 0).all() and (tri.regions[~left] == 1).all()
+    assert tri.region_attributes[:, 2].tolist() == [10.0, 20.0]
+
+
+def test_slit_and_isolated_vertex_inside():
+    v = SQUARE + [[1, 2], [3, 2], [2, 3]]      # a slit 4-5 and a free vertex 6
+    s = ring(SQUARE) + [[4, 5]]
+    tri = cdt_plugin.triangulate(v, s)
+    verify_cdt(v, s, tri)
+    assert (tri.vertex_map >= 0).all() and 6 in tri.triangles
+
+
+def test_crossing_segments_raise_with_indices_and_point():
+    v = [[0, 0], [2, 2], [0, 2], [2, 0]]
+    with pytest.raises(SegmentIntersectionError, match=r"segments 1 .* and 0 .* cross at about \(1.0, 1.0\)") as err:
+        cdt_plugin.triangulate(v, [[0, 1], [2, 3]])
+    assert set(err.value.segments) == {0, 1}
+    assert err.value.point == (1.0, 1.0)
+    tri = cdt_plugin.triangulate(v, [[0, 1], [2, 3]], intersections="split", keep_hull=True)
+    verify_cdt(v, None, tri, domain="hull", split=True)
+    assert tri.stats["intersection_points"] == 1 and len(tri.steiner) == 1
+    assert tri.vertices[tri.steiner[0]].tolist() == [1.0, 1.0]
+    assert len(tri.segments) == 4 and sorted(set(tri.segment_ids.tolist())) == [0, 1]
+
+
+def test_overlapping_segments_raise_or_merge():
+    v = [[0, 0], [2, 0], [1, 0], [3, 0], [1, 1]]
+    s = [[0, 1], [2, 3]]
+    with pytest.raises(OverlappingSegmentsError, match="segments .* overlap"):
+        cdt_plugin.triangulate(v, s)
+    tri = cdt_plugin.triangulate(v, s, intersections="split", keep_hull=True)
+    verify_cdt(v, s, tri, domain="hull")
+    assert tri.stats["merged_overlaps"] == 1
+
+
+def test_repeated_and_zero_length_segments_are_repaired():
+    v = SQUARE + [[0, 0]]
+    s = ring(SQUARE) + [[1, 0], [0, 4], [2, 2]]   # repeat, zero length (dup vertex), zero length
+    tri = cdt_plugin.triangulate(v, s)
+    verify_cdt(v, s, tri)
+    assert tri.stats["duplicate_segments"] == 1
+    assert tri.stats["zero_length_segments"] == [5, 6]
+
+
+def test_ring_given_twice_encloses_nothing():
+    v = SQUARE + SQUARE
+    s = ring(SQUARE) + ring(SQUARE, 4)
+    assert len(cdt_plugin.triangulate(v, s).triangles) == 0
+
+
+@pytest.mark.parametrize("segs,msg", [
+    ([[0, 9]], r"segment 0 = \[0, 9\] names a vertex outside 0..3"),
+    ([[0, 1], [-1, 2]], "segment 1"),
+    ([[0.5, 1]], "non-integer"),
+    ([[0, 1, 2]], r"\(m, 2\)"),
+])
+def test_bad_segments(segs, msg):
+    with pytest.raises((SegmentIndexError, cdt_plugin.InputShapeError), match=msg):
+        cdt_plugin.triangulate(SQUARE, segs)
+
+
+def test_bad_options():
+    with pytest.raises(CDTError, match="intersections"):
+        cdt_plugin.triangulate(SQUARE, ring(SQUARE), intersections="ignore")
+    with pytest.raises(CDTError, match="algorithm"):
+        cdt_plugin.triangulate(SQUARE, ring(SQUARE), algorithm="sweep")
+
+
+def test_collinear_input_with_segments():
+    v = [[0, 0], [1, 0], [2, 0]]
+    tri = cdt_plugin.triangulate(v, [[0, 2]])
+    assert tri.triangles.shape == (0, 3) and len(tri.edges) == 2
+
+
+# --------------------------------------------------------------- geometry input
+def test_geo_interface_polygon_with_hole():
+    shapely = pytest.importorskip("shapely")
+    poly = shapely.Polygon(SQUARE, [HOLE[::-1]])
+    tri = cdt_plugin.triangulate(poly)
+    assert len(tri.triangles) == 8 and _area(tri) == pytest.approx(poly.area)
+    assert (tri.regions == 0).all()
+    multi = shapely.MultiPolygon([poly, shapely.Polygon([[10, 0], [12, 0], [11, 1]])])
+    tri = cdt_plugin.triangulate(multi)
+    assert sorted(set(tri.regions.tolist())) == [0, 1]
+    assert _area(tri) == pytest.approx(multi.area)
+
+
+def test_geo_interface_mapping_and_lines():
+    g = {"type": "GeometryCollection", "geometries": [
+        {"type": "Polygon", "coordinates": [[(0, 0), (4, 0), (4, 4), (0, 4), (0, 0)]]},
+        {"type": "LineString", "coordinates": [(1, 1), (3, 3)]},
+        {"type": "Point", "coordinates": (1, 3)}]}
+    tri = cdt_plugin.triangulate(g)
+    assert _area(tri) == pytest.approx(16)
+    assert any(set(e) == {4, 5} for e in tri.segments.tolist())
+    assert 6 in tri.triangles
+
+
+def test_geo_interface_hole_outside_shell():
+    g = {"type": "Polygon", "coordinates": [SQUARE + [SQUARE[0]], [[10, 10], [11, 10], [11, 11], [10, 10]]]}
+    with pytest.raises(InvalidGeometryError, match="hole of polygon 0"):
+        cdt_plugin.triangulate(g)
+
+
+def test_geo_interface_degenerate_ring():
+    g = {"type": "Polygon", "coordinates": [SQUARE + [SQUARE[0]], [[1, 1], [2, 2], [1, 1]]]}
+    with pytest.raises(InvalidGeometryError, match="fewer than three distinct points"):
+        cdt_plugin.triangulate(g)
+    tri = cdt_plugin.triangulate(g, intersections="split")
+    assert _area(tri) == pytest.approx(16)
+
+
+def test_bowtie_ring_raises_then_splits():
+    g = {"type": "Polygon", "coordinates": [[(0, 0), (2, 2), (2, 0), (0, 2), (0, 0)]]}
+    with pytest.raises(SegmentIntersectionError):
+        cdt_plugin.triangulate(g)
+    tri = cdt_plugin.triangulate(g, intersections="split")
+    assert _area(tri) == pytest.approx(2.0)
+
+
+# ----------------------------------------------------------- property tests
+coord = st.integers(0, 6)
+
+
+@settings(max_examples=120, deadline=None)
+@given(st.lists(st.tuples(coord, coord), min_size=3, max_size=25),
+       st.lists(st.tuples(st.integers(0, 24), st.integers(0, 24)), max_size=12))
+def test_hypothesis_random_plcs(pts, pairs):
+    v = np.array(pts, float)
+    s = np.array([(a % len(v), b % len(v)) for a, b in pairs], np.int64).reshape(-1, 2)
+    try:
+        tri = cdt_plugin.triangulate(v, s, keep_hull=True)
+    except (SegmentIntersectionError, OverlappingSegmentsError):
+        tri = cdt_plugin.triangulate(v, s, keep_hull=True, intersections="split")
+        if len(tri.triangles):
+            verify_cdt(v, s, tri, domain="hull", split=True)
+        return
+    if len(tri.triangles):
+        verify_cdt(v, s, tri, domain="hull")
+        default = cdt_plugin.triangulate(v, s)
+        if len(default.triangles):  # without segments the whole hull is kept
+            verify_cdt(v, s, default, domain="segments" if len(default.segments) else "hull")
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_two_routes_agree_on_generic_plcs(seed):
+    """Theorem 2.18: a generic PLC has one CDT; both routes must find it."""
+    r = np.random.default_rng(seed)
+    v = r.random((60, 2))
+    s = []
+    for _ in range(8):
+        a, b = r.choice(60, 2, replace=False)
+        s.append([a, b])
+    s = np.array(s)
+    try:
+        one = cdt_plugin.triangulate(v, s, keep_hull=True)
+    except SegmentIntersectionError:
+        return
+    two = cdt_plugin.triangulate(v, s, keep_hull=True, algorithm="flip")
+    verify_cdt(v, s, one, domain="hull")
+    verify_cdt(v, s, two, domain="hull")
+    assert canonical_triangles(one.vertices, one.triangles) == canonical_triangles(two.vertices, two.triangles)
+
+
+def test_spiral_and_comb():
+    t = np.linspace(0, 6 * np.pi, 400)
+    spiral = np.column_stack([t * np.cos(t), t * np.sin(t)])
+    outer = np.vstack([spiral, spiral[::-1] * 0.9 + 0.0])[:-1]
+    outer = np.unique(np.round(outer, 9), axis=0, return_index=True)[1]
+    k = 50
+    comb = [[0, 0]] + [[i, 10 if i % 2 else 1] for i in range(1, 2 * k)] + [[2 * k, 0]]
+    s = ring(comb)
+    tri = cdt_plugin.triangulate(comb, s)
+    verify_cdt(comb, s, tri)
+    assert len(tri.triangles) == len(comb) - 2
