@@ -20,7 +20,7 @@ from .certify import locate_in_arrays
 from .mesh import DEAD, IDX
 from .ordering import brio_order, lexicographic_order
 from .plc import PLC, as_plc
-from .regions import segment_depths
+from .regions import flood, segment_depths
 from .segments import (ALL_DONE, LOST, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING, STOP_LIMIT,
                        STOP_OVERLAP, insert_segments, intersection_point, make_buffers)
 from .triangulation import Triangulation, solid_triangles, _vertex_map
@@ -226,26 +226,6 @@ def _fmt(p):
 
 
 @njit(cache=True)
-def _flood_arrays(neighbors, cflag, start, label, value):
-    """Paint ``label = value`` over triangles reachable from ``start`` without
-    crossing a constrained edge (``cflag != 0``)."""
-    stack = np.empty(label.shape[0], np.int64)
-    label[start] = value
-    stack[0] = start
-    sp = 1
-    while sp > 0:
-        sp -= 1
-        t = stack[sp]
-        for j in range(3):
-            m = neighbors[t, j]
-            if m < 0 or cflag[t, j] != 0 or label[m] == value:
-                continue
-            label[m] = value
-            stack[sp] = m
-            sp += 1
-
-
-@njit(cache=True)
 def _edge_segment_ids(tri, cons, ntri, tid, k):
     """Segment id (1-based, 0 none) of the edge opposite each vertex of each
     real triangle, in the order of ``tid``."""
@@ -289,7 +269,7 @@ def _classify_and_output(plc, mesh, order, dup_of, submerged, keep_hull, split, 
         for hx, hy in plc.holes:
             k = locate_in_arrays(vx, vy, T, N, hx, hy)
             if k >= 0 and inside[k]:
-                _flood_arrays(N, cflag, k, label, 1)
+                flood(N, cflag, k, label, 1)
         inside &= label == 0
     attributes = None
     if plc.regions is not None and len(plc.regions):
@@ -297,7 +277,7 @@ def _classify_and_output(plc, mesh, order, dup_of, submerged, keep_hull, split, 
         for r, (rx, ry, _, _) in enumerate(plc.regions):
             k = locate_in_arrays(vx, vy, T, N, rx, ry)
             if k >= 0:
-                _flood_arrays(N, cflag, k, label, r)
+                flood(N, cflag, k, label, r)
         region = label
         attributes = plc.regions
     return Triangulation.from_cdt(plc, mesh, order, dup_of, submerged, T, N, cflag, inside,

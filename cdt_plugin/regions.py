@@ -83,25 +83,20 @@ def segment_depths(tri, twin, cons, ntri, inf, mult):
 
 
 @njit(cache=True)
-def flood(tri, twin, cons, start, label, value, inf):
-    """Set ``label`` to ``value`` on every real triangle reachable from ``start``
-    without crossing a segment."""
+def flood(neighbors, cflag, start, label, value):
+    """Paint ``label = value`` over the triangles reachable from ``start``
+    without crossing a segment (``cflag[t, j] != 0``: the edge opposite vertex
+    ``j`` of triangle ``t`` lies on one)."""
     stack = np.empty(label.shape[0], np.int64)
-    sp = 0
-    if label[start] == value:
-        return
     label[start] = value
     stack[0] = start
     sp = 1
     while sp > 0:
         sp -= 1
         t = stack[sp]
-        for k in range(3):
-            e = 3 * t + k
-            if cons[e] != 0:
-                continue
-            m = twin[e] // 3
-            if label[m] == value or is_ghost(tri, m, inf):
+        for j in range(3):
+            m = neighbors[t, j]
+            if m < 0 or cflag[t, j] != 0 or label[m] == value:
                 continue
             label[m] = value
             stack[sp] = m

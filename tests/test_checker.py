@@ -357,10 +357,14 @@ def test_unused_vertex(random_delaunay):
 
 def test_nonmanifold_vertex_bowtie():
     P = np.array([[0.0, 0.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0]])
+    rep = check_triangulation(P, [(0, 1, 2), (0, 3, 4)])
+    assert "nonmanifold_vertex" in rep.kinds
+    assert any("vertex 0" in p for p in rep.problems)
+    # a domain bounded by segments may pinch at a vertex (a hole touching its
+    # shell): allowed there; callers check such results against the whole hull
     rep = check_triangulation(P, [(0, 1, 2), (0, 3, 4)], domain="segments",
                               segments=[(0, 1), (1, 2), (2, 0), (0, 3), (3, 4), (4, 0)])
-    assert rep.kinds == {"nonmanifold_vertex": 1}
-    assert "vertex 0" in rep.problems[0]
+    assert rep.ok
 
 
 def test_nonmanifold_vertex_fan_plus_extra_triangle():
