@@ -158,11 +158,12 @@ def _segment_tasks(segs, stats):
     kept segment indices and each kept segment's multiplicity (by 1-based id)."""
     zero = segs[:, 0] == segs[:, 1]
     stats["zero_length_segments"] = np.flatnonzero(zero).tolist()
-    key = np.sort(segs, axis=1)
+    lo, hi = segs.min(axis=1), segs.max(axis=1)
+    key = lo * (int(segs.max(initial=0)) + 1) + hi   # one integer per undirected pair
     idx = np.flatnonzero(~zero)
     mult = np.zeros(len(segs) + 1, np.int64)
     if len(idx):
-        _, first, inverse = np.unique(key[idx], axis=0, return_index=True, return_inverse=True)
+        _, first, inverse = np.unique(key[idx], return_index=True, return_inverse=True)
         mult[idx[first] + 1] = np.bincount(inverse.ravel(), minlength=len(first))
         kept = idx[np.sort(first)]
     else:

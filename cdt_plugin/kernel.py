@@ -19,13 +19,13 @@ from numba import njit
 from .predicates import incircle, incircle_weighted, orient2d
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def lex_less(x, y, i, j):
     """Whether vertex ``i`` precedes vertex ``j`` in lexicographic order."""
     return x[i] < x[j] or (x[i] == x[j] and y[i] < y[j])
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def orient(x, y, a, b, c):
     """Exact orientation of real vertices ``a, b, c`` (> 0 counter-clockwise)."""
     return orient2d(x[a], y[a], x[b], y[b], x[c], y[c])
@@ -79,7 +79,7 @@ def perturbed_incircle_sign(x, y, a, b, c, d):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def lifted_test(x, y, w, weighted, a, b, c, d):
     """Exact sign of the (weighted) in-circle test, > 0: ``d`` lies strictly in
     the circumdisk (below the lifted plane) of counter-clockwise ``(a, b, c)``.
@@ -96,7 +96,7 @@ def lifted_test(x, y, w, weighted, a, b, c, d):
     return perturbed_incircle_sign(x, y, a, b, c, d)
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def edge_is_illegal(x, y, w, weighted, inf, a, b, p, d):
     """Whether edge ``a-b`` of triangle ``(a, b, p)``, opposite ``d`` across it, is
     not locally (weighted) Delaunay (Def. 2.4), with ghost triangles handled.

@@ -11,7 +11,7 @@ ON_EDGE = 1    # strictly inside the edge of the returned half-edge
 ON_VERTEX = 2  # at the origin vertex of the returned half-edge
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def same_point(x, y, i, j):
     return x[i] == x[j] and y[i] == y[j]
 

@@ -49,13 +49,13 @@ def set_triangle(tri, t, a, b, c):
     tri[3 * t + 2] = c
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def is_ghost(tri, t, inf):
     """Whether triangle ``t`` has the infinite vertex."""
     return tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def ghost_hull_edge(tri, t, inf):
     """The half-edge ``u -> v`` of ghost triangle ``t`` that avoids ``inf``.
 
@@ -90,7 +90,7 @@ def make_first_triangle(tri, twin, a, b, c, inf):
     return 4
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def flip(tri, twin, cons, e):
     """Flip the edge of half-edge ``e`` (Sec. 2.5 edge flip).
 
