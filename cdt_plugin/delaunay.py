@@ -166,8 +166,12 @@ def delaunay(points, weights=None, *, algorithm: str = "incremental", seed: int 
         if not weighted:
             break
         xi, yi, wi = (np.append(a[order], 0.0) for a in (x, y, w))
-        redundant, unexplained = redundant_vertices(tri, twin, xi, yi, wi, len(order), ntri)
-        if unexplained:  # pragma: no cover - never seen; refuse rather than be wrong
+        for _ in range(MAX_WEIGHTED_PASSES):   # flip leftovers until nothing changes
+            redundant, flips, unexplained = redundant_vertices(tri, twin, xi, yi, wi, len(order), ntri)
+            counts[0] += flips
+            if flips == 0 or len(redundant):
+                break
+        if unexplained and len(redundant) == 0:  # refuse rather than be wrong
             raise CDTError(f"internal error: {unexplained} weighted edges could not be made regular")
         if len(redundant) == 0:
             break

@@ -153,17 +153,21 @@ def insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
 
 @njit(cache=True)
 def redundant_vertices(tri, twin, x, y, w, inf, ntri):
-    """Weighted input, after insertion: vertices the flips could not submerge.
+    """Weighted input, after insertion: repair what the incremental flips left.
 
-    Lawson/Edelsbrunner-Shah flips leave two degenerate cases behind: a vertex on
-    a straight stretch of the hull, and a reflex vertex lying exactly on the
-    diagonal of a non-convex quadrilateral. Both are redundant when their lifted
-    point lies above the lifted plane of the surrounding triangle (Sec. 2.8).
-    Returns ``(redundant vertex ids, number of illegal edges no rule explains)``.
+    Lawson/Edelsbrunner-Shah flips can leave degenerate leftovers: a vertex on a
+    straight stretch of the hull, a reflex vertex lying exactly on the diagonal
+    of a non-convex quadrilateral, or (after a 3-1 flip) an illegal edge with a
+    convex quadrilateral. The last kind is flipped here (2-2 flip); the first two
+    are redundant vertices (their lifted point lies above the lifted plane of the
+    surrounding triangle, Sec. 2.8) for the caller to leave out.
+    Returns ``(redundant vertex ids, flips done, illegal edges no rule explains)``.
     """
     out = np.empty(16, np.int64)
     n = 0
     unexplained = 0
+    flips = 0
+    no_cons = np.empty(0, tri.dtype)
     for e in range(3 * ntri):
         if tri[3 * (e // 3)] == DEAD:
             continue
@@ -182,9 +186,14 @@ def redundant_vertices(tri, twin, x, y, w, inf, ntri):
                     v = a
         elif a != inf and b != inf and p != inf and d != inf and e < f:
             if lifted_test(x, y, w, True, a, b, p, d) > 0:
-                if orient(x, y, p, a, d) <= 0 and lifted_test(x, y, w, True, d, b, p, a) < 0:
+                oa = orient(x, y, p, a, d)
+                ob = orient(x, y, p, d, b)
+                if oa > 0 and ob > 0:
+                    flip(tri, twin, no_cons, e)
+                    flips += 1
+                elif oa <= 0 and lifted_test(x, y, w, True, d, b, p, a) < 0:
                     v = a
-                elif orient(x, y, p, d, b) <= 0 and lifted_test(x, y, w, True, a, d, p, b) < 0:
+                elif ob <= 0 and lifted_test(x, y, w, True, a, d, p, b) < 0:
                     v = b
                 else:
                     unexplained += 1
@@ -195,4 +204,4 @@ def redundant_vertices(tri, twin, x, y, w, inf, ntri):
                 out = bigger
             out[n] = v
             n += 1
-    return np.unique(out[:n]), unexplained
+    return np.unique(out[:n]), flips, unexplained
