@@ -18,12 +18,13 @@ Peers, all run in the same worker process, interleaved round-robin:
 
 Usage (from the repository root)::
 
-    python benchmarks/bench_delaunay.py --quick            # smoke test, ~1 minute
+    python benchmarks/bench_delaunay.py --quick            # smoke test, 2-3 minutes (mostly the cold compile)
     python benchmarks/bench_delaunay.py                    # full run, 3 rounds
     python benchmarks/bench_delaunay.py --write-readme     # full run + README table
     python benchmarks/bench_delaunay.py --only ours,triangle --workloads d1-1e5
 
-Options: ``--repeat R``, ``--skip-slow-peers`` (no Qhull/GEOS on the 1e6 workloads),
+Options: ``--repeat R``, ``--slow-repeat R`` (rounds for Qhull/GEOS on the 1e6 workloads,
+default 1: on the grid they take ~35 s and ~70 s per call), ``--skip-slow-peers`` (none at all),
 ``--timeout S`` per call, ``--no-memory``, ``--no-cold``, ``--out PATH.md``.
 The machinery (interleaving, timeouts, memory, cold start, tables) is in ``harness.py``.
 
@@ -141,7 +142,8 @@ IMPLS = [
     Impl("triangle", "Triangle", setup_triangle, lambda r: len(r["triangles"]),
          timed="dict in, dict of arrays out", dist="triangle"),
     Impl("ours", "cdt_plugin", setup_ours, lambda t: len(t.triangles),
-         timed="delaunay(P), array in, Triangulation out", dist="cdt-plugin", numba_cold_start=True),
+         timed="delaunay(P), array in, Triangulation out", dist="cdt-plugin",
+         numba_cold_start=True, package="cdt_plugin"),
     Impl("pythoncdt", "CDT (pythoncdt)", setup_pythoncdt, len,
          timed="insert + erase super-triangle + triangle array", dist="pythoncdt"),
     Impl("geos", "GEOS (shapely)", setup_geos, count_geos,

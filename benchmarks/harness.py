@@ -12,7 +12,8 @@ output), then calls :func:`main`. Everything else lives here:
   only the call with ``time.perf_counter`` (garbage collector collected before and
   disabled during the call). The table shows the median. Ratios are taken to the
   reference implementation (Triangle) measured in the same run, because the machines
-  are noisy and only same-run ratios compare.
+  are noisy and only same-run ratios compare. Peers marked ``slow`` get ``--slow-repeat``
+  rounds (default 1) on the workloads marked ``large``, to keep a full run short.
 * **Timeouts and failures.** The parent enforces a per-call timeout. A call that
   times out or crashes the worker (a segfault in a C extension, say) kills the
   worker; that implementation is reported as "n/a" with the reason and the worker
@@ -27,6 +28,14 @@ output), then calls :func:`main`. Everything else lives here:
   cannot be reset, ``resource.getrusage(RUSAGE_SELF).ru_maxrss`` after the call minus
   the same figure before it is used instead (it can under-report when the warm-up
   peaked higher); the table says which method was used.
+* **Small inputs.** A workload with ``number`` > 1 times ``number`` back-to-back calls per
+  round and reports the mean per call (like ``timeit``); ``memory=False`` skips its
+  peak-memory subprocesses (pointless for inputs of a few hundred points).
+* **Extra columns and checks.** An implementation's ``extras(data, result)`` returns
+  untimed measures of its output (a minimum angle, say), computed once per workload on
+  the result of its first timed call; the suite's ``columns`` list which keys the table
+  shows. The suite's ``checks(results)`` returns warning lines (a triangle count that
+  differs from the reference, say), printed and appended to the table.
 * **Cold start** (numba projects): a fresh subprocess with ``NUMBA_CACHE_DIR`` set to
   an empty temporary directory times ``import`` + first call (compilation included);
   a second fresh subprocess with the now-filled cache times the cached start.
@@ -77,6 +86,8 @@ class Workload:
     size: int = 0                               # number of input points (for --quick / large)
     large: bool = False                         # slow peers are skipped here with --skip-slow-peers
     description: str = ""
+    number: int = 1                             # calls per timed sample (mean per call reported)
+    memory: bool = True                         # measure peak memory (skip for tiny inputs)
 
 
 @dataclass
@@ -91,6 +102,8 @@ class Impl:
     slow: bool = False                          # skipped on large workloads with --skip-slow-peers
     dist: str | None = None                     # distribution name, for the version line
     numba_cold_start: bool = False              # measure cold/cached start in fresh processes
+    package: str | None = None                  # top-level package (sources watched during cold start)
+    extras: Callable[[Any, Any], dict] | None = None  # (data, result) -> {key: value}, untimed, once
 
 
 @dataclass
@@ -104,6 +117,10 @@ class Suite:
     cold_workload: str | None = None            # workload name for the cold-start line
     quick_max_size: int = 100_000
     extra_versions: list[str] = field(default_factory=list)
+    columns: list[tuple[str, str, str]] = field(default_factory=list)  # (extras key, header, format)
+    checks: Callable[[dict], list[str]] | None = None  # results -> warning lines
+    readme_after: str | None = None             # suite whose end marker new markers follow
+    notes: list[str] = field(default_factory=list)  # fixed lines printed under the table
 
     def workload(self, name: str) -> Workload:
         return next(w for w in self.workloads if w.name == name)
@@ -154,16 +171,19 @@ def _reset_hwm() -> bool:
         return False
 
 
-def _timed_call(run: Callable[[Any], Any], data: Any) -> tuple[float, Any]:
+def _timed_call(run: Callable[[Any], Any], data: Any, number: int = 1) -> tuple[float, Any]:
+    """Seconds per call (mean of ``number`` back-to-back calls) and the last result."""
     gc.collect()
     gc.disable()
     try:
         t0 = time.perf_counter()
+        for _ in range(number - 1):
+            run(data)
         result = run(data)
         t1 = time.perf_counter()
     finally:
         gc.enable()
-    return t1 - t0, result
+    return (t1 - t0) / number, result
 
 
 def _setup(chan: _Channel, impl: Impl, warm: Any) -> Callable[[Any], Any] | None:
@@ -201,14 +221,20 @@ def _worker(suite: Suite, spec: dict) -> None:
                 impl = suite.impl(name)
                 chan.send(event="start", impl=name, round=rnd)
                 try:
-                    seconds, result = _timed_call(runners[name], data)
+                    seconds, result = _timed_call(runners[name], data, max(wl.number, 1))
                     count = int(impl.count(result))
-                    del result
                 except Exception as exc:
                     chan.send(event="error", impl=name, reason=short_reason(exc))
                     del runners[name]
                     continue
-                chan.send(event="result", impl=name, seconds=seconds, count=count)
+                extra: dict[str, Any] = {}
+                if rnd == 0 and impl.extras is not None:
+                    try:
+                        extra["extras"] = impl.extras(data, result)
+                    except Exception as exc:
+                        extra["extras"] = {"error": short_reason(exc)}
+                del result
+                chan.send(event="result", impl=name, seconds=seconds, count=count, **extra)
         chan.send(event="done")
 
     elif mode == "mem":
@@ -357,6 +383,7 @@ class Cell:
     mem_method: str | None = None
     error: str | None = None
     mem_error: str | None = None
+    extras: dict | None = None
 
     @property
     def median(self) -> float | None:
@@ -383,6 +410,8 @@ def measure_times(suite: Suite, wl: Workload, impls: list[Impl], repeats: dict[s
         elif kind == "result":
             cells[name].times.append(ev["seconds"])
             cells[name].count = ev["count"]
+            if "extras" in ev:
+                cells[name].extras = ev["extras"]
             remaining[name] -= 1
             if remaining[name] <= 0:
                 remaining.pop(name)
@@ -423,6 +452,7 @@ def measure_memory(suite: Suite, wl: Workload, impl: Impl, cell: Cell,
 def measure_cold(suite: Suite, impl: Impl, wl: Workload, timeout: float) -> dict:
     """import + first call with an empty numba cache, then again with the filled cache."""
     out: dict[str, Any] = {"workload": wl.name, "impl": impl.name}
+    before = _sources_mtime(impl.package)
     cache = tempfile.mkdtemp(prefix="numba-cold-")
     try:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
@@ -440,7 +470,22 @@ def measure_cold(suite: Suite, impl: Impl, wl: Workload, timeout: float) -> dict
             _log(f"  {key.replace('_s', '')} start (import + first call, {wl.name}): {got['seconds']:.2f} s")
     finally:
         shutil.rmtree(cache, ignore_errors=True)
+    if before is not None and _sources_mtime(impl.package) != before:
+        out["warning"] = f"{impl.package} sources changed during the measurement (numba cache invalidated)"
+        _log(f"  WARNING: {out['warning']}")
     return out
+
+
+def _sources_mtime(package: str | None) -> float | None:
+    """Newest mtime of the package's .py files, found without importing it."""
+    if not package:
+        return None
+    import importlib.util
+    spec = importlib.util.find_spec(package)
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    root = Path(list(spec.submodule_search_locations)[0])
+    return max((p.stat().st_mtime for p in root.rglob("*.py")), default=None)
 
 
 # ----------------------------------------------------------------------------- reporting
@@ -502,8 +547,9 @@ def render_markdown(suite: Suite, results: dict, info: dict, args_line: str) -> 
         + f"; {vers}; {info['date']}. Command: `{args_line}`"
         + (f" (mode: {results['mode']})" if results.get("mode") != "full" else "") + ".",
         "",
-        f"| workload | implementation | median s | ratio to {ref_label} | triangles | peak MB |",
-        "|---|---|---:|---:|---:|---:|",
+        f"| workload | implementation | median s | ratio to {ref_label} | triangles | "
+        + "".join(f"{head} | " for _, head, _ in suite.columns) + "peak MB |",
+        "|---|---|---:|---:|---:|" + "---:|" * len(suite.columns) + "---:|",
     ]
     notes: list[str] = []
     for wl in suite.workloads:
@@ -525,7 +571,11 @@ def render_markdown(suite: Suite, results: dict, info: dict, args_line: str) -> 
             mem = f"{c['peak_mb']:.1f}" if c.get("peak_mb") is not None else "n/a"
             if c.get("peak_mb") is None and c.get("mem_error") and not c.get("error"):
                 notes.append(f"{wl.label} / {impl.label} memory: {c['mem_error']}")
-            lines.append(f"| {wl.label} | {impl.label} | {med} | {ratio} | {tris} | {mem} |")
+            if c.get("peak_mb") is None and not wl.memory:
+                mem = "-"
+            extra_cells = "".join(f"{_fmt_extra(c.get('extras'), key, fmt)} | "
+                                  for key, _, fmt in suite.columns)
+            lines.append(f"| {wl.label} | {impl.label} | {med} | {ratio} | {tris} | {extra_cells}{mem} |")
     lines.append("")
     cold = results.get("cold")
     if cold:
@@ -539,7 +589,8 @@ def render_markdown(suite: Suite, results: dict, info: dict, args_line: str) -> 
             parts.append(f"cached start {_fmt_s(cold['cached_s'])} s")
         parts.append(f"warm {_fmt_s(warm)} s" if warm else "warm n/a")
         lines.append(
-            f"{impl.label} start-up on {wl.label}: " + "; ".join(parts) + ". Cold = new process, "
+            f"{impl.label} start-up on {wl.label}: " + "; ".join(parts)
+            + (f" (warning: {cold['warning']})" if cold.get("warning") else "") + ". Cold = new process, "
             "empty numba cache (`NUMBA_CACHE_DIR` = fresh temp dir), import + first call "
             "(compilation included); cached start = new process, filled cache, import + first "
             "call; warm = in-process median after warm-up (the table).")
@@ -553,18 +604,39 @@ def render_markdown(suite: Suite, results: dict, info: dict, args_line: str) -> 
         + (f" ({', '.join(results['slow'])}: {results['slow_repeat']} round(s) on "
            f"{', '.join(results['large'])})"
            if results["slow_repeat"] < results["repeat"] and results["slow"] and results["large"] else "")
-        + ", one worker process per workload, input generation not timed. Peak MB = extra resident memory of one call in a "
-        "fresh process (peak minus the baseline after imports, input and warm-up; MiB; method: "
-        + (", ".join(methods) or "n/a") + ")." + (f" Timed spans: {spans}." if spans else ""))
+        + ", one worker process per workload, input generation not timed. "
+        + ("Peak MB = extra resident memory of one call in a fresh process (peak minus the "
+           "baseline after imports, input and warm-up; MiB; method: " + ", ".join(methods) + ")."
+           if methods else "Peak memory not measured.") + (f" Timed spans: {spans}." if spans else ""))
+    if any(not wl.memory for wl in suite.workloads if wl.name in results["workloads"]) and methods:
+        lines[-1] += " Peak MB \"-\": not measured (tiny input)."
     if notes:
         lines.append("")
         lines.extend(f"- n/a: {n}" for n in notes)
+    if suite.notes:
+        lines.append("")
+        lines.extend(f"- {n}" for n in suite.notes)
+    if results.get("warnings"):
+        lines.append("")
+        lines.extend(f"- WARNING: {w}" for w in results["warnings"])
     return "\n".join(lines) + "\n"
 
 
-def replace_between_markers(text: str, name: str, block: str) -> str:
+def _fmt_extra(extras: dict | None, key: str, fmt: str) -> str:
+    if not extras or extras.get(key) is None:
+        return "n/a"
+    value = extras[key]
+    return format(value, fmt) if isinstance(value, (int, float)) else str(value)
+
+
+def replace_between_markers(text: str, name: str, block: str, after: str | None = None) -> str:
+    """Put ``block`` between the ``bench:<name>`` markers. When they are missing and
+    ``after`` names another suite whose end marker is present, insert them after it."""
     start, end = f"<!-- bench:{name}:start -->", f"<!-- bench:{name}:end -->"
     pat = re.compile(re.escape(start) + r".*?" + re.escape(end), re.S)
+    anchor = f"<!-- bench:{after}:end -->" if after else None
+    if not pat.search(text) and anchor and text.count(anchor) == 1:
+        text = text.replace(anchor, f"{anchor}\n\n{start}\n{end}", 1)
     if not pat.search(text):
         raise SystemExit(f"README.md has no {start} ... {end} markers")
     return pat.sub(lambda _m: f"{start}\n{block.rstrip()}\n{end}", text, count=1)
@@ -650,7 +722,7 @@ def main(suite: Suite, argv: list[str] | None = None) -> int:
         repeats = {i.name: (min(repeat, max(args.slow_repeat, 1)) if wl.large and i.slow else repeat)
                    for i in active}
         cells = measure_times(suite, wl, active, repeats, args.timeout, args.setup_timeout)
-        if not args.no_memory:
+        if not args.no_memory and wl.memory:
             for impl in active:
                 if cells[impl.name].error is None:
                     measure_memory(suite, wl, impl, cells[impl.name], args.timeout, args.setup_timeout)
@@ -659,12 +731,28 @@ def main(suite: Suite, argv: list[str] | None = None) -> int:
                 cells[impl.name] = Cell(error="skipped (--skip-slow-peers)")
         results["workloads"][wl.name] = {
             name: {"median": c.median, "times": c.times, "count": c.count, "peak_mb": c.peak_mb,
-                   "mem_method": c.mem_method, "error": c.error, "mem_error": c.mem_error}
+                   "mem_method": c.mem_method, "error": c.error, "mem_error": c.mem_error,
+                   "extras": c.extras}
             for name, c in cells.items()
         }
 
     script_rel = os.path.relpath(suite.script, REPO_ROOT)
-    args_line = " ".join(["python", script_rel] + argv)
+    shown, skip = [], False             # the command line minus where the output goes
+    for a in argv:
+        if skip:
+            skip = False
+        elif a == "--out":
+            skip = True
+        elif a != "--write-readme" and not a.startswith("--out="):
+            shown.append(a)
+    args_line = " ".join(["python", script_rel] + shown)
+    if suite.checks is not None:
+        try:
+            results["warnings"] = list(suite.checks(results))
+        except Exception as exc:
+            results["warnings"] = [f"the checks failed: {short_reason(exc)}"]
+        for w in results["warnings"]:
+            _log(f"WARNING: {w}")
     md = render_markdown(suite, results, info, args_line)
     results["elapsed_s"] = time.perf_counter() - t_start
 
@@ -675,7 +763,7 @@ def main(suite: Suite, argv: list[str] | None = None) -> int:
     out.with_suffix(".json").write_text(json.dumps(results, indent=1) + "\n")
     _log(f"wrote {out} and {out.with_suffix('.json')}")
     if args.write_readme:
-        README.write_text(replace_between_markers(README.read_text(), suite.name, md))
+        README.write_text(replace_between_markers(README.read_text(), suite.name, md, suite.readme_after))
         _log(f"updated {README} between the bench:{suite.name} markers")
     print(md)
     _log(f"total {results['elapsed_s']:.0f} s")

@@ -94,6 +94,7 @@ _T2 = types.UniTuple(_f8, 2)
 _T3 = types.UniTuple(_f8, 3)
 _T4 = types.UniTuple(_f8, 4)
 _T5 = types.UniTuple(_f8, 5)
+_FI = types.Tuple((_f8, _i8))
 _F6 = "float64(" + ", ".join(["float64"] * 6) + ")"
 _F8 = "float64(" + ", ".join(["float64"] * 8) + ")"
 _F12 = "float64(" + ", ".join(["float64"] * 12) + ")"
@@ -189,6 +190,22 @@ def _four_one_sum(a3, a2, a1, a0, b):
     j, x1, x0 = _two_one_sum(a1, a0, b)
     x4, x3, x2 = _two_one_sum(a3, a2, j)
     return x4, x3, x2, x1, x0
+
+
+@njit(_T3(_f8, _f8, _f8), cache=True, inline='never')
+def _two_one_diff(a1, a0, b):
+    """(x2, x1, x0) == (a1, a0) - b exactly (Shewchuk 1997, Two_One_Diff)."""
+    i, x0 = _two_diff(a0, b)
+    x2, x1 = _two_sum(a1, i)
+    return x2, x1, x0
+
+
+@njit(_T4(_f8, _f8, _f8, _f8), cache=True, inline='never')
+def _two_two_diff(a1, a0, b1, b0):
+    """(x3, x2, x1, x0) == (a1, a0) - (b1, b0) exactly (Shewchuk 1997, Two_Two_Diff)."""
+    j, z, x0 = _two_one_diff(a1, a0, b0)
+    x3, x2, x1 = _two_one_diff(j, z, b1)
+    return x3, x2, x1, x0
 
 
 @njit(_f8(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
@@ -602,45 +619,223 @@ def incircle_weighted_exact(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
 
 
 # ---------------------------------------------------------------------------
-# Public filtered predicates.
+# Adaptive intermediate stages (Shewchuk 1997, Sec. 4.3 and Sec. 6; his
+# predicates.c: orient2dadapt, incircleadapt).  Stages, as reported by the
+# *_staged functions: 1 = the float filter (stage A), 2 = stage B, 3 = stage C,
+# 4 = the exact value (orient2d: Shewchuk's stage D; incircle: incircle_exact).
 # ---------------------------------------------------------------------------
 
-@njit(_F6, cache=True, inline='never')
-def orient2d(ax, ay, bx, by, cx, cy):
-    """Orientation of (a, b, c), exact in sign (Shewchuk 1997, orient2d with ccwerrboundA).
+#: Relative error of a stage's final rounding (Shewchuk's resulterrbound).
+RESULT_ERRBOUND = (3.0 + 8.0 * EPSILON) * EPSILON
+#: orient2d stage B (exact determinant of the rounded differences): Shewchuk's ccwerrboundB.
+CCW_ERRBOUND_B = (2.0 + 12.0 * EPSILON) * EPSILON
+#: orient2d stage C (plus the first-order tail terms): Shewchuk's ccwerrboundC.
+CCW_ERRBOUND_C = (9.0 + 64.0 * EPSILON) * EPSILON * EPSILON
+#: incircle stage B: the determinant of the rounded differences evaluated in
+#: double-double arithmetic (see _incircle_adapt; the analysis needs
+#: 4 eps + 90 eps^2, twice the eps^2 part is used).
+ICC_ERRBOUND_B = (4.0 + 256.0 * EPSILON) * EPSILON
+#: incircle stage C: stage B's double-double value plus the first-order tail
+#: terms; the analysis needs 91 eps^2 (plus RESULT_ERRBOUND * |det|), 256 eps^2 is used.
+ICC_ERRBOUND_C = 256.0 * EPSILON * EPSILON
 
-    Returns a value > 0 if a, b, c are in counter-clockwise order, < 0 if
-    clockwise and 0.0 if collinear: the sign of det[[ax-cx, ay-cy], [bx-cx, by-cy]]
-    for the exact input doubles (twice the signed area of triangle abc,
-    approximately).  Fast path: the floating-point determinant, returned when
-    |det| >= CCW_ERRBOUND_A * (|detleft| + |detright|) (when both are 0 the
-    determinant is exactly 0); otherwise
-    :func:`orient2d_exact`.  Guaranteed for nonzero |coordinates| in
-    [1e-130, 1e130] (see the module docstring).
+
+@njit(_FI(_f8, _f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+def _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum):
+    """Shewchuk's orient2dadapt: stages B, C and D; returns (value, stage).
+
+    Called when the float filter fails, with detsum = |detleft| + |detright|
+    (> 0; detleft and detright then have the same sign).  Stage B: the exact
+    determinant B of the rounded differences (Two_Product, Two_Two_Diff: four
+    components, no arrays), decided when its estimate clears ccwerrboundB *
+    detsum, or returned outright when the differences were exact.  Stage C: adds
+    the first-order terms of the differences' roundoff tails in floating point
+    (ccwerrboundC).  Stage D: the exact determinant B + three four-component
+    tail products by fast_expansion_sum_zeroelim in a 44-double workspace.
     """
+    acx = ax - cx
+    bcx = bx - cx
+    acy = ay - cy
+    bcy = by - cy
+    detleft, detlefttail = _two_product(acx, bcy)
+    detright, detrighttail = _two_product(acy, bcx)
+    b3, b2, b1, b0 = _two_two_diff(detleft, detlefttail, detright, detrighttail)
+    det = ((b0 + b1) + b2) + b3  # Shewchuk's estimate()
+    errbound = CCW_ERRBOUND_B * detsum
+    if det >= errbound or -det >= errbound:
+        return det, 2
+    acxtail = _two_diff(ax, cx)[1]
+    bcxtail = _two_diff(bx, cx)[1]
+    acytail = _two_diff(ay, cy)[1]
+    bcytail = _two_diff(by, cy)[1]
+    if acxtail == 0.0 and acytail == 0.0 and bcxtail == 0.0 and bcytail == 0.0:
+        # B is the exact determinant: return its most significant nonzero
+        # component (its sign is the expansion's sign).
+        if b3 != 0.0:
+            return b3, 2
+        if b2 != 0.0:
+            return b2, 2
+        if b1 != 0.0:
+            return b1, 2
+        return b0, 2
+    errbound = CCW_ERRBOUND_C * detsum + RESULT_ERRBOUND * abs(det)
+    det += (acx * bcytail + bcy * acxtail) - (acy * bcxtail + bcx * acytail)
+    if det >= errbound or -det >= errbound:
+        return det, 3
+    # Stage D: B + (acxtail*bcy - acytail*bcx) + (acx*bcytail - acy*bcxtail)
+    #            + (acxtail*bcytail - acytail*bcxtail), exactly.
+    # Workspace: B w[0:4], u w[4:8], C1 w[8:16], C2 w[16:28], D w[28:44].
+    w = np.empty(44, np.float64)
+    w[0] = b0
+    w[1] = b1
+    w[2] = b2
+    w[3] = b3
+    src = 0
+    srclen = 4
+    for k in range(3):
+        if k == 0:
+            p, q, r, s, out = acxtail, bcy, acytail, bcx, 8
+        elif k == 1:
+            p, q, r, s, out = acx, bcytail, acy, bcxtail, 16
+        else:
+            p, q, r, s, out = acxtail, bcytail, acytail, bcxtail, 28
+        s1, s0 = _two_product(p, q)
+        t1, t0 = _two_product(r, s)
+        u3, u2, u1, u0 = _two_two_diff(s1, s0, t1, t0)
+        w[4] = u0
+        w[5] = u1
+        w[6] = u2
+        w[7] = u3
+        srclen = _fast_expansion_sum_zeroelim(w, src, srclen, 4, 4, out)
+        src = out
+    return w[src + srclen - 1], 4
+
+
+@njit(_T3(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+def _lift_minor_dd(x, y, p, q, r, s):
+    """(h, g, c) with h + g + c ~= (x^2 + y^2) * (p*q - r*s), a double-double product.
+
+    h + g == l1 * m1 exactly (Two_Product) and c ~= l1*m0 + l0*m1, where
+    l1 + l0 ~= x^2 + y^2 and m1 + m0 ~= p*q - r*s are double-double values of
+    the lift and the 2x2 minor.  With L = x^2 + y^2 and S = |p q| + |r s|
+    (eps = 2^-53, barring underflow):
+    |l1 + l0 - L| <= 3.0001 eps^2 L, |l0| <= 2.0001 eps L;
+    |m1 + m0 - M| <= 3.0001 eps^2 S, |m0| <= 2.0001 eps S;
+    and |h + g + c - L M| <= 18.01 eps^2 L S (the errors of l, m: 6.001, the
+    dropped l0*m0: 4.001, the three roundings of c: 8.005), |g| <= eps |h|,
+    |h| <= (1 + 6.01 eps) L S, |c| <= 4.01 eps L S.
+    """
+    s1, s0 = _two_product(x, x)
+    t1, t0 = _two_product(y, y)
+    l1, e = _two_sum(s1, t1)
+    l0 = e + (s0 + t0)
+    p1, p0 = _two_product(p, q)
+    q1, q0 = _two_product(r, s)
+    m1, f = _two_diff(p1, q1)
+    m0 = f + (p0 - q0)
+    h, g = _two_product(l1, m1)
+    c = l1 * m0 + l0 * m1
+    return h, g, c
+
+
+@njit(_T2(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+def _incircle_dd(adx, ady, bdx, bdy, cdx, cdy):
+    """(v1, lo): the incircle determinant of the (rounded) differences in double-double.
+
+    With P* = sum over the rows of L_k S_k (the exact permanent of these
+    doubles, = the sum of the |monomials|): |v1 + lo - det| <= 39.2 eps^2 P*
+    (rows: 18.01; lo sums 8 terms of total size <= 7.02 eps P* in a tree of
+    depth 3: 21.1), and |lo| <= 7.03 eps P*.
+    """
+    ha, ga, ca = _lift_minor_dd(adx, ady, bdx, cdy, cdx, bdy)
+    hb, gb, cb = _lift_minor_dd(bdx, bdy, cdx, ady, adx, cdy)
+    hc, gc, cc = _lift_minor_dd(cdx, cdy, adx, bdy, bdx, ady)
+    u1, u0 = _two_sum(ha, hb)
+    v1, v0 = _two_sum(u1, hc)
+    lo = ((u0 + v0) + (ga + gb)) + ((gc + ca) + (cb + cc))
+    return v1, lo
+
+
+@njit(_FI(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
+    """incircle stages B and C after Shewchuk's incircleadapt; returns (value, stage).
+
+    Called when the float filter fails, with the filter's permanent P.
+    Shewchuk's stage B evaluates the determinant of the rounded differences x
+    exactly (expansions of up to 96 components, arrays); here it is evaluated in
+    double-double arithmetic instead (_incircle_dd, a few hundred flops, no
+    arrays), with a rigorous bound on its error, and stage C adds Shewchuk's
+    first-order tail terms to that value.  Anything undecided goes to
+    incircle_exact.  Error analysis (eps = 2^-53, no underflow; X = x + t the
+    exact differences, |t| <= eps |x| by round-to-nearest; P* = sum of the
+    |monomials| of the determinant at x, P* <= (1 + 7.0001 eps) P because every
+    monomial of P passes through 7 roundings of nonnegative values):
+
+    * B: |F(X) - F(x)| <= ((1 + eps)^4 - 1) P*/(1 - eps)^4 <= (4 eps + 22.01 eps^2) P*;
+      |v1 + lo - F(x)| <= 39.2 eps^2 P*; det = fl(v1 + lo) adds eps |det|.  So
+      |det - F(X)| <= (4 eps + 89.3 eps^2) P + eps |det|, and |det| >
+      fl(ICC_ERRBOUND_B * P) (>= (4 eps + 256 eps^2)(1 - eps) P) decides.
+    * C: F(X) = F(x) + C1 + R2 with C1 the first-order tail terms and
+      |R2| <= 6.0001 eps^2 P*.  Shewchuk's floating-point C1 (per row
+      L dM + 2 dL M) is off by <= 34.01 eps^2 P* (each row: 26.005 eps^2 L S,
+      the two row sums: 8.003 eps^2 P*); w = fl(lo + C1) adds <= 11.04 eps^2 P*;
+      det = fl(v1 + w) adds eps |det|.  In all |det - F(X)| <= 90.5 eps^2 P +
+      eps |det|, and |det| > fl(fl(ICC_ERRBOUND_C P) + fl(RESULT_ERRBOUND |det|))
+      decides.  With all tails zero C1 = R2 = 0 and the same test applies.
+    """
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+    v1, lo = _incircle_dd(adx, ady, bdx, bdy, cdx, cdy)
+    det = v1 + lo
+    errbound = ICC_ERRBOUND_B * permanent
+    if det > errbound or -det > errbound:
+        return det, 2
+    adxtail = _two_diff(ax, dx)[1]
+    adytail = _two_diff(ay, dy)[1]
+    bdxtail = _two_diff(bx, dx)[1]
+    bdytail = _two_diff(by, dy)[1]
+    cdxtail = _two_diff(cx, dx)[1]
+    cdytail = _two_diff(cy, dy)[1]
+    corr = (((adx * adx + ady * ady) * ((bdx * cdytail + cdy * bdxtail)
+                                        - (bdy * cdxtail + cdx * bdytail))
+             + 2.0 * (adx * adxtail + ady * adytail) * (bdx * cdy - bdy * cdx))
+            + ((bdx * bdx + bdy * bdy) * ((cdx * adytail + ady * cdxtail)
+                                          - (cdy * adxtail + adx * cdytail))
+               + 2.0 * (bdx * bdxtail + bdy * bdytail) * (cdx * ady - cdy * adx))
+            + ((cdx * cdx + cdy * cdy) * ((adx * bdytail + bdy * adxtail)
+                                          - (ady * bdxtail + bdx * adytail))
+               + 2.0 * (cdx * cdxtail + cdy * cdytail) * (adx * bdy - ady * bdx)))
+    det = v1 + (lo + corr)
+    errbound = ICC_ERRBOUND_C * permanent + RESULT_ERRBOUND * abs(det)
+    if det > errbound or -det > errbound:
+        return det, 3
+    return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy), 4
+
+
+@njit(_FI(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+def _orient2d_staged(ax, ay, bx, by, cx, cy):
+    """(orient2d value, deciding stage 1..4): the body of :func:`orient2d`."""
     detleft = (ax - cx) * (by - cy)
     detright = (ay - cy) * (bx - cx)
     det = detleft - detright
     # Shewchuk's bound holds for any signs of detleft, detright; his early exit
     # on opposite signs is left out because its branches are unpredictable on
-    # random input (measured: ~40% slower per call).
-    errbound = CCW_ERRBOUND_A * (abs(detleft) + abs(detright))
+    # random input (measured: ~40% slower per call).  With opposite signs (or a
+    # zero product) the test below always passes, as Shewchuk's exit would.
+    detsum = abs(detleft) + abs(detright)
+    errbound = CCW_ERRBOUND_A * detsum
     if det >= errbound or -det >= errbound:
-        return det
-    return orient2d_exact(ax, ay, bx, by, cx, cy)
+        return det, 1
+    return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)
 
 
-@njit(_F8, cache=True, inline='never')
-def incircle(ax, ay, bx, by, cx, cy, dx, dy):
-    """In-circle test, exact in sign (Shewchuk 1997, incircle with iccerrboundA).
-
-    Returns > 0 if d lies strictly inside the circle through a, b, c when a, b, c
-    are counter-clockwise (the signs flip when they are clockwise), < 0 if d is
-    strictly outside and 0.0 if the four points are cocircular.  This is the
-    lifted orientation test of the seed's Sec. 2.8 with all weights zero
-    (z = x^2 + y^2): > 0 iff d+ lies below the plane through a+, b+, c+.
-    Guaranteed for nonzero |coordinates| in [1e-60, 1e60].
-    """
+@njit(_FI(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+def _incircle_staged(ax, ay, bx, by, cx, cy, dx, dy):
+    """(incircle value, deciding stage 1..4): the body of :func:`incircle`."""
     adx = ax - dx
     bdx = bx - dx
     cdx = cx - dx
@@ -668,8 +863,42 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy):
                  + (abs(adxbdy) + abs(bdxady)) * clift)
     errbound = ICC_ERRBOUND_A * permanent
     if det > errbound or -det > errbound:
-        return det
-    return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+        return det, 1
+    return _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
+
+
+# ---------------------------------------------------------------------------
+# Public filtered predicates.
+# ---------------------------------------------------------------------------
+
+@njit(_F6, cache=True, inline='never')
+def orient2d(ax, ay, bx, by, cx, cy):
+    """Orientation of (a, b, c), exact in sign (Shewchuk 1997, orient2d with ccwerrboundA).
+
+    Returns a value > 0 if a, b, c are in counter-clockwise order, < 0 if
+    clockwise and 0.0 if collinear: the sign of det[[ax-cx, ay-cy], [bx-cx, by-cy]]
+    for the exact input doubles (twice the signed area of triangle abc,
+    approximately).  Fast path: the floating-point determinant, returned when
+    |det| >= CCW_ERRBOUND_A * (|detleft| + |detright|) (when both are 0 the
+    determinant is exactly 0); otherwise
+    :func:`orient2d_exact`.  Guaranteed for nonzero |coordinates| in
+    [1e-130, 1e130] (see the module docstring).
+    """
+    return _orient2d_staged(ax, ay, bx, by, cx, cy)[0]
+
+
+@njit(_F8, cache=True, inline='never')
+def incircle(ax, ay, bx, by, cx, cy, dx, dy):
+    """In-circle test, exact in sign (Shewchuk 1997, incircle with iccerrboundA).
+
+    Returns > 0 if d lies strictly inside the circle through a, b, c when a, b, c
+    are counter-clockwise (the signs flip when they are clockwise), < 0 if d is
+    strictly outside and 0.0 if the four points are cocircular.  This is the
+    lifted orientation test of the seed's Sec. 2.8 with all weights zero
+    (z = x^2 + y^2): > 0 iff d+ lies below the plane through a+, b+, c+.
+    Guaranteed for nonzero |coordinates| in [1e-60, 1e60].
+    """
+    return _incircle_staged(ax, ay, bx, by, cx, cy, dx, dy)[0]
 
 
 @njit(_F12, cache=True, inline='never')

@@ -39,6 +39,49 @@ def solid_triangles(tri, twin, ntri, inf):
 
 
 @njit(cache=True)
+def _cdt_arrays(T, N, cflag, inside, remap):
+    """One pass over the real triangles of a constrained triangulation: the
+    kept ones (``inside``) in output ids with their neighbours (-1 across the
+    domain boundary) and constrained flags, and every segment piece once with
+    its input segment."""
+    newid = np.full(T.shape[0], -1, np.int64)
+    k = 0
+    for t in range(T.shape[0]):
+        if inside[t]:
+            newid[t] = k
+            k += 1
+    triangles = np.empty((k, 3), np.int64)
+    neighbors = np.empty((k, 3), np.int64)
+    constrained = np.zeros((k, 3), np.bool_)
+    keep = np.empty(k, np.int64)
+    npieces = 0
+    for t in range(T.shape[0]):
+        for j in range(3):
+            m = N[t, j]
+            if cflag[t, j] != 0 and (m < 0 or t < m):
+                npieces += 1
+    segments = np.empty((npieces, 2), np.int64)
+    segment_ids = np.empty(npieces, np.int64)
+    p = 0
+    for t in range(T.shape[0]):
+        i = newid[t]
+        for j in range(3):
+            m = N[t, j]
+            if cflag[t, j] != 0 and (m < 0 or t < m):
+                segments[p, 0] = remap[T[t, (j + 1) % 3]]
+                segments[p, 1] = remap[T[t, (j + 2) % 3]]
+                segment_ids[p] = cflag[t, j] - 1
+                p += 1
+            if i >= 0:
+                triangles[i, j] = remap[T[t, j]]
+                neighbors[i, j] = newid[m] if m >= 0 else -1
+                constrained[i, j] = cflag[t, j] != 0
+        if i >= 0:
+            keep[i] = t
+    return triangles, neighbors, constrained, segments, segment_ids, keep
+
+
+@njit(cache=True)
 def first_defect(tri, twin, ntri, x, y, inf, check_hull):
     """First live triangle that stops the mesh from being a triangulation of a
     convex region after its vertices moved: a real triangle that is not strictly
@@ -167,19 +210,12 @@ class Triangulation:
         remap[:m] = vertex_map[order]
         remap[m:mesh.nv] = len(kept) + np.arange(nst)
         vertices = np.vstack([plc.vertices[kept], np.column_stack([mesh.x[m:mesh.nv], mesh.y[m:mesh.nv]])])
-        keep = np.flatnonzero(inside)
-        newid = np.full(len(T) + 1, -1, np.int64)
-        newid[keep] = np.arange(len(keep))
-        neighbors = newid[N[keep]]  # N == -1 reads the trailing -1
-        # each segment piece once: edges with a real neighbour listed from the lower id
-        k = np.repeat(np.arange(len(T)), 3)
-        j = np.tile(np.arange(3), len(T))
-        piece = (cflag[k, j] != 0) & ((N[k, j] < 0) | (k < N[k, j]))
-        k, j = k[piece], j[piece]
-        out = cls(vertices, remap[T[keep]], neighbors, vertex_map, stats)
-        out.constrained = cflag[keep] != 0
-        out.segments = np.column_stack([remap[T[k, (j + 1) % 3]], remap[T[k, (j + 2) % 3]]])
-        out.segment_ids = cflag[k, j] - 1
+        triangles, neighbors, constrained, segments, segment_ids, keep = _cdt_arrays(
+            T, N, cflag, inside, remap)
+        out = cls(vertices, triangles, neighbors, vertex_map, stats)
+        out.constrained = constrained
+        out.segments = segments
+        out.segment_ids = segment_ids
         out.regions = region[keep]
         out.region_attributes = attributes
         out.steiner = len(kept) + np.arange(nst)
