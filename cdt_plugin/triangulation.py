@@ -245,6 +245,24 @@ class Triangulation:
         return (f"Triangulation({len(self.vertices)} vertices, {len(self.triangles)} triangles, "
                 f"{len(self.edges)} edges)")
 
+    # ------------------------------------------------ outputs (lazy adapters)
+    def to_trimesh(self, z: float = 0.0, **kwargs):
+        """This triangulation as a flat ``trimesh.Trimesh`` at height ``z``
+        (see :func:`cdt_plugin.adapters.trimesh.to_trimesh`; needs trimesh)."""
+        from cdt_plugin.adapters.trimesh import to_trimesh
+        return to_trimesh(self, z=z, **kwargs)
+
+    def to_open3d(self, z: float = 0.0, **kwargs):
+        """This triangulation as an ``open3d.geometry.TriangleMesh`` (needs Open3D)."""
+        from cdt_plugin.adapters.open3d import to_open3d
+        return to_open3d(self, z=z, **kwargs)
+
+    def to_shapely(self):
+        """The triangles as a shapely GeometryCollection of Polygons, in the form
+        ``shapely.constrained_delaunay_triangles`` returns (needs shapely)."""
+        from cdt_plugin.adapters.shapely import to_shapely
+        return to_shapely(self)
+
     # ----------------------------------------------------------- certificates
     def _edge_signs(self) -> np.ndarray:
         """(triangle, j, sign) for every interior edge that is not a segment."""

@@ -1,0 +1,304 @@
+"""trimesh adapter: ``Path2D`` in, ``Trimesh`` and extruded solids out.
+
+Data flow (DESIGN.md): ``Path2D`` / shapely polygon -> :class:`cdt_plugin.PLC`
+-> :func:`cdt_plugin.triangulate` -> :class:`cdt_plugin.Triangulation` ->
+``trimesh.Trimesh``. This module imports the engine; the engine never imports it.
+
+Functions
+---------
+from_path2d(path)
+    A ``trimesh.path.Path2D`` as a PLC: its closed polygons (shells and holes as
+    ``Path2D.polygons_full`` sees them) as rings, its open entities as
+    constraint segments, curves discretised as trimesh discretises them.
+to_trimesh(tri, z=0.0)
+    A Triangulation as a flat ``Trimesh`` at height ``z`` (normals along +z).
+triangulate_polygon(polygon, **kwargs)
+    Drop-in for ``trimesh.creation.triangulate_polygon``: ``(vertices (n, 2),
+    faces (m, 3))`` with only the vertices the faces use.
+extrude_polygon(polygon, height, transform=None, mid_plane=False, **kwargs)
+    Drop-in for ``trimesh.creation.extrude_polygon``: a watertight solid.
+extrude_path(path, height, **kwargs)
+    Every polygon of a ``Path2D`` extruded, one ``Trimesh`` each.
+
+Extra keyword arguments of the triangulating functions go to
+:func:`cdt_plugin.triangulate` (``intersections=``, ``holes=``, ...).
+
+>>> import shapely, cdt_plugin.adapters.trimesh as ct
+>>> square = shapely.box(0, 0, 4, 4).difference(shapely.box(1, 1, 3, 3))
+>>> v, f = ct.triangulate_polygon(square)
+>>> v.shape, f.shape
+((8, 2), (8, 3))
+>>> solid = ct.extrude_polygon(square, 2.0)
+>>> bool(solid.is_watertight), float(solid.volume)
+(True, 24.0)
+"""
+from __future__ import annotations
+
+import numpy as np
+import trimesh
+import trimesh.path
+from trimesh import transformations
+
+import cdt_plugin
+from cdt_plugin import PLC
+
+__all__ = ["from_path2d", "to_trimesh", "triangulate_polygon", "extrude_polygon",
+           "extrude_triangulation", "extrude_path"]
+
+
+# ------------------------------------------------------------------ Path2D -> PLC
+def from_path2d(path) -> PLC:
+    """Read a ``trimesh.path.Path2D`` into a :class:`cdt_plugin.PLC`.
+
+    * Closed loops become rings, grouped into polygons with holes exactly as
+      ``path.polygons_full`` groups them (so what trimesh calls a hole is a hole
+      here, and ``PLC.ring_is_hole`` / ``ring_polygon`` say so).
+    * Entities in no closed loop (``path.dangling``: open lines, arcs, curves)
+      become chains of constraint segments: they are edges of the mesh but do
+      not bound the domain.
+    * Curves (``Arc``, ``Bezier``, ``BSpline``) are discretised with
+      ``entity.discrete(path.vertices, scale=path.scale)``, the same call trimesh
+      uses for its own polygons, so the rings match ``polygons_full`` point for point.
+
+    Coordinates shared between loops and open entities appear once per use in
+    the PLC; the engine merges exact duplicates (``tri.vertex_map``).
+
+    >>> import trimesh, shapely
+    >>> path = trimesh.load_path(shapely.box(0, 0, 2, 2))
+    >>> plc = from_path2d(path)
+    >>> len(plc.vertices), len(plc.segments)
+    (4, 4)
+    """
+    if not isinstance(path, trimesh.path.Path2D):
+        raise TypeError(f"expected a trimesh.path.Path2D, got {type(path).__name__}")
+    geometries = [polygon.__geo_interface__ for polygon in path.polygons_full
+                  if polygon is not None and not polygon.is_empty]
+    vertices = np.asarray(path.vertices, dtype=np.float64)
+    for index in path.dangling:
+        entity = path.entities[index]
+        points = np.asarray(entity.discrete(vertices, scale=path.scale), dtype=np.float64)
+        if points.ndim != 2 or len(points) == 0:
+            continue          # e.g. Text entities: nothing to mesh
+        points = points[:, :2]
+        if len(points) == 1:
+            geometries.append({"type": "Point", "coordinates": points[0].tolist()})
+        else:
+            geometries.append({"type": "LineString", "coordinates": points.tolist()})
+    if not geometries:
+        raise cdt_plugin.InvalidGeometryError("the Path2D has no polygons and no open entities")
+    return PLC.from_geo_interface({"type": "GeometryCollection", "geometries": geometries})
+
+
+# ----------------------------------------------------------- Triangulation -> Trimesh
+def to_trimesh(tri, z: float = 0.0, *, remove_unreferenced: bool = False, **kwargs) -> trimesh.Trimesh:
+    """A Triangulation as a flat ``trimesh.Trimesh`` at height ``z``.
+
+    Faces are ``tri.triangles`` (counter-clockwise seen from +z, so every face
+    normal is ``(0, 0, 1)``). The mesh is built with ``process=False``: no
+    vertex is merged away, and vertex ``i`` of the mesh is ``tri.vertices[i]``
+    — including the unreferenced ones (input vertices outside the domain). Pass
+    ``remove_unreferenced=True`` to drop those (vertex indices then change).
+    Other keywords go to the ``Trimesh`` constructor.
+    """
+    vertices = np.asarray(tri.vertices, dtype=np.float64)
+    faces = np.asarray(tri.triangles, dtype=np.int64)
+    if remove_unreferenced:
+        vertices, faces = _compact(vertices, faces)
+    vertices3 = np.column_stack([vertices, np.full(len(vertices), float(z))])
+    normals = np.tile([0.0, 0.0, 1.0], (len(faces), 1))
+    kwargs.setdefault("process", False)
+    return trimesh.Trimesh(vertices=vertices3, faces=faces, face_normals=normals, **kwargs)
+
+
+def _compact(vertices, faces):
+    """Only the vertices the faces use, in their original order; faces renumbered."""
+    used = np.zeros(len(vertices), bool)
+    used[faces.ravel()] = True
+    new_index = np.cumsum(used) - 1
+    return vertices[used], new_index[faces].astype(np.int64)
+
+
+# ------------------------------------------------------------- drop-ins for trimesh
+def triangulate_polygon(polygon, triangle_args=None, engine=None, force_vertices: bool = False,
+                        **kwargs):
+    """Drop-in for ``trimesh.creation.triangulate_polygon``: constrained
+    Delaunay triangulation of a shapely polygon.
+
+    Parameters
+    ----------
+    polygon : shapely Polygon (or anything with ``__geo_interface__``: MultiPolygon...)
+    triangle_args : None
+        Accepted for signature compatibility only: Triangle switches are not
+        interpreted (pass engine keywords instead); anything but None raises.
+    engine : None
+        Accepted for signature compatibility and ignored: this function *is*
+        the engine.
+    force_vertices : bool
+        Raise ``ValueError`` if the triangulation has a vertex that is not an
+        input vertex (only possible with ``intersections="split"``).
+    **kwargs
+        Passed to :func:`cdt_plugin.triangulate` (``intersections=``, ...).
+
+    Returns
+    -------
+    vertices : (n, 2) float64
+        Only the vertices used by ``faces`` (trimesh's convention); exact
+        duplicates (such as the closing point of a ring) appear once.
+    faces : (m, 3) int64
+        Counter-clockwise triangles.
+    """
+    if triangle_args is not None:
+        raise ValueError("triangle_args is Triangle's switch string and is not interpreted by "
+                         "cdt_plugin; pass keyword options of cdt_plugin.triangulate instead")
+    if polygon is None or polygon.is_empty:
+        return np.empty((0, 2), np.float64), np.empty((0, 3), np.int64)
+    tri = cdt_plugin.triangulate(polygon, **kwargs)
+    if force_vertices and len(tri.steiner):
+        raise ValueError(f"the triangulation inserted {len(tri.steiner)} vertices "
+                         "(segment intersections) and force_vertices is set")
+    return _compact(np.asarray(tri.vertices, np.float64), np.asarray(tri.triangles, np.int64))
+
+
+def _boundary_edges(faces, n):
+    """Directed edges (i, j) of counter-clockwise faces whose reverse is no
+    edge: the domain boundary, with the domain on the left."""
+    directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    key = directed[:, 0] * n + directed[:, 1]
+    reverse = directed[:, 1] * n + directed[:, 0]
+    return directed[~np.isin(key, reverse)]
+
+
+def _split_pinches(vertices, faces, boundary):
+    """Give each fan of faces around a pinch vertex (a vertex where the
+    boundary passes more than once, such as a hole touching its shell) its
+    own copy of the vertex, so that the extruded walls meet in manifold edges.
+    Returns the (possibly longer) vertex array and the renumbered faces."""
+    starts = np.bincount(boundary[:, 0], minlength=len(vertices))
+    pinched = np.flatnonzero(starts > 1)
+    if len(pinched) == 0:
+        return vertices, faces
+    faces = faces.copy()
+    extra = []
+    n = len(vertices)
+    for v in pinched:
+        around = np.flatnonzero((faces == v).any(axis=1))
+        # union faces of the fan over the edges (v, w) they share
+        parent = {int(f): int(f) for f in around}
+
+        def find(f):
+            while parent[f] != f:
+                parent[f] = parent[parent[f]]
+                f = parent[f]
+            return f
+
+        by_other = {}
+        for f in around:
+            for w in faces[f]:
+                if w != v:
+                    by_other.setdefault(int(w), []).append(int(f))
+        for shared in by_other.values():
+            for f in shared[1:]:
+                parent[find(f)] = find(shared[0])
+        fans = {}
+        for f in around:
+            fans.setdefault(find(int(f)), []).append(int(f))
+        for fan in list(fans.values())[1:]:
+            copy = n + len(extra)
+            extra.append(vertices[v])
+            rows = np.asarray(fan)
+            faces[rows] = np.where(faces[rows] == v, copy, faces[rows])
+    return np.concatenate([vertices, np.asarray(extra).reshape(-1, 2)]), faces
+
+
+def extrude_triangulation(vertices, faces, height, transform=None, *, split_pinches: bool = True,
+                          **kwargs) -> trimesh.Trimesh:
+    """Extrude a 2D triangulation into a closed solid, by vertex index.
+
+    Unlike ``trimesh.creation.extrude_triangulation`` (which duplicates the wall
+    vertices and lets ``Trimesh`` merge them by a rounding tolerance) the solid
+    is built by index: vertex ``i`` of the 2D triangulation is vertex ``i`` at
+    the bottom (z = 0) and ``i + n`` at the top (z = height); each boundary edge
+    (an edge of exactly one face) gets two wall triangles on those same
+    vertices. So nothing is merged by tolerance: vertices 1e-13 apart stay
+    apart and the result is watertight whenever the triangulation is a
+    manifold with boundary (every edge in one or two faces, consistently wound).
+    ``faces`` may be in either winding; outward normals are enforced for the
+    sign of ``height`` and for ``transform`` (a (4, 4) matrix applied last).
+    With ``split_pinches`` (default) a vertex where the boundary passes twice
+    (a hole touching its shell at a point) is duplicated, one copy per fan of
+    faces, so the solid stays watertight (each edge in exactly two faces)
+    instead of having a vertical edge in four faces; the copies share
+    coordinates. Keywords go to the ``Trimesh`` constructor (default
+    ``process=False``).
+    """
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces, dtype=np.int64)
+    if vertices.ndim != 2 or vertices.shape[1] != 2:
+        raise ValueError(f"vertices must be (n, 2), got {vertices.shape}")
+    if faces.ndim != 2 or faces.shape[1] != 3:
+        raise ValueError(f"faces must be (m, 3), got {faces.shape}")
+    height = float(height)
+    if not np.isfinite(height) or height == 0.0:
+        raise ValueError(f"height must be finite and nonzero, got {height}")
+    n = len(vertices)
+    if len(faces):
+        a, b, c = (vertices[faces[:, k]] for k in range(3))
+        area2 = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+        if np.sum(area2) < 0:            # clockwise input: make it counter-clockwise
+            faces = faces[:, ::-1]
+    boundary = _boundary_edges(faces, n)
+    if split_pinches:
+        vertices, faces = _split_pinches(vertices, faces, boundary)
+        if len(vertices) != n:
+            n = len(vertices)
+            boundary = _boundary_edges(faces, n)
+    i, j = boundary[:, 0], boundary[:, 1]
+    # the domain lies left of i -> j, so (i, j, j') and (i, j', i') face outwards
+    walls = np.concatenate([np.column_stack([i, j, j + n]), np.column_stack([i, j + n, i + n])])
+    all_faces = np.concatenate([faces[:, ::-1], faces + n, walls])
+    vertices3 = np.concatenate([np.column_stack([vertices, np.zeros(n)]),
+                                np.column_stack([vertices, np.full(n, height)])])
+    if height < 0:                       # the top is below the bottom: turn inside out
+        all_faces = all_faces[:, ::-1]
+    if transform is not None:
+        transform = np.asarray(transform, dtype=np.float64)
+        vertices3 = transformations.transform_points(vertices3, transform)
+        if transformations.flips_winding(transform):
+            all_faces = all_faces[:, ::-1]
+    kwargs.setdefault("process", False)
+    return trimesh.Trimesh(vertices=vertices3, faces=np.ascontiguousarray(all_faces), **kwargs)
+
+
+def extrude_polygon(polygon, height, transform=None, mid_plane: bool = False,
+                    **kwargs) -> trimesh.Trimesh:
+    """Drop-in for ``trimesh.creation.extrude_polygon``: the polygon extruded
+    along +z by ``height`` into a watertight, consistently wound solid with
+    outward normals and volume ``area * |height|``.
+
+    ``transform`` (4, 4) is applied after construction; ``mid_plane=True``
+    centres the solid on z = 0 (as trimesh does). Other keywords go to
+    :func:`cdt_plugin.triangulate`; the solid is built by
+    :func:`extrude_triangulation` (by index, no tolerance merging).
+    """
+    vertices, faces = triangulate_polygon(polygon, **kwargs)
+    if len(faces) == 0:
+        raise ValueError("the polygon is empty: nothing to extrude")
+    if mid_plane:
+        translation = np.eye(4)
+        translation[2, 3] = abs(float(height)) / -2.0
+        transform = translation if transform is None else np.dot(transform, translation)
+    return extrude_triangulation(vertices, faces, height, transform=transform)
+
+
+def extrude_path(path, height, transform=None, mid_plane: bool = False,
+                 **kwargs) -> list[trimesh.Trimesh]:
+    """Every polygon of ``path.polygons_full`` extruded by ``height``: one
+    watertight ``Trimesh`` per polygon, in the order of ``polygons_full``
+    (``Path2D.extrude`` returns trimesh ``Extrusion`` primitives the same way;
+    this always returns a list). Use ``trimesh.util.concatenate`` for one mesh.
+    Keywords go to :func:`cdt_plugin.triangulate`.
+    """
+    if not isinstance(path, trimesh.path.Path2D):
+        raise TypeError(f"expected a trimesh.path.Path2D, got {type(path).__name__}")
+    return [extrude_polygon(polygon, height, transform=transform, mid_plane=mid_plane, **kwargs)
+            for polygon in path.polygons_full if polygon is not None and not polygon.is_empty]
