@@ -1,0 +1,413 @@
+"""shapely adapter: constrained Delaunay triangulation of shapely geometries.
+
+Data flow (DESIGN.md): shapely geometry -> validate (GEOS ``is_valid``) ->
+:class:`cdt_plugin.PLC` -> :func:`cdt_plugin.triangulate` -> Triangulation ->
+shapely output (:func:`to_shapely`).
+
+* :func:`triangulate` -- one geometry gives one Triangulation; an array or list of
+  geometries (shapely 2 style) gives a list of Triangulations, in order. Polygonal
+  input is validated with GEOS first; invalid polygons raise
+  :class:`cdt_plugin.InvalidGeometryError` carrying GEOS's reason, or are repaired
+  with ``repair=True``.
+* :func:`to_shapely` -- a Triangulation as a GeometryCollection of triangle
+  Polygons, in the form ``shapely.constrained_delaunay_triangles`` returns.
+* :func:`constrained_delaunay_triangles` -- a drop-in for
+  ``shapely.constrained_delaunay_triangles`` returning the exact CDT (GEOS ear-clips
+  and then runs a capped number of Delaunay flip passes, so on large polygons it can
+  stop short of the CDT).
+
+Polygons and MultiPolygons (also in arrays) are read straight from GEOS coordinate
+arrays, vectorised over the whole input; other geometry types go through
+``__geo_interface__`` (:meth:`cdt_plugin.PLC.from_geo_interface`). Both give the same PLC.
+"""
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+import cdt_plugin
+from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, TooFewPointsError
+
+__all__ = ["triangulate", "to_shapely", "constrained_delaunay_triangles", "plc_from_shapely"]
+
+# GEOS type ids (shapely.GeometryType)
+_POINT, _LINESTRING, _LINEARRING, _POLYGON, _MULTIPOINT, _MULTILINESTRING, _MULTIPOLYGON, _COLLECTION = range(8)
+_POLYGONAL = (_LINEARRING, _POLYGON, _MULTIPOLYGON)   # types whose rings bound a domain
+_REPAIR_METHODS = {True: "linework", "linework": "linework", "structure": "structure"}
+
+
+# --------------------------------------------------------------------------- input
+def triangulate(geometry, *, repair=False, **options):
+    """Constrained Delaunay triangulation of a shapely geometry (or of each geometry
+    of an array).
+
+    Parameters
+    ----------
+    geometry : shapely.Geometry, or array_like of shapely.Geometry
+        Polygon (with holes), MultiPolygon, LinearRing (a polygon without holes),
+        GeometryCollection, LineString / MultiLineString (segments that must be
+        edges), Point / MultiPoint (vertices). The rings of polygons give shells
+        and holes exactly, whatever their winding; ``tri.regions`` is the index of
+        the polygon (within the geometry) each triangle lies in. An array, list or
+        tuple of geometries gives a list of Triangulations in the same (flattened)
+        order; ``None`` entries give ``None``.
+    repair : bool or {"linework", "structure"}
+        ``False`` (default): a polygon that GEOS finds invalid (bow-tie,
+        self-touching ring, hole crossing or outside its shell, ...) raises
+        :class:`cdt_plugin.InvalidGeometryError` whose message carries GEOS's
+        reason (``shapely.is_valid_reason``, formerly ``explain_validity``).
+        ``True`` or ``"linework"``: invalid polygonal geometries (and the invalid
+        polygonal members of a GeometryCollection) are replaced by
+        ``shapely.make_valid(g, method="linework")`` (shapely's default; a bow-tie
+        becomes two triangles, a hole crossing its shell becomes the symmetric
+        difference), keeping only the polygonal parts of the result (collapsed
+        lines and points are dropped). ``"structure"``: ``make_valid(g,
+        method="structure", keep_collapsed=False)`` (shell minus holes).
+        Valid geometries are never changed.
+    **options
+        Passed to :func:`cdt_plugin.triangulate` (``intersections``, ``keep_hull``,
+        ``holes``, ``regions``, ``algorithm``, ``max_steiner``).
+
+    Returns
+    -------
+    Triangulation, or list of (Triangulation or None) for array input.
+
+    Raises
+    ------
+    cdt_plugin.InvalidGeometryError
+        An invalid polygon (without ``repair``), or nothing polygonal left after repair.
+    cdt_plugin.TooFewPointsError
+        An empty geometry. For array input the message starts with
+        ``geometry i:`` and the exception has an ``index`` attribute.
+    cdt_plugin.CDTError
+        Any other engine error (crossing constraint lines, ...).
+
+    Examples
+    --------
+    >>> import shapely
+    >>> from cdt_plugin.adapters.shapely import triangulate
+    >>> poly = shapely.Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(1, 1), (1, 3), (3, 3), (3, 1)]])
+    >>> tri = triangulate(poly)
+    >>> len(tri.triangles), tri.is_delaunay()
+    (8, True)
+    >>> [len(t.triangles) for t in triangulate([poly, shapely.box(0, 0, 1, 1)])]
+    [8, 2]
+    """
+    method = _repair_method(repair)
+    if _is_array_input(geometry):
+        arr = np.asarray(geometry, dtype=object).ravel()
+        return _triangulate_many(arr, method, options, indexed=True)
+    if geometry is None:
+        raise InputShapeError("expected a shapely geometry, got None")
+    return _triangulate_many(np.array([geometry], dtype=object), method, options, indexed=False)[0]
+
+
+def plc_from_shapely(geometry, *, repair=False) -> PLC:
+    """The :class:`cdt_plugin.PLC` of one shapely geometry, validated (and repaired)
+    as in :func:`triangulate`; z coordinates, if any, are carried in ``plc.z``."""
+    method = _repair_method(repair)
+    arr = np.array([geometry], dtype=object)
+    return _plcs(arr, method, indexed=False)[0]
+
+
+def _repair_method(repair):
+    if repair is False or repair is None:
+        return None
+    try:
+        return _REPAIR_METHODS[repair]
+    except (KeyError, TypeError):
+        raise CDTError(f"repair must be False, True, 'linework' or 'structure', got {repair!r}") from None
+
+
+def _is_array_input(geometry) -> bool:
+    return isinstance(geometry, (list, tuple, np.ndarray))
+
+
+def _triangulate_many(arr, method, options, indexed):
+    plcs = _plcs(arr, method, indexed)
+    out = []
+    for i, plc in enumerate(plcs):
+        if plc is None:
+            out.append(None)
+            continue
+        try:
+            out.append(cdt_plugin.triangulate(plc, **options))
+        except CDTError as e:
+            raise _with_index(e, i, indexed)
+    return out
+
+
+def _with_index(e, i, indexed):
+    if indexed is not False:
+        if not isinstance(indexed, bool):   # an array of positions in the caller's input
+            i = int(indexed[i])
+        e.args = (f"geometry {i}: {e.args[0] if e.args else ''}",) + tuple(e.args[1:])
+        e.index = i
+    return e
+
+
+def _fail(cls, message, i, indexed):
+    return _with_index(cls(message), i, indexed)
+
+
+def _plcs(arr, method, indexed):
+    """Validate (and repair) a 1-D object array of geometries and read each into a PLC.
+    Validation is one vectorised GEOS call for the whole array."""
+    missing = shapely.is_missing(arr)
+    ok = shapely.is_valid_input(arr)
+    if not ok.all():
+        i = int(np.flatnonzero(~ok)[0])
+        raise _fail(InputShapeError, f"expected a shapely geometry, got {type(arr[i]).__name__}",
+                    i, indexed)
+    types = shapely.get_type_id(arr)
+    arr = arr.copy()
+    # --- validity of polygonal input (GeometryCollections: their polygonal members)
+    check = np.isin(types, _POLYGONAL) | (types == _COLLECTION)
+    idx = np.flatnonzero(check)
+    if len(idx):
+        valid = shapely.is_valid(arr[idx])
+        for i in idx[~valid]:
+            i = int(i)
+            arr[i] = _repair_or_raise(arr[i], int(types[i]), method, i, indexed)
+        if (~valid).any():
+            types = shapely.get_type_id(arr)
+    empty = shapely.is_empty(arr) & ~missing
+    if empty.any():
+        i = int(np.flatnonzero(empty)[0])
+        raise _fail(TooFewPointsError, f"the geometry is empty ({shapely.to_wkt(arr[i])}): "
+                    "nothing to triangulate", i, indexed)
+    plcs = [None] * len(arr)
+    fast = np.flatnonzero((types == _POLYGON) | (types == _MULTIPOLYGON))
+    if len(fast):
+        for i, plc in zip(fast, _polygon_plcs(arr[fast])):
+            plcs[i] = plc
+    for i in np.flatnonzero(~missing & (types != _POLYGON) & (types != _MULTIPOLYGON)):
+        try:
+            plcs[i] = PLC.from_geo_interface(arr[i])
+        except CDTError as e:
+            raise _with_index(e, int(i), indexed)
+    for i in fast:
+        if plcs[i] is None:  # a degenerate ring: the generic reader reports or keeps it
+            plcs[i] = PLC.from_geo_interface(arr[i])
+    return plcs
+
+
+def _invalid_message(geom):
+    return f"{geom.geom_type} is not valid: {shapely.is_valid_reason(geom)}"
+
+
+def _repair_or_raise(geom, type_id, method, i, indexed):
+    if type_id == _COLLECTION:
+        parts = _flat_parts(geom)
+        ptypes = shapely.get_type_id(parts)
+        poly = np.isin(ptypes, _POLYGONAL)
+        bad = np.flatnonzero(poly & ~shapely.is_valid(parts))
+        if not len(bad):
+            # the members are valid one by one (GEOS checks them separately)
+            return geom
+        if method is None:
+            raise _fail(InvalidGeometryError, f"member {int(bad[0])} of the GeometryCollection: "
+                        f"{_invalid_message(parts[bad[0]])}; pass repair=True to repair it with "
+                        "shapely.make_valid", i, indexed)
+        parts = parts.copy()
+        for b in bad:
+            parts[b] = _make_valid_polygonal(parts[b], method)
+        parts = parts[~shapely.is_empty(parts)]
+        return shapely.GeometryCollection(list(parts))
+    if method is None:
+        raise _fail(InvalidGeometryError, f"{_invalid_message(geom)}; pass repair=True to repair "
+                    "it with shapely.make_valid", i, indexed)
+    if type_id == _LINEARRING:
+        geom = shapely.Polygon(geom)
+    fixed = _make_valid_polygonal(geom, method)
+    if fixed.is_empty:
+        raise _fail(InvalidGeometryError, f"{_invalid_message(geom)}, and shapely.make_valid "
+                    "leaves no polygonal part (it collapses to lines or points)", i, indexed)
+    return fixed
+
+
+def _flat_parts(geom):
+    """The non-collection members of a (nested) GeometryCollection."""
+    parts = shapely.get_parts(geom)
+    while (shapely.get_type_id(parts) == _COLLECTION).any():
+        parts = shapely.get_parts(parts)
+    return parts
+
+
+def _make_valid_polygonal(geom, method):
+    if method == "structure":
+        fixed = shapely.make_valid(geom, method="structure", keep_collapsed=False)
+    else:
+        fixed = shapely.make_valid(geom)
+    parts = _flat_parts(fixed) if fixed.geom_type != "Polygon" else np.array([fixed], object)
+    ptypes = shapely.get_type_id(parts)
+    polys = shapely.get_parts(parts[(ptypes == _POLYGON) | (ptypes == _MULTIPOLYGON)])
+    polys = polys[~shapely.is_empty(polys)]
+    if len(polys) == 1:
+        return polys[0]
+    return shapely.MultiPolygon(list(polys))
+
+
+def _polygon_plcs(geoms):
+    """PLCs of a 1-D array of non-empty Polygons / MultiPolygons, vectorised:
+    one GEOS call each for parts, rings and coordinates, then NumPy. The result
+    equals ``PLC.from_geo_interface`` of each geometry (same vertex order, segments,
+    rings, polygon numbering). Geometries with a degenerate ring get ``None``."""
+    n = len(geoms)
+    parts, part_geom = shapely.get_parts(geoms, return_index=True)
+    keep = ~shapely.is_empty(parts)
+    parts, part_geom = parts[keep], part_geom[keep]
+    part_start = np.searchsorted(part_geom, np.arange(n + 1))
+    part_local = np.arange(len(parts)) - part_start[part_geom]        # polygon number in its geometry
+    rings, ring_part = shapely.get_rings(parts, return_index=True)
+    ring_is_hole = np.r_[False, ring_part[1:] == ring_part[:-1]]       # exterior ring comes first
+    ring_geom = part_geom[ring_part]
+    has_z = shapely.has_z(geoms)
+    coords, vring = shapely.get_coordinates(rings, include_z=bool(has_z.any()), return_index=True)
+    # drop each ring's closing point
+    last = np.r_[vring[1:] != vring[:-1], True]
+    coords, vring = coords[~last], vring[~last]
+    nv = len(vring)
+    ring_start = np.searchsorted(vring, np.arange(len(rings) + 1))
+    ring_len = np.diff(ring_start)
+    # next vertex along each ring (the last wraps to the first)
+    nxt = np.arange(1, nv + 1)
+    ends = ring_start[1:] - 1
+    nxt[ends] = ring_start[:-1]
+    x, y = coords[:, 0], coords[:, 1]
+    # twice the signed area per ring (for the degenerate-ring check)
+    cross = x * y[nxt] - x[nxt] * y
+    area2 = np.add.reduceat(cross, ring_start[:-1]) if nv else np.zeros(0)
+    bad_ring = (ring_len < 3) | (area2 == 0.0)
+    vgeom = ring_geom[vring]
+    geom_vstart = np.searchsorted(vgeom, np.arange(n + 1))
+    geom_rstart = np.searchsorted(ring_geom, np.arange(n + 1))
+    bad_geom = np.zeros(n, bool)
+    bad_geom[ring_geom[bad_ring]] = True
+    xy = np.ascontiguousarray(coords[:, :2])
+    seg = np.column_stack([np.arange(nv), nxt]).astype(np.int64)
+    ring_poly = part_local[ring_part].astype(np.int64)
+    out = []
+    for g in range(n):
+        if bad_geom[g]:
+            out.append(None)
+            continue
+        v0, v1 = geom_vstart[g], geom_vstart[g + 1]
+        r0, r1 = geom_rstart[g], geom_rstart[g + 1]
+        out.append(PLC(xy[v0:v1], seg[v0:v1] - v0,
+                       segment_ring=vring[v0:v1].astype(np.int64) - r0,
+                       ring_polygon=ring_poly[r0:r1],
+                       ring_is_hole=ring_is_hole[r0:r1],
+                       z=coords[v0:v1, 2].copy() if has_z[g] else None))
+    return out
+
+
+# -------------------------------------------------------------------------- output
+def to_shapely(tri, *, z=None, ccw=False):
+    """The triangles of ``tri`` as a ``shapely.GeometryCollection`` of Polygons, in the
+    form ``shapely.constrained_delaunay_triangles`` returns: one Polygon per
+    triangle (in ``tri.triangles`` order), each a closed 4-point shell, clockwise
+    like GEOS's output (``ccw=True`` for counter-clockwise shells, the order of
+    ``tri.triangles``); no triangles give ``GEOMETRYCOLLECTION EMPTY``.
+
+    Parameters
+    ----------
+    tri : cdt_plugin.Triangulation
+    z : float or (n,) array, optional
+        A z coordinate for every vertex (a scalar for all): the polygons are 3D.
+    ccw : bool
+        Orientation of the triangle shells (default ``False``: clockwise, as GEOS).
+
+    Examples
+    --------
+    >>> import shapely, cdt_plugin
+    >>> gc = to_shapely(cdt_plugin.triangulate(shapely.box(0, 0, 1, 1)))
+    >>> gc.geom_type, len(gc.geoms), bool(shapely.is_ccw(gc.geoms[0].exterior))
+    ('GeometryCollection', 2, False)
+    """
+    T = np.asarray(tri.triangles)
+    V = np.asarray(tri.vertices, dtype=np.float64)
+    if z is not None:
+        zz = np.broadcast_to(np.asarray(z, dtype=np.float64), (len(V),))
+        V = np.column_stack([V, zz])
+    order = [0, 1, 2, 0] if ccw else [0, 2, 1, 0]
+    polys = shapely.polygons(V[T[:, order]]) if len(T) else np.empty(0, object)
+    return shapely.geometrycollections(polys)
+
+
+def _vertex_z(tri, plc):
+    """z of every output vertex from the PLC's z (NaN for Steiner vertices)."""
+    z = np.full(len(tri.vertices), np.nan)
+    vm = np.asarray(tri.vertex_map)
+    ok = vm >= 0
+    z[vm[ok]] = plc.z[ok]
+    return z
+
+
+def constrained_delaunay_triangles(geometry, **kwargs):
+    """Drop-in for ``shapely.constrained_delaunay_triangles`` (same signature, same
+    output form) returning the exact constrained Delaunay triangulation.
+
+    Parameters
+    ----------
+    geometry : Geometry or array_like
+    **kwargs
+        shapely's version takes NumPy ufunc keyword arguments; they are not
+        supported here (a ``TypeError`` names them).
+
+    Returns
+    -------
+    GeometryCollection or array of GeometryCollections (same shape as the input)
+        * GeometryCollection of clockwise triangle Polygons (closed 4-point
+          shells, z kept for 3D input), given polygonal input (Polygon,
+          MultiPolygon, or the polygonal members of a GeometryCollection);
+        * empty GeometryCollection, given empty or non-polygonal input;
+        * ``None`` for ``None``.
+
+    Unlike GEOS, an invalid polygon raises :class:`cdt_plugin.InvalidGeometryError`
+    with GEOS's validity reason (GEOS raises or returns a triangulation of the
+    invalid rings); repair it first (``shapely.make_valid``) or use
+    :func:`triangulate` with ``repair=True``.
+
+    Examples
+    --------
+    >>> import shapely
+    >>> constrained_delaunay_triangles(shapely.Polygon([(10, 10), (20, 40), (90, 90), (90, 10), (10, 10)]))
+    <GEOMETRYCOLLECTION (POLYGON ((90 10, 10 10, 20 40, 90 10)), POLYGON ((90 10...>
+    >>> constrained_delaunay_triangles(shapely.MultiPoint([(50, 30), (51, 30), (60, 30)]))
+    <GEOMETRYCOLLECTION EMPTY>
+    """
+    if kwargs:
+        raise TypeError(f"constrained_delaunay_triangles: ufunc keyword arguments are not supported "
+                        f"({', '.join(sorted(kwargs))})")
+    scalar = not _is_array_input(geometry)
+    arr = np.asarray(geometry if not scalar else [geometry], dtype=object)
+    shape = arr.shape if not scalar else ()
+    flat = arr.ravel().copy()
+    ok = shapely.is_valid_input(flat)
+    if not ok.all():
+        i = int(np.flatnonzero(~ok)[0])
+        raise TypeError(f"one of the arguments is of incorrect type: {type(flat[i]).__name__}")
+    types = shapely.get_type_id(flat)
+    coll = np.flatnonzero(types == _COLLECTION)
+    for i in coll:
+        parts = _flat_parts(flat[i])
+        ptypes = shapely.get_type_id(parts)
+        polys = parts[(ptypes == _POLYGON) | (ptypes == _MULTIPOLYGON)]
+        flat[i] = shapely.MultiPolygon(list(shapely.get_parts(polys))) if len(polys) else shapely.Polygon()
+    types = shapely.get_type_id(flat)
+    polygonal = ((types == _POLYGON) | (types == _MULTIPOLYGON)) & ~shapely.is_empty(flat)
+    out = np.empty(len(flat), dtype=object)
+    out[~shapely.is_missing(flat)] = shapely.GeometryCollection()
+    idx = np.flatnonzero(polygonal)
+    if len(idx):
+        plcs = _plcs(flat[idx], None, indexed=False if scalar else idx)
+        for k, (i, plc) in enumerate(zip(idx, plcs)):
+            try:
+                tri = cdt_plugin.triangulate(plc)
+            except CDTError as e:
+                raise _with_index(e, int(i), False if scalar else True)
+            out[i] = to_shapely(tri, z=_vertex_z(tri, plc) if plc.z is not None else None)
+    if scalar:
+        return out[0]
+    return out.reshape(shape)

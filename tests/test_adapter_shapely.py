@@ -1,0 +1,254 @@
+"""shapely adapter against the real shapely/GEOS (no mocks)."""
+import numpy as np
+import pytest
+
+shapely = pytest.importorskip("shapely")
+
+import cdt_plugin  # noqa: E402
+from cdt_plugin import PLC  # noqa: E402
+from cdt_plugin.adapters import shapely as sa  # noqa: E402
+
+from checker import assert_valid  # noqa: E402
+
+
+def _circle(cx, cy, r, n, cw=False):
+    t = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    xy = np.column_stack([cx + r * np.cos(t), cy + r * np.sin(t)])
+    return xy[::-1] if cw else xy
+
+
+def _holed():
+    shell = np.array([[0, 0], [10, 0], [10, 6], [6, 6], [6, 10], [0, 10]], float)
+    holes = [_circle(2.5, 2.5, 1.2, 17), [(5, 7), (5, 9), (3, 9), (3, 7)], _circle(7.5, 3, 1.0, 11)]
+    return shapely.Polygon(shell, holes)
+
+
+def _min_angle(V, T):
+    V, T = np.asarray(V, float), np.asarray(T)
+    if not len(T):
+        return np.nan
+    a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
+    out = []
+    for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
+        u, v = q - p, r - p
+        out.append(np.arctan2(np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]), (u * v).sum(axis=1)))
+    return float(np.degrees(np.min(out)))
+
+
+def _collection_min_angle(gc):
+    coords = shapely.get_coordinates(np.asarray(gc.geoms, dtype=object)).reshape(-1, 4, 2)[:, :3]
+    return _min_angle(coords.reshape(-1, 2), np.arange(3 * len(coords)).reshape(-1, 3))
+
+
+def _assert_covers(tri, geom):
+    gc = sa.to_shapely(tri)
+    union = shapely.union_all(np.asarray(gc.geoms, dtype=object))
+    assert abs(gc.area - geom.area) <= 1e-12 * geom.area
+    assert shapely.symmetric_difference(union, geom).area <= 1e-12 * geom.area
+    assert shapely.equals(union, geom)
+
+
+def test_polygon_with_holes_area_union_and_regions():
+    poly = _holed()
+    tri = sa.triangulate(poly)
+    _assert_covers(tri, poly)
+    assert tri.is_delaunay()
+    assert (tri.regions == 0).all()
+    n_ring_vertices = len(shapely.get_coordinates(poly)) - 1 - len(poly.interiors)
+    assert len(tri.vertices) == n_ring_vertices
+    # Euler for a polygon with h holes: T = n + 2h - 2 (all vertices on rings)
+    assert len(tri.triangles) == n_ring_vertices + 2 * len(poly.interiors) - 2
+    assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
+
+
+def test_vectorised_reader_equals_geo_interface():
+    geoms = [_holed(),
+             shapely.MultiPolygon([_holed(), shapely.box(20, 0, 21, 1)]),
+             shapely.Polygon([(0, 0, 1), (1, 0, 2), (1, 1, 3), (0, 1, 4)]),
+             shapely.Polygon(_circle(0, 0, 1, 9, cw=True))]
+    for g in geoms:
+        a, b = sa.plc_from_shapely(g), PLC.from_geo_interface(g)
+        for f in ("vertices", "segments", "segment_ring", "ring_polygon", "ring_is_hole"):
+            assert np.array_equal(getattr(a, f), getattr(b, f)), f
+        assert (a.z is None) == (b.z is None)
+        if a.z is not None:
+            assert np.array_equal(a.z, b.z)
+
+
+def test_multipolygon_regions():
+    mp = shapely.MultiPolygon([_holed(), shapely.box(20, 0, 22, 1), shapely.Polygon(_circle(30, 0, 2, 13))])
+    tri = sa.triangulate(mp)
+    _assert_covers(tri, mp)
+    assert sorted(set(tri.regions.tolist())) == [0, 1, 2]
+    for p, part in enumerate(mp.geoms):
+        mask = tri.regions == p
+        V, T = tri.vertices, tri.triangles[mask]
+        u, v = V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]]
+        area = 0.5 * np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]).sum()
+        assert area == pytest.approx(part.area, rel=1e-12)
+
+
+def test_linestring_constraint_inside_polygon():
+    box = shapely.box(0, 0, 4, 4)
+    line = shapely.LineString([(0.5, 0.5), (1.7, 3.1), (3.5, 1.0)])
+    tri = sa.triangulate(shapely.GeometryCollection([box, line]))
+    _assert_covers(tri, box)
+    edges = {tuple(sorted(e)) for e in tri.edges.tolist()}
+    V = tri.vertices.tolist()
+    for a, b in zip(line.coords[:-1], line.coords[1:]):
+        assert tuple(sorted((V.index(list(a)), V.index(list(b))))) in edges
+    assert tri.is_delaunay()
+
+
+def test_points_and_multilinestring():
+    pts = shapely.MultiPoint(np.random.default_rng(3).uniform(0, 1, (200, 2)))
+    tri = sa.triangulate(pts)
+    assert len(tri.vertices) == 200 and tri.is_delaunay()
+    assert sa.to_shapely(tri).area == pytest.approx(shapely.convex_hull(pts).area, rel=1e-12)
+    single = sa.triangulate(shapely.Point(1, 2))
+    assert len(single.vertices) == 1 and len(single.triangles) == 0
+    lines = shapely.MultiLineString([[(0, 0), (2, 0)], [(0, 1), (2, 1)], [(1, -1), (1, 3)]])
+    with pytest.raises(cdt_plugin.SegmentIntersectionError):
+        sa.triangulate(lines)
+    tri = sa.triangulate(lines, intersections="split")
+    assert tri.stats["intersection_points"] == 2
+
+
+INVALID = {
+    "bow-tie": (shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)]), "Self-intersection"),
+    "self-touching ring": (shapely.Polygon([(0, 0), (4, 0), (4, 4), (2, 0), (0, 4)]), "Ring Self-intersection"),
+    "hole crossing shell": (shapely.Polygon([(0, 0), (4, 0), (4, 4), (0, 4)],
+                                            [[(3, 1), (5, 1), (5, 3), (3, 3)]]), "Self-intersection"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(INVALID))
+def test_invalid_polygon_raises_with_geos_reason(name):
+    geom, reason = INVALID[name]
+    with pytest.raises(cdt_plugin.InvalidGeometryError) as info:
+        sa.triangulate(geom)
+    assert shapely.is_valid_reason(geom) in str(info.value)
+    assert str(info.value).split(": ", 1)[1].startswith(reason)
+
+
+@pytest.mark.parametrize("name", sorted(INVALID))
+@pytest.mark.parametrize("method", [True, "structure"])
+def test_repair(name, method):
+    geom, _ = INVALID[name]
+    tri = sa.triangulate(geom, repair=method)
+    kw = {"method": "structure", "keep_collapsed": False} if method == "structure" else {}
+    fixed = shapely.make_valid(geom, **kw)
+    assert tri.is_delaunay()
+    assert sa.to_shapely(tri).area == pytest.approx(fixed.area, rel=1e-12)
+
+
+def test_invalid_member_of_collection_and_ring():
+    bow = INVALID["bow-tie"][0]
+    with pytest.raises(cdt_plugin.InvalidGeometryError, match="member 0 .*Self-intersection"):
+        sa.triangulate(shapely.GeometryCollection([bow, shapely.Point(5, 5)]))
+    tri = sa.triangulate(shapely.GeometryCollection([bow, shapely.Point(5, 5)]), repair=True)
+    assert len(tri.vertices) == 6  # 4 corners, the crossing point, the kept Point
+    with pytest.raises(cdt_plugin.InvalidGeometryError, match="LinearRing is not valid"):
+        sa.triangulate(shapely.LinearRing(bow.exterior.coords))
+    assert sa.to_shapely(sa.triangulate(shapely.LinearRing(bow.exterior.coords), repair=True)).area == 2.0
+
+
+def test_empty_geometry_raises():
+    for empty in (shapely.Polygon(), shapely.MultiPolygon(), shapely.GeometryCollection(),
+                  shapely.LineString()):
+        with pytest.raises(cdt_plugin.TooFewPointsError, match="empty"):
+            sa.triangulate(empty)
+    with pytest.raises(cdt_plugin.InputShapeError):
+        sa.triangulate(None)
+    with pytest.raises(cdt_plugin.InputShapeError, match="geometry 1"):
+        sa.triangulate([shapely.box(0, 0, 1, 1), "POLYGON"])
+
+
+def test_array_input_in_order():
+    geoms = [shapely.box(0, 0, 1, 1), _holed(), None, shapely.Polygon(_circle(0, 0, 1, 7)),
+             shapely.MultiPolygon([shapely.box(5, 5, 6, 6), shapely.box(7, 7, 8, 9)])]
+    out = sa.triangulate(np.array(geoms, dtype=object))
+    assert isinstance(out, list) and len(out) == 5 and out[2] is None
+    for g, tri in zip(geoms, out):
+        if g is not None:
+            single = sa.triangulate(g)
+            assert np.array_equal(tri.triangles, single.triangles)
+            assert np.array_equal(tri.vertices, single.vertices)
+            _assert_covers(tri, g)
+    assert [len(t.triangles) for t in sa.triangulate(geoms[:2])] == [2, len(out[1].triangles)]
+    # an error names the position
+    with pytest.raises(cdt_plugin.InvalidGeometryError, match="geometry 2: Polygon is not valid") as info:
+        sa.triangulate([geoms[0], geoms[1], INVALID["bow-tie"][0]])
+    assert info.value.index == 2
+    with pytest.raises(cdt_plugin.TooFewPointsError, match="geometry 1"):
+        sa.triangulate([geoms[0], shapely.Polygon()])
+
+
+def test_to_shapely_matches_geos_format():
+    poly = _holed()
+    ours = sa.constrained_delaunay_triangles(poly)
+    geos = shapely.constrained_delaunay_triangles(poly)
+    assert ours.geom_type == geos.geom_type == "GeometryCollection"
+    assert len(ours.geoms) == len(geos.geoms)
+    assert {g.geom_type for g in ours.geoms} == {g.geom_type for g in geos.geoms} == {"Polygon"}
+    for gc in (ours, geos):
+        rings = [g.exterior for g in gc.geoms]
+        assert all(len(r.coords) == 4 and r.coords[0] == r.coords[-1] for r in rings)
+        assert not any(shapely.is_ccw(r) for r in rings)      # GEOS: clockwise shells
+        assert all(len(g.interiors) == 0 for g in gc.geoms)
+    assert ours.area == pytest.approx(geos.area, rel=1e-12)
+    ccw = sa.to_shapely(sa.triangulate(poly), ccw=True)
+    assert all(shapely.is_ccw(g.exterior) for g in ccw.geoms)
+
+
+def test_min_angle_at_least_geos():
+    # a polygon big enough that GEOS' capped flip passes may stop short of the CDT
+    rng = np.random.default_rng(7)
+    t = np.sort(rng.uniform(0, 2 * np.pi, 400))
+    r = rng.uniform(0.3, 1.0, 400)
+    star = shapely.Polygon(np.column_stack([r * np.cos(t), r * np.sin(t)]), [_circle(0, 0, 0.1, 24)])
+    assert star.is_valid
+    for poly in (_holed(), star):
+        tri = sa.triangulate(poly)
+        ours = _min_angle(tri.vertices, tri.triangles)
+        geos = _collection_min_angle(shapely.constrained_delaunay_triangles(poly))
+        assert ours >= geos - 1e-12
+        assert ours == pytest.approx(_collection_min_angle(sa.to_shapely(tri)), abs=1e-9)
+
+
+def test_dropin_behaviour():
+    poly = _holed()
+    assert sa.constrained_delaunay_triangles(None) is None
+    for g in (shapely.Polygon(), shapely.MultiPoint([(0, 0), (1, 0), (0, 1)]), shapely.LineString([(0, 0), (1, 1)]),
+              shapely.LinearRing([(0, 0), (1, 0), (0, 1)])):
+        res = sa.constrained_delaunay_triangles(g)
+        geos = shapely.constrained_delaunay_triangles(g)
+        assert res.geom_type == geos.geom_type == "GeometryCollection" and res.is_empty and geos.is_empty
+    # polygonal members of a collection only, as GEOS
+    gc = shapely.GeometryCollection([shapely.box(0, 0, 4, 4), shapely.Point(9, 9)])
+    assert len(sa.constrained_delaunay_triangles(gc).geoms) == len(shapely.constrained_delaunay_triangles(gc).geoms)
+    # z is kept, as GEOS does
+    p3 = shapely.Polygon([(0, 0, 1), (1, 0, 2), (1, 1, 3), (0, 1, 4)])
+    res = sa.constrained_delaunay_triangles(p3)
+    assert shapely.has_z(res) and shapely.has_z(shapely.constrained_delaunay_triangles(p3))
+    assert sorted(set(shapely.get_coordinates(res, include_z=True)[:, 2])) == [1, 2, 3, 4]
+    # vectorised like shapely's: same shape, None propagates
+    arr = np.array([[poly, None], [shapely.Point(0, 0), shapely.box(0, 0, 1, 1)]], dtype=object)
+    res = sa.constrained_delaunay_triangles(arr)
+    geos = shapely.constrained_delaunay_triangles(arr)
+    assert res.shape == geos.shape == (2, 2)
+    assert res[0, 1] is None and geos[0, 1] is None
+    assert res[1, 0].is_empty
+    assert [len(g.geoms) for g in (res[0, 0], res[1, 1])] == [len(g.geoms) for g in (geos[0, 0], geos[1, 1])]
+    with pytest.raises(TypeError, match="where"):
+        sa.constrained_delaunay_triangles(poly, where=True)
+    with pytest.raises(cdt_plugin.InvalidGeometryError, match="geometry 1"):
+        sa.constrained_delaunay_triangles([poly, INVALID["bow-tie"][0]])
+
+
+def test_triangulation_to_shapely_method():
+    tri = cdt_plugin.triangulate(shapely.box(0, 0, 2, 1))
+    gc = tri.to_shapely()
+    assert gc.geom_type == "GeometryCollection" and gc.area == 2.0
+    empty = sa.to_shapely(sa.triangulate(shapely.MultiPoint([(0, 0), (1, 1)])))
+    assert empty.is_empty and empty.geom_type == "GeometryCollection"
