@@ -4,26 +4,51 @@ Adaptive in the style of Shewchuk 1997 (J. R. Shewchuk, *Adaptive Precision
 Floating-Point Arithmetic and Fast Robust Geometric Predicates*, Discrete Comput.
 Geom. 18, 1997): each predicate first evaluates its determinant in ordinary
 floating point and returns it when its magnitude exceeds a rigorous forward error
-bound (``errbound * permanent``); otherwise it calls an exact fallback that
-evaluates the same determinant with expansion arithmetic (two_sum, two_diff,
-Dekker-split two_product, scale_expansion_zeroelim,
-fast_expansion_sum_zeroelim) and returns the most significant component of the
+bound (``errbound * permanent``, stage A).  Otherwise ``orient2d`` and
+``incircle`` run Shewchuk's intermediate stages, each with its own proven error
+bound, and only what they cannot decide reaches the exact evaluation:
+
+* stage B, the determinant of the *rounded* coordinate differences, evaluated
+  exactly (orient2d: Shewchuk's four-component expansion) or, for incircle, in
+  double-double arithmetic with a bound proven in ``_incircle_adapt``;
+* stage C, stage B plus the first-order terms of the differences' roundoff
+  tails (exact by two_diff), in floating point;
+* stage D / exact: orient2d finishes with Shewchuk's stage D (B plus the exact
+  tail products, a 44-double workspace); incircle calls its exact fallback.
+
+Stages B and C are allocation-free scalar code of a few dozen (orient2d) or a few
+hundred (incircle) flops, and decide every input that is not degenerate to
+within about eps^2 of its permanent; in practice only exactly collinear or
+cocircular inputs reach the exact evaluation (for orient2d only those whose
+coordinate differences are not exact in floating point: with exact differences
+stage B is already exact).  ``_orient2d_staged`` and ``_incircle_staged`` run
+the same stages as the public predicates and also return the deciding stage
+(1 = A, 2 = B, 3 = C, 4 = exact), for tests and benchmarks (compiled lazily, on
+first use).
+
+The exact fallbacks evaluate the same determinant with expansion arithmetic
+(two_sum, two_diff, Dekker-split two_product, scale_expansion_zeroelim,
+fast_expansion_sum_zeroelim) and return the most significant component of the
 exact result.  The SIGN of every returned value is the sign of the real-number
 determinant of the input doubles; the magnitude is only an approximation.
 
 The weighted test is the lifted orientation test of the seed chapter (Sec. 2.8):
-a weighted point ``v`` has lifted companion ``v+ = (vx, vy, vx^2 + vy^2 - w_v)``.
+a weighted point ``v`` has lifted companion ``v+ = (vx, vy, vx^2 + vy^2 - w_v)``;
+it has the float filter and the exact fallback only (no intermediate stages).
 
-Every function is ``@njit(cache=True, inline='never')`` with an explicit
-signature (compiled once, float64 only), nopython, allocation-free on the fast
-path.  The exact fallbacks live in separate compiled functions
-(``orient2d_exact``, ``incircle_exact``, ``incircle_weighted_exact``).  They
-first try a scalar route that is exact whenever the coordinate differences (and,
-for the circle tests, the squares and 2x2 minors) come out exact in one double
--- the common degenerate case of integer or grid coordinates, which costs tens
-of nanoseconds -- and otherwise run full expansion arithmetic in one local
-float64 workspace (np.empty), addressed by integer offsets (no slicing).  No
-recursion, no epsilons other than the proven error bounds below.
+Every function but the two staged ones is ``@njit(cache=True, inline='never')``
+with an explicit signature (compiled once, float64 only), nopython,
+allocation-free on the fast path and in stages B and C.  The exact fallbacks
+live in separate compiled functions (``orient2d_exact``, ``incircle_exact``,
+``incircle_weighted_exact``).  They first try a scalar route that is exact
+whenever the coordinate differences (and, for the circle tests, the squares and
+2x2 minors) come out exact in one double -- the common degenerate case of
+integer or grid coordinates, which costs tens of nanoseconds; the circle tests
+then try Shewchuk's stage-B expansion, exact whenever the differences alone are
+exact (decimal grids: a few hundred nanoseconds) -- and otherwise run full
+expansion arithmetic in one local float64 workspace (np.empty), addressed by
+integer offsets (no slicing).  No recursion, no epsilons other than the proven
+error bounds below.
 
 Guaranteed range (IEEE binary64, round-to-nearest-even, no FMA contraction, which
 is numba's default without ``fastmath``): the results are exact as long as no
@@ -209,14 +234,14 @@ def _two_two_diff(a1, a0, b1, b0):
 
 
 @njit(_f8(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
-def _sign_of_sum_of_three_products(l1, c1, l2, c2, l3, c3):
-    """l1*c1 + l2*c2 + l3*c3 exactly, returned as its most significant component (Shewchuk 1997).
+def _sum_of_three_two_products(p1, e1, p2, e2, p3, e3):
+    """(p1 + e1) + (p2 + e2) + (p3 + e3) exactly, returned as its most significant component.
 
-    Three two_products (6 components) merged with Grow-Expansion steps; no arrays.
+    Each (p, e) is a two-component expansion (a Two_Product result): merged with
+    Grow-Expansion steps (Two_Two_Sum, Four_Two_Sum; Shewchuk 1997) into six
+    nonoverlapping components, whose most significant nonzero one has the sign
+    of the sum.  No arrays.
     """
-    p1, e1 = _two_product(l1, c1)
-    p2, e2 = _two_product(l2, c2)
-    p3, e3 = _two_product(l3, c3)
     a3, a2, a1, a0 = _two_two_sum(p1, e1, p2, e2)
     # Four_Two_Sum(a3, a2, a1, a0, p3, e3)
     k, z2, z1, z0, x0 = _four_one_sum(a3, a2, a1, a0, e3)
@@ -232,6 +257,18 @@ def _sign_of_sum_of_three_products(l1, c1, l2, c2, l3, c3):
     if x1 != 0.0:
         return x1
     return x0
+
+
+@njit(_f8(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+def _sign_of_sum_of_three_products(l1, c1, l2, c2, l3, c3):
+    """l1*c1 + l2*c2 + l3*c3 exactly, returned as its most significant component (Shewchuk 1997).
+
+    Three two_products (6 components) merged with Grow-Expansion steps; no arrays.
+    """
+    p1, e1 = _two_product(l1, c1)
+    p2, e2 = _two_product(l2, c2)
+    p3, e3 = _two_product(l3, c3)
+    return _sum_of_three_two_products(p1, e1, p2, e2, p3, e3)
 
 
 # ---------------------------------------------------------------------------
@@ -476,6 +513,73 @@ _W_SCR = _W_ACC1 + 1728     # scratch of one term
 _W_SIZE = _W_SCR + _LC_SIZE
 
 
+# Workspace layout of the exact determinant of exact differences (Shewchuk's
+# stage B of incircleadapt, with the weight term): per row the minor M (4),
+# x M (8), x x M (16), y M (8), y y M (16), -w M (8), x x M + y y M (32); the
+# three rows (40 each), their partial sum (80) and the total (120).
+_RB_M = 0
+_RB_XM = 4
+_RB_XXM = 12
+_RB_YM = 28
+_RB_YYM = 36
+_RB_WM = 52
+_RB_S = 60
+_RB_ROW = 92
+_RB_AB = _RB_ROW + 120
+_RB_FIN = _RB_AB + 80
+_RB_SIZE = _RB_FIN + 120
+
+
+@njit(_f8(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _b1), cache=True, inline='never')
+def _incircle_exact_of_doubles(adx, ady, awd, bdx, bdy, bwd, cdx, cdy, cwd, use_w):
+    """Exact (weighted) incircle determinant of rows [x, y, x^2 + y^2 - wd] whose entries are doubles.
+
+    Shewchuk's stage B of incircleadapt (predicates.c): per row the 2x2 minor
+    as a four-component expansion (Two_Product, Two_Two_Diff), scaled twice by
+    x and twice by y (scale_expansion_zeroelim) and summed; with weights, -wd
+    times the minor is added.  The rows are summed with
+    fast_expansion_sum_zeroelim.  Exact when the coordinate differences (and
+    weight differences) are exact in one double each, i.e. their two_diff tails
+    vanish; returns the most significant component of the result.
+    """
+    w = np.empty(_RB_SIZE, np.float64)
+    rowlen0 = rowlen1 = rowlen2 = 0
+    for k in range(3):
+        if k == 0:
+            x, y, wd, p, q, r, s = adx, ady, awd, bdx, cdy, cdx, bdy
+        elif k == 1:
+            x, y, wd, p, q, r, s = bdx, bdy, bwd, cdx, ady, adx, cdy
+        else:
+            x, y, wd, p, q, r, s = cdx, cdy, cwd, adx, bdy, bdx, ady
+        p1, p0 = _two_product(p, q)
+        q1, q0 = _two_product(r, s)
+        m3, m2, m1, m0 = _two_two_diff(p1, p0, q1, q0)
+        w[_RB_M] = m0
+        w[_RB_M + 1] = m1
+        w[_RB_M + 2] = m2
+        w[_RB_M + 3] = m3
+        n = _scale_expansion_zeroelim(w, _RB_M, 4, x, _RB_XM)
+        nxx = _scale_expansion_zeroelim(w, _RB_XM, n, x, _RB_XXM)
+        n = _scale_expansion_zeroelim(w, _RB_M, 4, y, _RB_YM)
+        nyy = _scale_expansion_zeroelim(w, _RB_YM, n, y, _RB_YYM)
+        row = _RB_ROW + 40 * k
+        if use_w and wd != 0.0:
+            ns = _fast_expansion_sum_zeroelim(w, _RB_XXM, nxx, _RB_YYM, nyy, _RB_S)
+            nw = _scale_expansion_zeroelim(w, _RB_M, 4, -wd, _RB_WM)
+            n = _fast_expansion_sum_zeroelim(w, _RB_S, ns, _RB_WM, nw, row)
+        else:
+            n = _fast_expansion_sum_zeroelim(w, _RB_XXM, nxx, _RB_YYM, nyy, row)
+        if k == 0:
+            rowlen0 = n
+        elif k == 1:
+            rowlen1 = n
+        else:
+            rowlen2 = n
+    nab = _fast_expansion_sum_zeroelim(w, _RB_ROW, rowlen0, _RB_ROW + 40, rowlen1, _RB_AB)
+    nfin = _fast_expansion_sum_zeroelim(w, _RB_AB, nab, _RB_ROW + 80, rowlen2, _RB_FIN)
+    return w[_RB_FIN + nfin - 1]
+
+
 # ---------------------------------------------------------------------------
 # Exact fallbacks.
 # ---------------------------------------------------------------------------
@@ -519,11 +623,13 @@ def _incircle_exact_core(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw, use_w):
     det of rows [pdx, pdy, pdx^2 + pdy^2 - (pw - dw)] for p = a, b, c.  Returns
     the most significant component of the exact result.
 
-    Two routes, both exact.  (1) When every difference and every second-order
+    Three routes, all exact.  (1) When every difference and every second-order
     quantity (squares, 2x2 minors, lifts) happens to be exact in one double --
     checked by their two_diff/two_product/two_sum roundoff being exactly zero,
     as for integer or grid coordinates -- the determinant is a sum of three
-    products of doubles, evaluated exactly on scalars.  (2) Otherwise full
+    products of doubles, evaluated exactly on scalars.  (2) When only the
+    differences are exact: Shewchuk's stage B expansion on them
+    (_incircle_exact_of_doubles, <= 120 components).  (3) Otherwise full
     expansion arithmetic on two_diff expansions of every difference.
     """
     adx, adxt = _two_diff(ax, dx)
@@ -564,6 +670,7 @@ def _incircle_exact_core(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw, use_w):
                  + abs(u6) + abs(u7) + abs(u8) + abs(u9) + abs(u10) + abs(u11) + abs(u12))
         if tails == 0.0:
             return _sign_of_sum_of_three_products(la, ca, lb, cb, lc, cc)
+        return _incircle_exact_of_doubles(adx, ady, awd, bdx, bdy, bwd, cdx, cdy, cwd, use_w)
     w = np.empty(_W_SIZE, np.float64)
     # Slot i (offset 2 i) holds the exact difference: adx, ady, bdx, bdy, cdx,
     # cdy, awd, bwd, cwd; its length is kept in w[_W_LEN + i].
@@ -619,8 +726,8 @@ def incircle_weighted_exact(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
 
 
 # ---------------------------------------------------------------------------
-# Adaptive intermediate stages (Shewchuk 1997, Sec. 4.3 and Sec. 6; his
-# predicates.c: orient2dadapt, incircleadapt).  Stages, as reported by the
+# Adaptive intermediate stages (Shewchuk 1997, and orient2dadapt and
+# incircleadapt in his predicates.c).  Stages, as reported by the
 # *_staged functions: 1 = the float filter (stage A), 2 = stage B, 3 = stage C,
 # 4 = the exact value (orient2d: Shewchuk's stage D; incircle: incircle_exact).
 # ---------------------------------------------------------------------------
@@ -632,11 +739,11 @@ CCW_ERRBOUND_B = (2.0 + 12.0 * EPSILON) * EPSILON
 #: orient2d stage C (plus the first-order tail terms): Shewchuk's ccwerrboundC.
 CCW_ERRBOUND_C = (9.0 + 64.0 * EPSILON) * EPSILON * EPSILON
 #: incircle stage B: the determinant of the rounded differences evaluated in
-#: double-double arithmetic (see _incircle_adapt; the analysis needs
-#: 4 eps + 90 eps^2, twice the eps^2 part is used).
+#: double-double arithmetic (see _incircle_adapt: the analysis needs
+#: 4 eps + 89.3 eps^2; the eps^2 term is taken with a margin of almost 3).
 ICC_ERRBOUND_B = (4.0 + 256.0 * EPSILON) * EPSILON
 #: incircle stage C: stage B's double-double value plus the first-order tail
-#: terms; the analysis needs 91 eps^2 (plus RESULT_ERRBOUND * |det|), 256 eps^2 is used.
+#: terms; the analysis needs 90.5 eps^2 (plus RESULT_ERRBOUND * |det|).
 ICC_ERRBOUND_C = 256.0 * EPSILON * EPSILON
 
 
@@ -711,9 +818,9 @@ def _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum):
     return w[src + srclen - 1], 4
 
 
-@njit(_T3(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+@njit(_T4(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
 def _lift_minor_dd(x, y, p, q, r, s):
-    """(h, g, c) with h + g + c ~= (x^2 + y^2) * (p*q - r*s), a double-double product.
+    """(h, g, c, r) with h + g + c ~= (x^2 + y^2) * (p*q - r*s), a double-double product.
 
     h + g == l1 * m1 exactly (Two_Product) and c ~= l1*m0 + l0*m1, where
     l1 + l0 ~= x^2 + y^2 and m1 + m0 ~= p*q - r*s are double-double values of
@@ -724,6 +831,10 @@ def _lift_minor_dd(x, y, p, q, r, s):
     and |h + g + c - L M| <= 18.01 eps^2 L S (the errors of l, m: 6.001, the
     dropped l0*m0: 4.001, the three roundings of c: 8.005), |g| <= eps |h|,
     |h| <= (1 + 6.01 eps) L S, |c| <= 4.01 eps L S.
+
+    r is 0.0 iff the lift and the minor are exact in one double each (all their
+    roundoff terms vanish, as for integer or grid coordinates): then c == 0
+    and h + g == L M exactly.
     """
     s1, s0 = _two_product(x, x)
     t1, t0 = _two_product(y, y)
@@ -735,7 +846,17 @@ def _lift_minor_dd(x, y, p, q, r, s):
     m0 = f + (p0 - q0)
     h, g = _two_product(l1, m1)
     c = l1 * m0 + l0 * m1
-    return h, g, c
+    rough = (abs(s0) + abs(t0)) + (abs(e) + abs(p0)) + (abs(q0) + abs(f))
+    return h, g, c, rough
+
+
+@njit(_T2(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+def _incircle_dd_sum(ha, ga, ca, hb, gb, cb, hc, gc, cc):
+    """(v1, lo) ~= the sum of the three rows' (h, g, c) (see _incircle_dd)."""
+    u1, u0 = _two_sum(ha, hb)
+    v1, v0 = _two_sum(u1, hc)
+    lo = ((u0 + v0) + (ga + gb)) + ((gc + ca) + (cb + cc))
+    return v1, lo
 
 
 @njit(_T2(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
@@ -747,29 +868,58 @@ def _incircle_dd(adx, ady, bdx, bdy, cdx, cdy):
     (rows: 18.01; lo sums 8 terms of total size <= 7.02 eps P* in a tree of
     depth 3: 21.1), and |lo| <= 7.03 eps P*.
     """
-    ha, ga, ca = _lift_minor_dd(adx, ady, bdx, cdy, cdx, bdy)
-    hb, gb, cb = _lift_minor_dd(bdx, bdy, cdx, ady, adx, cdy)
-    hc, gc, cc = _lift_minor_dd(cdx, cdy, adx, bdy, bdx, ady)
-    u1, u0 = _two_sum(ha, hb)
-    v1, v0 = _two_sum(u1, hc)
-    lo = ((u0 + v0) + (ga + gb)) + ((gc + ca) + (cb + cc))
-    return v1, lo
+    ha, ga, ca, _ = _lift_minor_dd(adx, ady, bdx, cdy, cdx, bdy)
+    hb, gb, cb, _ = _lift_minor_dd(bdx, bdy, cdx, ady, adx, cdy)
+    hc, gc, cc, _ = _lift_minor_dd(cdx, cdy, adx, bdy, bdx, ady)
+    return _incircle_dd_sum(ha, ga, ca, hb, gb, cb, hc, gc, cc)
+
+
+@njit(_F12, cache=True, inline='never')
+def _incircle_tail_terms(adx, ady, bdx, bdy, cdx, cdy,
+                         adxtail, adytail, bdxtail, bdytail, cdxtail, cdytail):
+    """The first-order tail terms of the incircle determinant in floating point (Shewchuk's stage C).
+
+    Per row (lift L, minor M of the rounded differences): L dM + 2 dL M, where
+    dM, dL are the first-order changes of the minor and of the half lift from
+    the tails.  With |tail| <= eps |difference|, the result is within
+    34.01 eps^2 P* of the exact first-order terms (P* as in _incircle_dd): per
+    row L dM is within 12.002 eps^2 L S (L: 2 roundings, dM: 3 roundings of
+    terms totalling 2 eps S, the product: 1), 2 dL M within 10.002 eps^2 L S,
+    their sum within 4.0002 eps^2 L S more; the two row sums add 8.003 eps^2 P*.
+    """
+    rowa = ((adx * adx + ady * ady) * ((bdx * cdytail + cdy * bdxtail) - (bdy * cdxtail + cdx * bdytail))
+            + 2.0 * (adx * adxtail + ady * adytail) * (bdx * cdy - bdy * cdx))
+    rowb = ((bdx * bdx + bdy * bdy) * ((cdx * adytail + ady * cdxtail) - (cdy * adxtail + adx * cdytail))
+            + 2.0 * (bdx * bdxtail + bdy * bdytail) * (cdx * ady - cdy * adx))
+    rowc = ((cdx * cdx + cdy * cdy) * ((adx * bdytail + bdy * adxtail) - (ady * bdxtail + bdx * adytail))
+            + 2.0 * (cdx * cdxtail + cdy * cdytail) * (adx * bdy - ady * bdx))
+    return (rowa + rowb) + rowc
 
 
 @njit(_FI(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
 def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     """incircle stages B and C after Shewchuk's incircleadapt; returns (value, stage).
 
+    Stage 4 means undecided (the value is then meaningless): the caller runs
+    incircle_exact (kept out of this function so that its code is not compiled
+    into it twice).
+
     Called when the float filter fails, with the filter's permanent P.
     Shewchuk's stage B evaluates the determinant of the rounded differences x
     exactly (expansions of up to 96 components, arrays); here it is evaluated in
     double-double arithmetic instead (_incircle_dd, a few hundred flops, no
     arrays), with a rigorous bound on its error, and stage C adds Shewchuk's
-    first-order tail terms to that value.  Anything undecided goes to
-    incircle_exact.  Error analysis (eps = 2^-53, no underflow; X = x + t the
-    exact differences, |t| <= eps |x| by round-to-nearest; P* = sum of the
-    |monomials| of the determinant at x, P* <= (1 + 7.0001 eps) P because every
-    monomial of P passes through 7 roundings of nonnegative values):
+    first-order tail terms to that value.  Between the two, when the
+    differences, lifts and minors all came out exact (integer or grid
+    coordinates) the determinant is the exact sum of the rows' two_products
+    (returned as stage B, exact).
+
+    Error analysis (eps = 2^-53, no underflow).  X = x + t are the exact
+    differences, |t| <= eps |x| by round-to-nearest (the tails t are exact by
+    two_diff); F is the determinant; P* = the sum of the |monomials| of F at x
+    (= sum over the rows of lift * (|p q| + |r s|)), and P* <= (1 + 7.0001 eps) P
+    because every monomial of the filter's P passes through at most 7 roundings
+    of nonnegative values.
 
     * B: |F(X) - F(x)| <= ((1 + eps)^4 - 1) P*/(1 - eps)^4 <= (4 eps + 22.01 eps^2) P*;
       |v1 + lo - F(x)| <= 39.2 eps^2 P*; det = fl(v1 + lo) adds eps |det|.  So
@@ -789,7 +939,10 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     ady = ay - dy
     bdy = by - dy
     cdy = cy - dy
-    v1, lo = _incircle_dd(adx, ady, bdx, bdy, cdx, cdy)
+    ha, ga, ca, ra = _lift_minor_dd(adx, ady, bdx, cdy, cdx, bdy)
+    hb, gb, cb, rb = _lift_minor_dd(bdx, bdy, cdx, ady, adx, cdy)
+    hc, gc, cc, rc = _lift_minor_dd(cdx, cdy, adx, bdy, bdx, ady)
+    v1, lo = _incircle_dd_sum(ha, ga, ca, hb, gb, cb, hc, gc, cc)
     det = v1 + lo
     errbound = ICC_ERRBOUND_B * permanent
     if det > errbound or -det > errbound:
@@ -800,42 +953,42 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     bdytail = _two_diff(by, dy)[1]
     cdxtail = _two_diff(cx, dx)[1]
     cdytail = _two_diff(cy, dy)[1]
-    corr = (((adx * adx + ady * ady) * ((bdx * cdytail + cdy * bdxtail)
-                                        - (bdy * cdxtail + cdx * bdytail))
-             + 2.0 * (adx * adxtail + ady * adytail) * (bdx * cdy - bdy * cdx))
-            + ((bdx * bdx + bdy * bdy) * ((cdx * adytail + ady * cdxtail)
-                                          - (cdy * adxtail + adx * cdytail))
-               + 2.0 * (bdx * bdxtail + bdy * bdytail) * (cdx * ady - cdy * adx))
-            + ((cdx * cdx + cdy * cdy) * ((adx * bdytail + bdy * adxtail)
-                                          - (ady * bdxtail + bdx * adytail))
-               + 2.0 * (cdx * cdxtail + cdy * cdytail) * (adx * bdy - ady * bdx)))
+    tails = ((abs(adxtail) + abs(adytail)) + (abs(bdxtail) + abs(bdytail))
+             + (abs(cdxtail) + abs(cdytail)))
+    if tails == 0.0 and ra + rb + rc == 0.0:
+        # Exact differences, lifts and minors (integer or grid coordinates):
+        # the determinant is exactly (ha + ga) + (hb + gb) + (hc + gc).
+        return _sum_of_three_two_products(ha, ga, hb, gb, hc, gc), 2
+    corr = _incircle_tail_terms(adx, ady, bdx, bdy, cdx, cdy,
+                                adxtail, adytail, bdxtail, bdytail, cdxtail, cdytail)
     det = v1 + (lo + corr)
     errbound = ICC_ERRBOUND_C * permanent + RESULT_ERRBOUND * abs(det)
     if det > errbound or -det > errbound:
         return det, 3
-    return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy), 4
+    return 0.0, 4  # undecided: the caller runs incircle_exact
 
 
-@njit(_FI(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
-def _orient2d_staged(ax, ay, bx, by, cx, cy):
-    """(orient2d value, deciding stage 1..4): the body of :func:`orient2d`."""
+@njit(_T3(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+def _orient2d_filter(ax, ay, bx, by, cx, cy):
+    """(det, errbound, detsum): Shewchuk's orient2d in floating point with its ccwerrboundA test.
+
+    det is exact in sign when |det| >= errbound (stage A); detsum is what the
+    adaptive stages need.
+    """
     detleft = (ax - cx) * (by - cy)
     detright = (ay - cy) * (bx - cx)
     det = detleft - detright
     # Shewchuk's bound holds for any signs of detleft, detright; his early exit
     # on opposite signs is left out because its branches are unpredictable on
     # random input (measured: ~40% slower per call).  With opposite signs (or a
-    # zero product) the test below always passes, as Shewchuk's exit would.
+    # zero product) the test |det| >= errbound always passes, as his exit would.
     detsum = abs(detleft) + abs(detright)
-    errbound = CCW_ERRBOUND_A * detsum
-    if det >= errbound or -det >= errbound:
-        return det, 1
-    return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)
+    return det, CCW_ERRBOUND_A * detsum, detsum
 
 
-@njit(_FI(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
-def _incircle_staged(ax, ay, bx, by, cx, cy, dx, dy):
-    """(incircle value, deciding stage 1..4): the body of :func:`incircle`."""
+@njit(_T3(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+def _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy):
+    """(det, errbound, permanent): Shewchuk's incircle in floating point with its iccerrboundA test."""
     adx = ax - dx
     bdx = bx - dx
     cdx = cx - dx
@@ -861,10 +1014,31 @@ def _incircle_staged(ax, ay, bx, by, cx, cy, dx, dy):
     permanent = ((abs(bdxcdy) + abs(cdxbdy)) * alift
                  + (abs(cdxady) + abs(adxcdy)) * blift
                  + (abs(adxbdy) + abs(bdxady)) * clift)
-    errbound = ICC_ERRBOUND_A * permanent
+    return det, ICC_ERRBOUND_A * permanent, permanent
+
+
+# The staged variants are for tests and benchmarks only: compiled lazily (on
+# first use), so that importing the engine does not pay for them.
+
+@njit(cache=True)
+def _orient2d_staged(ax, ay, bx, by, cx, cy):
+    """(orient2d value, deciding stage 1..4): :func:`orient2d`, also reporting the stage."""
+    det, errbound, detsum = _orient2d_filter(ax, ay, bx, by, cx, cy)
+    if det >= errbound or -det >= errbound:
+        return det, 1
+    return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)
+
+
+@njit(cache=True)
+def _incircle_staged(ax, ay, bx, by, cx, cy, dx, dy):
+    """(incircle value, deciding stage 1..4): :func:`incircle`, also reporting the stage."""
+    det, errbound, permanent = _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy)
     if det > errbound or -det > errbound:
         return det, 1
-    return _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
+    det, stage = _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
+    if stage == 4:
+        det = incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+    return det, stage
 
 
 # ---------------------------------------------------------------------------
@@ -880,11 +1054,14 @@ def orient2d(ax, ay, bx, by, cx, cy):
     for the exact input doubles (twice the signed area of triangle abc,
     approximately).  Fast path: the floating-point determinant, returned when
     |det| >= CCW_ERRBOUND_A * (|detleft| + |detright|) (when both are 0 the
-    determinant is exactly 0); otherwise
-    :func:`orient2d_exact`.  Guaranteed for nonzero |coordinates| in
-    [1e-130, 1e130] (see the module docstring).
+    determinant is exactly 0); otherwise Shewchuk's adaptive stages B, C, D
+    (``_orient2d_adapt``), exact in sign.  Guaranteed for nonzero |coordinates|
+    in [1e-130, 1e130] (see the module docstring).
     """
-    return _orient2d_staged(ax, ay, bx, by, cx, cy)[0]
+    det, errbound, detsum = _orient2d_filter(ax, ay, bx, by, cx, cy)
+    if det >= errbound or -det >= errbound:
+        return det
+    return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)[0]
 
 
 @njit(_F8, cache=True, inline='never')
@@ -896,9 +1073,16 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy):
     strictly outside and 0.0 if the four points are cocircular.  This is the
     lifted orientation test of the seed's Sec. 2.8 with all weights zero
     (z = x^2 + y^2): > 0 iff d+ lies below the plane through a+, b+, c+.
-    Guaranteed for nonzero |coordinates| in [1e-60, 1e60].
+    When the float filter fails: stages B and C (``_incircle_adapt``), then
+    :func:`incircle_exact`.  Guaranteed for nonzero |coordinates| in [1e-60, 1e60].
     """
-    return _incircle_staged(ax, ay, bx, by, cx, cy, dx, dy)[0]
+    det, errbound, permanent = _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy)
+    if det > errbound or -det > errbound:
+        return det
+    det, stage = _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
+    if stage == 4:
+        return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+    return det
 
 
 @njit(_F12, cache=True, inline='never')

@@ -9,6 +9,14 @@ tiny coordinates (1e-10 .. 1e-30), weighted points whose lifted companions
 generic points.  A separate test proves the families are adversarial: the plain
 floating-point determinants get some of them wrong.
 
+The adaptive stages (float filter A, Shewchuk's stages B and C, the exact
+evaluation) are checked separately: every stage decides many cases of the
+families (smooth-curve and regular-polygon inputs, exactly collinear lines and
+cocircular trapezoids with inexact differences, decimal grids, ...) with the
+exact sign, zeros are only ever decided by exact arithmetic, and the error bounds
+proven for incircle's double-double stages hold on every case (checked with
+Fractions).
+
 Case generation is vectorised with numpy; the compiled predicates run in small
 @njit loops over the case arrays; the Fraction reference is the slow part.
 """
@@ -24,6 +32,13 @@ from hypothesis import strategies as st
 from numba import njit
 
 from cdt_plugin.predicates import (
+    EPSILON,
+    _incircle_dd,
+    _incircle_exact_of_doubles,
+    _incircle_staged,
+    _incircle_tail_terms,
+    _orient2d_staged,
+    _two_diff,
     incircle,
     incircle_exact,
     incircle_fast,
@@ -85,26 +100,34 @@ def _ref_signs(fn, P: np.ndarray) -> np.ndarray:
 
 @njit(cache=True)
 def _run_orient(P):
+    """Per case: orient2d, orient2d_exact, orient2d_fast, the deciding stage, the staged value."""
     n = P.shape[0]
-    out = np.empty((n, 3))
+    out = np.empty((n, 5))
     for i in range(n):
         ax, ay, bx, by, cx, cy = P[i, 0], P[i, 1], P[i, 2], P[i, 3], P[i, 4], P[i, 5]
         out[i, 0] = orient2d(ax, ay, bx, by, cx, cy)
         out[i, 1] = orient2d_exact(ax, ay, bx, by, cx, cy)
         out[i, 2] = orient2d_fast(ax, ay, bx, by, cx, cy)
+        v, s = _orient2d_staged(ax, ay, bx, by, cx, cy)
+        out[i, 3] = s
+        out[i, 4] = v
     return out
 
 
 @njit(cache=True)
 def _run_incircle(P):
+    """Per case: incircle, incircle_exact, incircle_fast, the deciding stage, the staged value."""
     n = P.shape[0]
-    out = np.empty((n, 3))
+    out = np.empty((n, 5))
     for i in range(n):
         ax, ay, bx, by = P[i, 0], P[i, 1], P[i, 2], P[i, 3]
         cx, cy, dx, dy = P[i, 4], P[i, 5], P[i, 6], P[i, 7]
         out[i, 0] = incircle(ax, ay, bx, by, cx, cy, dx, dy)
         out[i, 1] = incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
         out[i, 2] = incircle_fast(ax, ay, bx, by, cx, cy, dx, dy)
+        v, s = _incircle_staged(ax, ay, bx, by, cx, cy, dx, dy)
+        out[i, 3] = s
+        out[i, 4] = v
     return out
 
 
@@ -392,6 +415,104 @@ def weighted_random(rng, n):
     return P
 
 
+def orient_exact_lines(rng, n):
+    """Exactly collinear points on y = s x, s = +-2^k (scaling by 2^k is exact).
+
+    The coordinates spread over six decades, so the differences are often not
+    exact in floating point: these cases need Shewchuk's stage D.  Roles of x and
+    y are swapped in half the cases; c is nudged by <= 2 ulps in half (then stage
+    B or C decides).
+    """
+    x = rng.uniform(-1, 1, (n, 3)) * 10.0 ** rng.uniform(-3, 3, (n, 3))
+    s = rng.choice([-1.0, 1.0], (n, 1)) * 2.0 ** rng.integers(-3, 4, (n, 1))
+    y = s * x
+    swap = rng.random((n, 1)) < 0.5
+    pts = np.stack([np.where(swap, y, x), np.where(swap, x, y)], axis=2)  # (n, 3, 2)
+    P = pts.reshape(n, 6).copy()
+    half = rng.random(n) < 0.5
+    P[half, 4] = random_nudge(rng, P[half, 4], 2)
+    return P
+
+
+def orient_polyline(rng, n):
+    """Points a + (k/m) (b - a) of uniformly subdivided segments (rounded): nearly collinear."""
+    a = rng.uniform(-1, 1, (n, 2)) * 10.0 ** rng.uniform(-2, 2, (n, 1))
+    b = a + rng.uniform(-1, 1, (n, 2)) * 10.0 ** rng.uniform(-3, 1, (n, 1))
+    m = rng.integers(2, 1000, (n, 1))
+    k = rng.integers(0, 1001, (n, 3)) % (m + 1)
+    return np.hstack([a + (k[:, [j]] / m) * (b - a) for j in range(3)])
+
+
+def smooth_curve(m, lobes=7, amp=0.3):
+    """m points on r = 1 + amp sin(lobes t) (t = 2 pi k / m): a polygon outline."""
+    t = np.linspace(0, 2 * np.pi, m, endpoint=False)
+    r = 1 + amp * np.sin(lobes * t)
+    return np.column_stack([r * np.cos(t), r * np.sin(t)])
+
+
+def incircle_curve_mirror(rng, n, m):
+    """A chord (i, i+1) of the sampled curve and its mirror image (i' = m/2 - i, i' - 1).
+
+    The curve is symmetric under x -> -x (t -> pi - t), the samples only up to
+    rounding, so the four points are nearly -- sometimes exactly -- cocircular:
+    the configurations that make a Delaunay triangulation of the outline leave
+    the float filter.  Roles permuted.
+    """
+    C = smooth_curve(m)
+    i = rng.integers(0, m, n)
+    j = (m // 2 - i) % m
+    a, b, c, d = permute_points(rng, C[i], C[(i + 1) % m], C[j], C[(j - 1) % m])
+    return np.hstack([a, b, c, d])
+
+
+def incircle_regular_polygons(rng, n, sides):
+    """Four distinct vertices of a regular polygon (cos, sin rounded): nearly cocircular."""
+    t = 2 * np.pi * np.arange(sides) / sides
+    V = np.column_stack([np.cos(t), np.sin(t)])
+    idx = np.argsort(rng.random((n, sides)), axis=1)[:, :4]
+    return V[idx].reshape(n, 8)
+
+
+def incircle_symmetric_trapezoids(rng, n):
+    """(u0, v0), (-u0, v0), (u1, v1), (-u1, v1): exactly cocircular (negation is exact).
+
+    Magnitudes spread over four decades, so the differences are often not
+    exact in floating point: stages B and C cannot decide these, the exact
+    fallback must.  x and y swapped in half the cases, roles permuted, d nudged
+    in half (then the stages decide).
+    """
+    u = rng.uniform(0.1, 1, (n, 2)) * 10.0 ** rng.uniform(-2, 2, (n, 2))
+    v = rng.uniform(-1, 1, (n, 2)) * 10.0 ** rng.uniform(-2, 2, (n, 2))
+    pts = [np.stack([su * u[:, k], v[:, k]], axis=1) for k in range(2) for su in (1.0, -1.0)]
+    swap = rng.random(n) < 0.5
+    for p in pts:
+        p[swap] = p[swap][:, ::-1]
+    a, b, c, d = permute_points(rng, *pts)
+    half = rng.random(n) < 0.5
+    d[half] = random_nudge(rng, d[half])
+    return np.hstack([a, b, c, d])
+
+
+def incircle_decimal_grid_rectangles(rng, n):
+    """Corners of axis-parallel rectangles of a decimal grid (offset + h k, rounded): exactly cocircular.
+
+    The differences are mostly exact but their products are not (h = 0.1, 0.01,
+    0.3), so incircle_exact needs its stage-B expansion; d is nudged in half.
+    """
+    h = rng.choice([0.1, 0.01, 0.3], (n, 1))
+    off = rng.choice([0.0, 0.05, 1e3], (n, 1))
+    i0 = rng.integers(0, 500, (n, 2))
+    i1 = i0 + rng.integers(1, 4, (n, 2))
+    g0 = off + h * i0
+    g1 = off + h * i1
+    corners = [np.stack([g0[:, 0], g0[:, 1]], 1), np.stack([g1[:, 0], g0[:, 1]], 1),
+               np.stack([g1[:, 0], g1[:, 1]], 1), np.stack([g0[:, 0], g1[:, 1]], 1)]
+    a, b, c, d = permute_points(rng, *corners)
+    half = rng.random(n) < 0.5
+    d[half] = random_nudge(rng, d[half])
+    return np.hstack([a, b, c, d])
+
+
 # Every family: name -> generator(rng).  Each family draws from its own
 # generator (seeded from its name), so the families are independent and lazily
 # built: a test run for one family builds only that family.
@@ -408,6 +529,8 @@ ORIENT_FAMILIES = {
         rng, 1000, offset=off, spread=off * 1e-6)) for off in (1e6, 1e9, 1e12, 1e15)},
     **{f"tiny_{sc:.0e}": (lambda rng, sc=sc: orient_near_collinear(rng, 2000, scale=sc))
        for sc in (1e-10, 1e-20, 1e-30)},
+    "exact_lines": lambda rng: orient_exact_lines(rng, 3000),
+    "polyline_subdivision": lambda rng: orient_polyline(rng, 3000),
 }
 
 INCIRCLE_FAMILIES = {
@@ -424,6 +547,12 @@ INCIRCLE_FAMILIES = {
     **{f"tiny_{sc:.0e}_near_cocircular": (lambda rng, sc=sc: incircle_near_cocircular(rng, 1200, scale=sc))
        for sc in (1e-10, 1e-20, 1e-30)},
     "tiny_2^-100_pythagorean": lambda rng: incircle_pythagorean(rng, 1500, scale=2.0 ** -100),
+    "curve_mirror_1e3": lambda rng: incircle_curve_mirror(rng, 2000, 1000),
+    "curve_mirror_1e5": lambda rng: incircle_curve_mirror(rng, 2000, 100000),
+    "regular_polygons": lambda rng: np.vstack(
+        [incircle_regular_polygons(rng, 1000, sides) for sides in (64, 100, 1000)]),
+    "symmetric_trapezoids": lambda rng: incircle_symmetric_trapezoids(rng, 2000),
+    "decimal_grid_rectangles": lambda rng: incircle_decimal_grid_rectangles(rng, 2000),
 }
 
 WEIGHTED_FAMILIES = {
@@ -548,6 +677,251 @@ def test_total_case_count():
     # the zero/equal-weight test re-checks every incircle case twice more
     total += 2 * sum(len(v[2]) for v in _families("incircle").values())
     assert total >= 100_000, total
+
+
+# ---------------------------------------------------------------------------
+# Adaptive stages: 1 = float filter (stage A), 2 = stage B, 3 = stage C,
+# 4 = exact (orient2d: Shewchuk's stage D; incircle: incircle_exact).
+# ---------------------------------------------------------------------------
+
+# Families of near-degenerate but (mostly) not degenerate inputs: whatever of
+# them reaches the exact stage must be exactly degenerate.
+NEAR_DEGENERATE = {
+    "orient": ["near_collinear_unit", "near_collinear_scaled", "tiny_1e-10", "tiny_1e-20",
+               "tiny_1e-30", "polyline_subdivision"],
+    "incircle": ["near_cocircular_unit", "tiny_1e-10_near_cocircular", "tiny_1e-20_near_cocircular",
+                 "tiny_1e-30_near_cocircular", "curve_mirror_1e3", "curve_mirror_1e5",
+                 "regular_polygons"],
+}
+
+
+@pytest.mark.parametrize("kind", ["orient", "incircle"])
+def test_every_stage_decides_with_the_exact_sign(kind):
+    """Every stage decides many cases of the families, each one with the exact sign.
+
+    Also: the public predicate returns exactly the staged value.  The per-family
+    stage counts are printed (pytest -s).
+    """
+    total = np.zeros(4, dtype=np.int64)
+    lines = []
+    for name, (P, res, ref) in _families(kind).items():
+        stage = res[:, 3].astype(np.int64)
+        assert np.isin(stage, (1, 2, 3, 4)).all()
+        np.testing.assert_array_equal(res[:, 4], res[:, 0])
+        got = np.sign(res[:, 0]).astype(np.int64)
+        counts = np.bincount(stage, minlength=5)[1:]
+        total += counts
+        lines.append(f"  {kind}/{name}: A {counts[0]}, B {counts[1]}, C {counts[2]}, exact {counts[3]}")
+        for s in range(1, 5):
+            bad = np.flatnonzero((stage == s) & (got != ref))
+            assert bad.size == 0, (
+                f"{kind}/{name}, stage {s}: {bad.size} wrong signs; first case "
+                f"{P[bad[0]].tolist()!r} gave {res[bad[0], 0]!r}, exact sign {ref[bad[0]]}")
+    print(f"\n{kind} stages (A, B, C, exact) in all: {total.tolist()}")
+    print("\n".join(lines))
+    assert (total >= 1000).all(), total
+
+
+def test_orient2d_stage_coverage_by_design():
+    """Stage B decides near-collinear rounded points and exact-difference lattices,
+    stage C the rest of the near-collinear ones, stage D the exactly collinear
+    points with inexact differences; a zero is only ever returned where the
+    arithmetic is exact (filter with both products 0, stage B with exact
+    differences, stage D)."""
+    stage_of = {}
+    for name, (P, res, ref) in _families("orient").items():
+        stage = res[:, 3].astype(np.int64)
+        stage_of[name] = (stage, ref)
+        zero_stage = stage[ref == 0]
+        assert np.isin(zero_stage, (1, 2, 4)).all(), (name, np.bincount(zero_stage))
+        assert (res[stage == 3, 0] != 0).all(), name
+    stage, ref = stage_of["exact_lines"]
+    assert ((stage == 4) == (ref == 0)).mean() > 0.95
+    assert (stage == 4).sum() > 1500
+    for name in ("offset_1e+06_lattice", "offset_1e+15_lattice"):
+        stage, ref = stage_of[name]
+        assert (stage[stage > 1] == 2).all(), name        # exact differences: B is exact
+    for name in NEAR_DEGENERATE["orient"]:
+        stage, ref = stage_of[name]
+        assert (ref[stage == 4] == 0).all(), name
+        assert (stage == 2).sum() > 100 and (stage == 3).sum() > 100, (name, np.bincount(stage))
+
+
+def test_incircle_stage_coverage_by_design():
+    """The double-double stages B and C only decide nonzero determinants; a
+    cocircular case is decided exactly, either in stage B when the differences,
+    lifts and minors are all exact doubles (integer coordinates: the exact sum
+    of three two_products) or by the exact fallback; in the near-cocircular
+    families nothing else reaches the exact fallback."""
+    for name, (P, res, ref) in _families("incircle").items():
+        stage = res[:, 3].astype(np.int64)
+        assert np.isin(stage[ref == 0], (2, 4)).all(), name
+        assert (res[stage == 3, 0] != 0).all(), name
+        if name in NEAR_DEGENERATE["incircle"]:
+            assert (ref[stage == 4] == 0).all(), name
+            assert (stage == 3).sum() > 300, (name, np.bincount(stage))
+    # integer lattice, exactly cocircular: stage B's exact route
+    P, res, ref = _family("incircle", "pythagorean")
+    assert ((res[:, 3] == 2) & (ref == 0)).sum() > 1000
+    # exactly cocircular with inexact differences: only the exact fallback
+    P, res, ref = _family("incircle", "symmetric_trapezoids")
+    stage = res[:, 3]
+    assert ((stage == 4) & (ref == 0)).sum() > 900
+    assert ((stage == 2) | (stage == 3)).sum() > 500
+
+
+@njit(cache=True)
+def _run_incircle_parts(P):
+    """Per case: stage B's double-double (v1, lo), stage C's tail terms, the filter's permanent."""
+    n = P.shape[0]
+    out = np.empty((n, 4))
+    for i in range(n):
+        ax, ay, bx, by = P[i, 0], P[i, 1], P[i, 2], P[i, 3]
+        cx, cy, dx, dy = P[i, 4], P[i, 5], P[i, 6], P[i, 7]
+        adx, adxt = _two_diff(ax, dx)
+        ady, adyt = _two_diff(ay, dy)
+        bdx, bdxt = _two_diff(bx, dx)
+        bdy, bdyt = _two_diff(by, dy)
+        cdx, cdxt = _two_diff(cx, dx)
+        cdy, cdyt = _two_diff(cy, dy)
+        v1, lo = _incircle_dd(adx, ady, bdx, bdy, cdx, cdy)
+        corr = _incircle_tail_terms(adx, ady, bdx, bdy, cdx, cdy, adxt, adyt, bdxt, bdyt, cdxt, cdyt)
+        permanent = ((abs(bdx * cdy) + abs(cdx * bdy)) * (adx * adx + ady * ady)
+                     + (abs(cdx * ady) + abs(adx * cdy)) * (bdx * bdx + bdy * bdy)
+                     + (abs(adx * bdy) + abs(bdx * ady)) * (cdx * cdx + cdy * cdy))
+        out[i, 0] = v1
+        out[i, 1] = lo
+        out[i, 2] = corr
+        out[i, 3] = permanent
+    return out
+
+
+def _incircle_det_and_abs(adx, ady, bdx, bdy, cdx, cdy):
+    """The incircle determinant of the given differences and the sum of its |monomials| (Fractions)."""
+    rows = ((adx, ady, bdx, cdy, cdx, bdy), (bdx, bdy, cdx, ady, adx, cdy), (cdx, cdy, adx, bdy, bdx, ady))
+    det = 0
+    absum = 0
+    for x, y, p, q, r, s in rows:
+        lift = x * x + y * y
+        det += lift * (p * q - r * s)
+        absum += lift * (abs(p * q) + abs(r * s))
+    return det, absum
+
+
+def test_incircle_stage_error_bounds_hold():
+    """The error bounds proven in _incircle_dd / _incircle_adapt, checked exactly.
+
+    With x the rounded differences, X the exact ones, P* the sum of the
+    |monomials| at x and P the filter's permanent:
+    |v1 + lo - F(x)| <= 39.2 eps^2 P*; stage B's value fl(v1 + lo) is within
+    (4 eps + 61.21 eps^2) P* + eps |value| of F(X); stage C's fl(v1 + fl(lo + C1))
+    within 90.25 eps^2 P* + eps |value|; and P* <= (1 + 7.0001 eps) P.
+    """
+    eps = Fraction(EPSILON)
+    names = ["near_cocircular_unit", "regular_polygons", "curve_mirror_1e3", "curve_mirror_1e5",
+             "symmetric_trapezoids", "tiny_1e-20_near_cocircular", "offset_1e+06_float",
+             "offset_1e+12_float", "random_generic", "rectangles", "pythagorean"]
+    worst = {"dd": 0.0, "B": 0.0, "C": 0.0}
+    checked = 0
+    for name in names:
+        P = _family("incircle", name)[0][:600]
+        parts = _run_incircle_parts(P)
+        for row, (v1, lo, corr, perm) in zip(P.tolist(), parts.tolist()):
+            ax, ay, bx, by, cx, cy, dx, dy = row
+            xs = [ax - dx, ay - dy, bx - dx, by - dy, cx - dx, cy - dy]  # rounded (IEEE, as in numba)
+            Fx, Pstar = _incircle_det_and_abs(*map(Fraction, xs))
+            F, _ = _incircle_det_and_abs(*(Fraction(p) - Fraction(q) for p, q in
+                                           ((ax, dx), (ay, dy), (bx, dx), (by, dy), (cx, dx), (cy, dy))))
+            assert Pstar <= (1 + Fraction(70001, 10000) * eps) * Fraction(perm)
+            if Pstar == 0:
+                continue
+            err_dd = abs(Fraction(v1) + Fraction(lo) - Fx)
+            assert err_dd <= Fraction(392, 10) * eps * eps * Pstar, (name, row)
+            det_b = v1 + lo
+            err_b = abs(Fraction(det_b) - F) - eps * abs(Fraction(det_b))
+            assert err_b <= (4 * eps + Fraction(6121, 100) * eps * eps) * Pstar, (name, row)
+            det_c = v1 + (lo + corr)
+            err_c = abs(Fraction(det_c) - F) - eps * abs(Fraction(det_c))
+            assert err_c <= Fraction(9025, 100) * eps * eps * Pstar, (name, row)
+            scale = float(eps * eps * Pstar)
+            worst["dd"] = max(worst["dd"], float(err_dd) / scale)
+            worst["B"] = max(worst["B"], float(abs(Fraction(det_b) - F)) / scale)
+            worst["C"] = max(worst["C"], max(float(err_c), 0.0) / scale)
+            checked += 1
+    print(f"\n{checked} cases; worst errors in units of eps^2 P*: {worst}")
+    assert checked > 5000
+
+
+@njit(cache=True)
+def _run_exact_of_doubles(D, use_w):
+    out = np.empty(D.shape[0])
+    for i in range(D.shape[0]):
+        r = D[i]
+        out[i] = _incircle_exact_of_doubles(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], use_w)
+    return out
+
+
+def test_incircle_exact_of_doubles_is_exact():
+    """The stage-B expansion of incircle_exact (rows [x, y, x^2 + y^2 - w] of doubles), checked with Fractions.
+
+    Rows are the rounded differences of cases of several families (so they are
+    nearly or exactly cocircular), with the weight column zero, or random (then
+    solved in floats to make the lifted rows nearly coplanar, and nudged).
+    """
+    rng = np.random.default_rng(3)
+    rows = []
+    for name in ("near_cocircular_unit", "regular_polygons", "symmetric_trapezoids", "rectangles",
+                 "curve_mirror_1e5", "tiny_1e-20_near_cocircular", "pythagorean"):
+        P = _family("incircle", name)[0][:400]
+        d = np.empty((len(P), 9))
+        for k in range(3):
+            d[:, 3 * k] = P[:, 2 * k] - P[:, 6]
+            d[:, 3 * k + 1] = P[:, 2 * k + 1] - P[:, 7]
+            d[:, 3 * k + 2] = 0.0
+        rows.append(d)
+    D = np.vstack(rows)
+    W = D.copy()
+    W[:, 2::3] = rng.normal(size=(len(W), 3)) * (W[:, 0::3] ** 2 + W[:, 1::3] ** 2)
+    # make the third weight put the lifted rows (nearly) on a plane through 0, then nudge it
+    for i in range(len(W)):
+        x, y, w = W[i, 0::3], W[i, 1::3], W[i, 2::3]
+        z = x * x + y * y - w
+        M = np.array([[x[0], y[0]], [x[1], y[1]]])
+        if abs(np.linalg.det(M)) > 0:
+            a, b = np.linalg.solve(M, z[:2])
+            W[i, 8] = x[2] * x[2] + y[2] * y[2] - (a * x[2] + b * y[2])
+    W[:, 8] = random_nudge(rng, W[:, 8], 1)
+    for use_w, A in ((False, D), (True, W)):
+        got = np.sign(_run_exact_of_doubles(A, use_w)).astype(np.int64)
+        ref = []
+        for r in A.tolist():
+            x = [Fraction(v) for v in r]
+            rw = [(x[3 * k], x[3 * k + 1], x[3 * k] ** 2 + x[3 * k + 1] ** 2 - (x[3 * k + 2] if use_w else 0))
+                  for k in range(3)]
+            (a1, a2, a3), (b1, b2, b3), (c1, c2, c3) = rw
+            ref.append(_sgn(a1 * (b2 * c3 - b3 * c2) - a2 * (b1 * c3 - b3 * c1) + a3 * (b1 * c2 - b2 * c1)))
+        ref = np.array(ref)
+        assert (got == ref).all(), (use_w, np.flatnonzero(got != ref)[:5])
+        counts = np.bincount(ref + 1, minlength=3)
+        assert counts[0] > 300 and counts[2] > 300 and (use_w or counts[1] > 300), (use_w, counts)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(2, 12), st.floats(0.0, 0.45), st.integers(100, 10**6), st.integers(0, 10**6),
+       st.integers(1, 4), st.floats(1e-3, 1e3), st.floats(-1e4, 1e4))
+def test_predicates_hypothesis_mirrored_curve_chords(lobes, amp, m, i, k, scale, offset):
+    """A chord of a sampled symmetric curve and its mirror image: nearly cocircular
+    (exactly, when offset is 0 and the samples happen to be symmetric), each three
+    of them nearly collinear when the chord is short."""
+    idx = np.array([i, i + k, m // 2 - i, m // 2 - i - k]) % m
+    t = 2 * np.pi * idx / m
+    r = 1 + amp * np.sin(lobes * t)
+    pts = offset + scale * np.column_stack([r * np.cos(t), r * np.sin(t)])
+    args = tuple(pts.ravel().tolist())
+    assert np.sign(incircle(*args)) == incircle_ref(*args)
+    for a, b, c in ((0, 1, 2), (0, 1, 3), (1, 2, 3), (0, 2, 3)):
+        o = tuple(pts[[a, b, c]].ravel().tolist())
+        assert np.sign(orient2d(*o)) == orient2d_ref(*o)
 
 
 # ---------------------------------------------------------------------------
