@@ -17,13 +17,13 @@ from .delaunay import _build_in_order, _reorder_seed_first, seed_triangle
 from .errors import CDTError, InvalidGeometryError, OverlappingSegmentsError, SegmentIntersectionError
 from .flips import flip_to_delaunay
 from .certify import locate_in_arrays
-from .mesh import DEAD, IDX
+from .mesh import IDX
 from .ordering import brio_order, lexicographic_order
-from .plc import PLC, as_plc
+from .plc import as_plc
 from .regions import flood, segment_depths
-from .segments import (ALL_DONE, LOST, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING, STOP_LIMIT,
+from .segments import (ALL_DONE, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING, STOP_LIMIT,
                        STOP_OVERLAP, insert_segments, intersection_point, make_buffers)
-from .triangulation import Triangulation, solid_triangles, _vertex_map
+from .triangulation import Triangulation, solid_triangles
 
 INTERSECTIONS = ("raise", "split")
 
@@ -193,7 +193,7 @@ def _insert_all_segments(mesh, segs, split, max_steiner, stats, plc):
         elif status == NEED_EDGE_ROOM:
             buf = make_buffers(2 * mesh.ntri)
         elif status in (STOP_CROSSING, STOP_OVERLAP):
-            _raise_intersection(status, info, segs, plc)
+            _raise_intersection(status, info, plc)
         elif status == STOP_LIMIT:
             raise CDTError(f"max_steiner={limit} intersection points inserted and segments "
                            f"{info[0] - 1} and {info[1] - 1} still cross; raise max_steiner")
@@ -204,7 +204,7 @@ def _insert_all_segments(mesh, segs, split, max_steiner, stats, plc):
     stats["intersection_points"] = int(counts[2])
 
 
-def _raise_intersection(status, info, segs, plc):
+def _raise_intersection(status, info, plc):
     s, t = int(info[0]) - 1, int(info[1]) - 1
     P = plc.vertices
     a, b = plc.segments[s]

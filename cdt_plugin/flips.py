@@ -7,7 +7,7 @@ import numpy as np
 from numba import njit
 
 from .kernel import edge_is_illegal
-from .mesh import DEAD, flip, nxt, prv
+from .mesh import DEAD, flip, prv
 
 
 @njit(cache=True)

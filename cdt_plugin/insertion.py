@@ -7,7 +7,7 @@ import numpy as np
 from numba import njit
 
 from .kernel import edge_is_illegal, lifted_test, orient
-from .locate import INSIDE, ON_EDGE, ON_VERTEX, locate
+from .locate import INSIDE, ON_VERTEX, locate
 from .mesh import DEAD, flip, nxt, prv, remove_degree3, split_edge, split_triangle
 
 # status codes returned by the compiled core

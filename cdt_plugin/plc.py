@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import CDTError, InputShapeError, InvalidGeometryError, NonFiniteCoordinateError, SegmentIndexError
+from .errors import CDTError, InputShapeError, NonFiniteCoordinateError, SegmentIndexError
 from .validate import as_points
 
 
