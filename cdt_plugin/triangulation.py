@@ -263,6 +263,19 @@ class Triangulation:
         from cdt_plugin.adapters.shapely import to_shapely
         return to_shapely(self)
 
+    # ------------------------------------------------------- report and plots
+    def report(self, against=None, **kwargs):
+        """Quality report (angles, circumdisks, certificate), optionally side by side
+        with another triangulation of the same input (see :func:`cdt_plugin.report.report`)."""
+        from .report import report
+        return report(self, against, **kwargs)
+
+    def plot(self, ax=None, **kwargs):
+        """Draw the triangles, segments in bold and the worst triangles with their
+        circumcircles on a matplotlib Axes (see :func:`cdt_plugin.plot.plot`)."""
+        from .plot import plot
+        return plot(self, ax=ax, **kwargs)
+
     # ----------------------------------------------------------- certificates
     def _edge_signs(self) -> np.ndarray:
         """(triangle, j, sign) for every interior edge that is not a segment."""
