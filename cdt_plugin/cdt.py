@@ -14,12 +14,14 @@ import numpy as np
 from numba import njit
 
 from .delaunay import _build_in_order, _reorder_seed_first, seed_triangle
-from .errors import CDTError, InvalidGeometryError, OverlappingSegmentsError, SegmentIntersectionError
+from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
+                     SegmentIntersectionError)
 from .flips import flip_to_delaunay
 from .certify import locate_in_arrays
 from .mesh import IDX
 from .ordering import brio_order, lexicographic_order
 from .plc import as_plc
+from .refine import C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, FINISHED, OUT, refine_mesh
 from .regions import flood, segment_depths
 from .segments import (ALL_DONE, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING, STOP_LIMIT,
                        STOP_OVERLAP, insert_segments, intersection_point, make_buffers)
@@ -30,6 +32,8 @@ INTERSECTIONS = ("raise", "split")
 
 def triangulate(vertices, segments=None, *, holes=None, regions=None, intersections: str = "raise",
                 keep_hull: bool = False, algorithm: str = "incremental",
+                min_angle: float | None = None, max_area: float | None = None,
+                conforming_delaunay: bool = False, split_boundary: bool = True,
                 max_steiner: int | None = None) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
@@ -64,8 +68,32 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
     algorithm : {"incremental", "flip"}
         ``"flip"``: lexicographic triangulation, segment insertion, then the
         modified flip algorithm (Sec. 2.10.3). Same result for generic input.
+    min_angle : float, optional
+        Quality meshing (Delaunay refinement, Triangle's ``-q``): add Steiner
+        points until every triangle's smallest angle is at least this many
+        degrees (below 60; up to about 34 is guaranteed to finish in
+        practice). Triangles at an input angle smaller than the bound cannot
+        meet it: they are left as they are and counted in
+        ``stats["below_min_angle"]``.
+    max_area : float, optional
+        Refine until no triangle is larger (Triangle's ``-a``). A region seed's
+        fourth column, when positive, bounds its region instead (``-a -A``).
+    conforming_delaunay : bool
+        Split segments until each is a union of Delaunay edges: every triangle
+        is then Delaunay, not merely constrained Delaunay (Triangle's ``-D``).
+    split_boundary : bool
+        With ``False`` no Steiner point goes on the domain boundary (Triangle's
+        ``-Y``); the triangles there may then miss the bounds.
     max_steiner : int, optional
-        Cap on intersection points inserted with ``"split"``.
+        Cap on Steiner points (intersections with ``"split"`` plus refinement);
+        refinement that reaches it raises :class:`RefinementLimitError`
+        carrying the partial mesh. The default cap is generous and only there
+        to stop runaway refinement.
+
+    Steiner points are ``tri.steiner``; each segment piece names its input
+    segment in ``tri.segment_ids`` (-1 for a piece of the convex hull when the
+    hull bounds the domain). A point placed on a segment lies on it up to one
+    rounding of its coordinates.
 
     Examples
     --------
@@ -81,6 +109,7 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
         raise CDTError(f"intersections must be one of {INTERSECTIONS}, got {intersections!r}")
     if algorithm not in ("incremental", "flip"):
         raise CDTError(f"algorithm must be 'incremental' or 'flip', got {algorithm!r}")
+    refine = _refinement_options(min_angle, max_area, conforming_delaunay, max_steiner)
     plc = as_plc(vertices, segments, holes, regions)
     split = intersections == "split"
     if plc.degenerate_rings and not split:
@@ -120,7 +149,29 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
                                               False, mesh.inf, mesh.ntri))
     else:
         stats["flips"] = int(counts[0])
-    return _classify_and_output(plc, mesh, order, dup_of, submerged, keep_hull, split, mult, stats, t0)
+    classes = _classify(plc, mesh, keep_hull, split, mult)
+    if refine is not None:
+        classes = _refine(plc, mesh, segs, classes, refine, split_boundary, stats)
+    out = Triangulation.from_cdt(plc, mesh, order, dup_of, submerged, *classes, stats, t0)
+    if refine is not None:
+        _finish_refinement(out, plc, refine, stats)
+    return out
+
+
+def _refinement_options(min_angle, max_area, conforming, max_steiner):
+    """Check the quality options; None when no refinement is asked for."""
+    if min_angle is not None:
+        if not (np.isfinite(min_angle) and 0 <= min_angle < 60):
+            raise CDTError(f"min_angle must be in [0, 60) degrees, got {min_angle!r}")
+    if max_area is not None:
+        if not (np.isfinite(max_area) and max_area > 0):
+            raise CDTError(f"max_area must be a positive number, got {max_area!r}")
+    if max_steiner is not None and max_steiner < 0:
+        raise CDTError(f"max_steiner must be >= 0, got {max_steiner!r}")
+    if not min_angle and max_area is None and not conforming:
+        return None
+    return {"min_angle": float(min_angle or 0.0), "max_area": max_area,
+            "conforming": bool(conforming), "max_steiner": max_steiner}
 
 
 class _Mesh:
@@ -240,7 +291,10 @@ def _edge_segment_ids(tri, cons, ntri, tid, k):
     return out
 
 
-def _classify_and_output(plc, mesh, order, dup_of, submerged, keep_hull, split, mult, stats, t0):
+def _classify(plc, mesh, keep_hull, split, mult):
+    """Which real triangles are inside the domain, and their regions.
+    Returns ``(T, N, cflag, inside, region, attributes)`` over the real
+    triangles ``T`` of the mesh (in slot order)."""
     tri, twin, cons, ntri, inf = mesh.tri, mesh.twin, mesh.cons, mesh.ntri, mesh.inf
     T, N, tid = solid_triangles(tri, twin, ntri, inf)
     cflag = _edge_segment_ids(tri, cons, ntri, tid, len(T))
@@ -281,8 +335,80 @@ def _classify_and_output(plc, mesh, order, dup_of, submerged, keep_hull, split, 
                 flood(N, cflag, k, label, r)
         region = label
         attributes = plc.regions
-    return Triangulation.from_cdt(plc, mesh, order, dup_of, submerged, T, N, cflag, inside,
-                                  region, attributes, stats, t0)
+    return T, N, cflag, inside, region, attributes
+
+
+def _refine(plc, mesh, segs, classes, opts, split_boundary, stats):
+    """Delaunay refinement of the classified mesh; returns the new classes."""
+    T, N, cflag, inside, region, attributes = classes
+    slots = np.flatnonzero(_slot_is_real(mesh))
+    lab = np.full(len(mesh.tri) // 3, OUT, np.int64)
+    lab[slots] = np.where(inside, region, OUT)
+    area_of_label = _area_bounds(plc, opts["max_area"], int(lab.max(initial=-1)))
+    limit = opts["max_steiner"]
+    if limit is None:
+        limit = 100 * mesh.nv + 100_000
+        if opts["max_area"]:
+            limit += int(min(8 * _domain_area(mesh, T, inside) / opts["max_area"], 1e9))
+    budget = max(limit - int(stats.get("intersection_points", 0)), 0)
+    status, counts, lab, _ = refine_mesh(
+        mesh, lab, segs, min_angle=opts["min_angle"], max_area=opts["max_area"],
+        area_of_label=area_of_label, conforming=opts["conforming"],
+        split_boundary=split_boundary, max_new=budget)
+    stats["refinement_steiner"] = int(counts[C_STEINER])
+    stats["refinement_segment_splits"] = int(counts[C_SEG_SPLITS])
+    stats["refinement_flips"] = int(counts[C_FLIPS])
+    stats["frozen_segment_pieces"] = int(counts[C_FROZEN])
+    stats["refinement_complete"] = status == FINISHED
+    stats["_limit"] = limit
+    T, N, tid = solid_triangles(mesh.tri, mesh.twin, mesh.ntri, mesh.inf)
+    cflag = _edge_segment_ids(mesh.tri, mesh.cons, mesh.ntri, tid, len(T))
+    kept_lab = lab[np.flatnonzero(tid >= 0)]
+    inside = kept_lab != OUT
+    return T, N, cflag, inside, np.where(inside, kept_lab, -1), attributes
+
+
+def _slot_is_real(mesh):
+    t = mesh.tri[: 3 * mesh.ntri].reshape(-1, 3)
+    return (t[:, 0] >= 0) & (t != mesh.inf).all(axis=1)
+
+
+def _area_bounds(plc, max_area, top):
+    """Area bound per triangle label (label + 1 indexes it; 0: none)."""
+    bounds = np.full(top + 2, float(max_area or 0.0))
+    if plc.regions is not None and len(plc.regions):
+        ra = plc.regions[:, 3]
+        ok = np.isfinite(ra) & (ra > 0)
+        k = min(len(ra), top + 1)
+        bounds[1: k + 1] = np.where(ok[:k], ra[:k], bounds[1: k + 1])
+    return bounds
+
+
+def _domain_area(mesh, T, inside):
+    x, y = mesh.x, mesh.y
+    a, b, c = T[inside, 0], T[inside, 1], T[inside, 2]
+    return float(np.sum(np.abs((x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a]))) / 2)
+
+
+def _finish_refinement(out, plc, opts, stats):
+    """Segment ids of hull pieces to -1; count what misses the bounds; raise
+    when the Steiner budget ran out."""
+    ids = out.segment_ids
+    ids[ids >= len(plc.segments)] = -1
+    below = np.empty(0, np.int64)
+    if opts["min_angle"] and len(out.triangles):
+        from .report import triangle_quality
+        # the refinement decided with sin^2 of the angle: forgive the last bits here
+        smallest = triangle_quality(out.vertices, out.triangles)["angles"].min(axis=1)
+        below = np.flatnonzero(smallest < opts["min_angle"] * (1 - 1e-12))
+    stats["below_min_angle"] = int(len(below))
+    out.below_min_angle = below
+    limit = stats.pop("_limit")
+    if not stats["refinement_complete"]:
+        raise RefinementLimitError(
+            f"refinement stopped at max_steiner={limit} Steiner points with triangles still "
+            "breaking the bounds; raise max_steiner (or relax min_angle/max_area); the partial "
+            "mesh is in this error's .triangulation", triangulation=out)
 
 
 def _check_hole_sides(plc, inside, ring):

@@ -55,3 +55,16 @@ class OverlappingSegmentsError(SegmentIntersectionError):
 class InvalidGeometryError(CDTError):
     """A polygon is not valid (e.g. a hole outside its shell, a ring with fewer
     than three distinct points); the message names the polygon and ring."""
+
+
+class RefinementLimitError(CDTError):
+    """Quality refinement inserted ``max_steiner`` points and was not done.
+
+    ``triangulation`` holds the partial mesh (every triangle valid and
+    constrained Delaunay, some still breaking the bounds; its
+    ``stats["refinement_complete"]`` is False).
+    """
+
+    def __init__(self, message: str, triangulation=None):
+        super().__init__(message)
+        self.triangulation = triangulation

@@ -1,0 +1,718 @@
+"""Quality meshing by Delaunay refinement (Sec. 2.10.1, Def. 2.12).
+
+Ruppert's algorithm as Triangle runs it, on the half-edge store of a finished
+constrained Delaunay triangulation:
+
+* a segment piece is *encroached* when a vertex of a triangle beside it (on a
+  side inside the domain) lies strictly inside its diametral circle; encroached
+  pieces are split first;
+* a *bad* triangle (smallest angle below ``min_angle`` or area above its
+  bound) gets a new vertex at its off-centre (Üngör: on the bisector of its
+  shortest edge, no farther than needed for the bound) or circumcentre —
+  unless that point encroaches a piece (the pieces are split instead and the
+  triangle waits) or lies across a segment (that segment is split);
+* pieces are split at their midpoint, or, next to an input vertex, at a
+  power-of-two distance from it (Ruppert's concentric shells), and a skinny
+  triangle whose short edge joins two such shell points around a small input
+  angle is left alone (Shewchuk's rule, as in Triangle): both keep the
+  algorithm from cascading around small input angles.
+
+With ``conforming`` a piece is also split while it is not locally Delaunay
+(seen from either side, inside the domain or not), until every segment is a
+union of Delaunay edges and the whole triangulation is Delaunay.
+
+Every topological decision uses the exact predicates; new points are computed
+in floating point. A point on a segment is placed along the *input* segment
+(``A + t (B - A)``) so it lies on it up to one rounding, however deep the
+splitting goes, and it is accepted only if the four triangles around it keep
+their orientation exactly; a piece that cannot be split that way is frozen
+(``cons < 0``), as are boundary pieces under ``split_boundary=False``.
+
+Triangle labels ``lab`` travel with the triangles: the region of an inside
+triangle (>= -1) or ``OUT``. Flips never cross a segment and the domain is
+bounded by segments (hull edges are made segments first), so the two
+triangles of a flip always share their label.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .insertion import legalize
+from .kernel import edge_is_illegal, lifted_test, orient
+from .locate import INSIDE, ON_EDGE, ON_VERTEX, classify_in_solid
+from .mesh import nxt, prv, split_edge, split_triangle
+
+OUT = -2            # label of a triangle outside the domain (ghosts too)
+
+# status of refine_loop
+FINISHED = 0
+NEED_ROOM = 1       # grow the arrays and call again
+LIMIT = 2           # the Steiner budget is spent
+
+# counters (``counts`` array)
+C_STEINER = 0       # vertices inserted
+C_SEG_SPLITS = 1    # of which on segments
+C_SKIPPED = 2       # bad triangles left alone (small input angle, frozen segments)
+C_FROZEN = 3        # pieces found too short to split in floating point
+C_FLIPS = 4
+
+
+# ---------------------------------------------------------------- geometry
+@njit(cache=True, inline="always")
+def sin2_min_angle(x, y, a, b, c):
+    """Squared sine of the smallest angle of triangle ``a b c`` (the quality
+    key: smaller is worse), and twice its area."""
+    ux = x[b] - x[a]
+    uy = y[b] - y[a]
+    vx = x[c] - x[b]
+    vy = y[c] - y[b]
+    wx = x[a] - x[c]
+    wy = y[a] - y[c]
+    la = ux * ux + uy * uy
+    lb = vx * vx + vy * vy
+    lc = wx * wx + wy * wy
+    d = ux * (-wy) - uy * (-wx)            # twice the signed area
+    # the smallest angle is opposite the shortest edge; sin = d / (product of the others)
+    if la <= lb and la <= lc:
+        den = lb * lc
+    elif lb <= lc:
+        den = la * lc
+    else:
+        den = la * lb
+    if den <= 0.0:
+        return 0.0, d
+    return d * d / den, d
+
+
+@njit(cache=True, inline="always")
+def shortest_edge2(x, y, a, b, c):
+    return min((x[b] - x[a]) ** 2 + (y[b] - y[a]) ** 2, (x[c] - x[b]) ** 2 + (y[c] - y[b]) ** 2,
+               (x[a] - x[c]) ** 2 + (y[a] - y[c]) ** 2)
+
+
+@njit(cache=True)
+def is_bad(x, y, a, b, c, sin2_bound, area_bound):
+    """Whether the triangle breaks the angle or the area bound; and its key."""
+    key, d = sin2_min_angle(x, y, a, b, c)
+    angle_bad = key < sin2_bound
+    area_bad = area_bound > 0.0 and 0.5 * d > area_bound
+    # the queue key: shortest edges first, in buckets of 2^(1/4) in length
+    # (Triangle's 4096 queues), first come first served inside a bucket
+    return angle_bad, area_bad, np.floor(2.0 * np.log2(shortest_edge2(x, y, a, b, c)))
+
+
+@njit(cache=True, inline="always")
+def encroaches(x, y, a, b, px, py, lens):
+    """Whether the point encroaches ``a b``: it sees the piece at an angle of
+    more than 90 degrees (strictly inside the diametral circle; ``lens == 0``)
+    or, in quality mode, of at least ``180 - 2 min_angle`` (inside the
+    diametral lens, Triangle's default: ``lens = cos^2(2 min_angle)``), which
+    splits fewer segments."""
+    ax = x[a] - px
+    ay = y[a] - py
+    bx = x[b] - px
+    by = y[b] - py
+    dot = ax * bx + ay * by
+    if dot >= 0.0:
+        return False
+    return lens == 0.0 or dot * dot >= lens * (ax * ax + ay * ay) * (bx * bx + by * by)
+
+
+@njit(cache=True)
+def steiner_point(x, y, a, b, c, offconstant):
+    """Circumcentre of counter-clockwise ``a b c``, pulled in to the off-centre
+    on the bisector of the shortest edge when ``offconstant > 0`` and the
+    circumcentre lies farther from that edge (Üngör's off-centres, Triangle's
+    rule with its constant)."""
+    ax = x[a]
+    ay = y[a]
+    bx = x[b] - ax
+    by = y[b] - ay
+    cx = x[c] - ax
+    cy = y[c] - ay
+    lb = bx * bx + by * by
+    lc = cx * cx + cy * cy
+    d = 2.0 * (bx * cy - by * cx)
+    ox = (cy * lb - by * lc) / d          # circumcentre relative to a
+    oy = (bx * lc - cx * lb) / d
+    if offconstant > 0.0:
+        # shortest edge p -> q in counter-clockwise order, relative to a
+        la = (cx - bx) * (cx - bx) + (cy - by) * (cy - by)   # b -> c
+        if lb <= lc and lb <= la:
+            px, py, qx, qy = 0.0, 0.0, bx, by
+        elif la <= lc:
+            px, py, qx, qy = bx, by, cx, cy
+        else:
+            px, py, qx, qy = cx, cy, 0.0, 0.0
+        mx = 0.5 * (px + qx)
+        my = 0.5 * (py + qy)
+        # inward normal of p -> q (towards the third vertex), as long as the edge
+        nx = -(qy - py)
+        ny = qx - px
+        fx = mx + offconstant * nx
+        fy = my + offconstant * ny
+        if (fx - mx) ** 2 + (fy - my) ** 2 < (ox - mx) ** 2 + (oy - my) ** 2:
+            ox = fx
+            oy = fy
+    return ax + ox, ay + oy
+
+
+# ------------------------------------------------------------ priority queue
+FIFO = 2.0 ** -40   # per push: order inside a bucket (< 1 for 2^30 pushes)
+@njit(cache=True)
+def heap_push(keys, items, n, key, t, a, b, c):
+    """Push ``(key; t, a, b, c)`` on the binary min-heap ``keys[:n]``; the heap
+    must have room. Returns the new size."""
+    i = n
+    keys[i] = key
+    items[i, 0] = t
+    items[i, 1] = a
+    items[i, 2] = b
+    items[i, 3] = c
+    while i > 0:
+        j = (i - 1) // 2
+        if keys[j] <= keys[i]:
+            break
+        _heap_swap(keys, items, i, j)
+        i = j
+    return n + 1
+
+
+@njit(cache=True)
+def heap_pop(keys, items, n):
+    """Remove the smallest entry; it is left at index ``n - 1``. Returns ``n - 1``."""
+    n -= 1
+    _heap_swap(keys, items, 0, n)
+    i = 0
+    while True:
+        l = 2 * i + 1
+        if l >= n:
+            break
+        r = l + 1
+        m = r if r < n and keys[r] < keys[l] else l
+        if keys[i] <= keys[m]:
+            break
+        _heap_swap(keys, items, i, m)
+        i = m
+    return n
+
+
+@njit(cache=True, inline="always")
+def _heap_swap(keys, items, i, j):
+    k = keys[i]
+    keys[i] = keys[j]
+    keys[j] = k
+    for s in range(4):
+        v = items[i, s]
+        items[i, s] = items[j, s]
+        items[j, s] = v
+
+
+@njit(cache=True)
+def _grow_heap(keys, items):
+    k2 = np.empty(2 * keys.shape[0], np.float64)
+    i2 = np.empty((2 * keys.shape[0], 4), np.int64)
+    k2[: keys.shape[0]] = keys
+    i2[: keys.shape[0]] = items
+    return k2, i2
+
+
+@njit(cache=True)
+def _grow_rows(rows):
+    r2 = np.empty((2 * rows.shape[0], rows.shape[1]), np.int64)
+    r2[: rows.shape[0]] = rows
+    return r2
+
+
+# ------------------------------------------------------------------ tests
+@njit(cache=True)
+def piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, h):
+    """Whether constrained half-edge ``h`` is encroached: a triangle vertex
+    beside it (inside the domain, or anywhere with ``conforming``) lies strictly
+    in its diametral circle; with ``conforming`` also when it is not locally
+    Delaunay (exact test)."""
+    a = tri[h]
+    b = tri[nxt(h)]
+    g = twin[h]
+    p = tri[prv(h)]
+    d = tri[prv(g)]
+    if p != inf and (conforming or lab[h // 3] != OUT) and encroaches(x, y, a, b, x[p], y[p], lens):
+        return True
+    if d != inf and (conforming or lab[g // 3] != OUT) and encroaches(x, y, a, b, x[d], y[d], lens):
+        return True
+    if conforming and p != inf and d != inf and a != inf and b != inf:
+        return edge_is_illegal(x, y, x, False, inf, a, b, p, d)
+    return False
+
+
+@njit(cache=True)
+def at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
+    """Shewchuk's rule (as in Triangle): leave a skinny triangle alone when its
+    shortest edge joins Steiner vertices on two segments that share an endpoint
+    and lie at the same distance from it (concentric shells around a small
+    input angle): splitting it would only cascade."""
+    ab = (x[b] - x[a]) ** 2 + (y[b] - y[a]) ** 2
+    bc = (x[c] - x[b]) ** 2 + (y[c] - y[b]) ** 2
+    ca = (x[a] - x[c]) ** 2 + (y[a] - y[c]) ** 2
+    if ab <= bc and ab <= ca:
+        p, q = a, b
+    elif bc <= ca:
+        p, q = b, c
+    else:
+        p, q = c, a
+    if p < nv0 or q < nv0:
+        return False
+    s1 = vseg[p]
+    s2 = vseg[q]
+    if s1 <= 0 or s2 <= 0 or s1 == s2:
+        return False
+    for i in range(2):
+        for j in range(2):
+            o = seg_ends[s1 - 1, i]
+            if o == seg_ends[s2 - 1, j]:
+                d1 = (x[p] - x[o]) ** 2 + (y[p] - y[o]) ** 2
+                d2 = (x[q] - x[o]) ** 2 + (y[q] - y[o]) ** 2
+                if 0.998 * d2 < d1 < 1.002 * d2:
+                    return True
+    return False
+
+
+# ------------------------------------------------------------- operations
+WALK_BLOCKED = -3
+WALK_FAILED = -1
+
+
+@njit(cache=True)
+def walk_to(tri, twin, cons, x, y, t, q, limit):
+    """Visibility walk from triangle ``t`` to vertex ``q`` that never crosses a
+    segment. Returns ``(code, e)`` as :func:`locate` does, or
+    ``(WALK_BLOCKED, segment half-edge)`` when a segment is in the way."""
+    came = -1
+    for step in range(limit):
+        e = 3 * t
+        r = (q + step) % 3
+        moved = False
+        o0 = 1.0
+        o1 = 1.0
+        o2 = 1.0
+        for k in range(3):
+            s = (r + k) % 3
+            ek = e + s
+            if ek == came:
+                continue
+            o = orient(x, y, tri[ek], tri[nxt(ek)], q)
+            if o < 0:
+                if cons[ek] != 0:
+                    return WALK_BLOCKED, ek
+                came = twin[ek]
+                t = came // 3
+                moved = True
+                break
+            if s == 0:
+                o0 = o
+            elif s == 1:
+                o1 = o
+            else:
+                o2 = o
+        if not moved:
+            return classify_in_solid(tri, x, y, t, q, o0, o1, o2)
+    return WALK_FAILED, -1
+
+
+@njit(cache=True)
+def cavity_encroached(tri, twin, cons, x, y, inf, h, on_edge, q, mark, stamp, bstack, enc, lens):
+    """The segment pieces that new vertex ``q`` (located at half-edge ``h``)
+    would encroach: those bounding its cavity, the triangles whose circumdisk
+    holds ``q``, grown from the triangle(s) containing it without crossing a
+    segment. Fills ``enc``; returns how many."""
+    n = 0
+    sp = 0
+    t0 = h // 3
+    mark[t0] = stamp
+    bstack[sp] = t0
+    sp += 1
+    if on_edge:
+        t1 = twin[h] // 3
+        mark[t1] = stamp
+        bstack[sp] = t1
+        sp += 1
+    px = x[q]
+    py = y[q]
+    while sp > 0:
+        sp -= 1
+        t = bstack[sp]
+        for k in range(3):
+            e = 3 * t + k
+            if cons[e] != 0:
+                if n < enc.shape[0] and encroaches(x, y, tri[e], tri[nxt(e)], px, py, lens):
+                    enc[n] = e
+                    n += 1
+                continue
+            m = twin[e] // 3
+            if mark[m] == stamp:
+                continue
+            a = tri[3 * m]
+            b = tri[3 * m + 1]
+            c = tri[3 * m + 2]
+            if a == inf or b == inf or c == inf:
+                continue
+            if lifted_test(x, y, x, False, a, b, c, q) > 0:
+                mark[m] = stamp
+                bstack[sp] = m
+                sp += 1
+    return n
+
+
+@njit(cache=True)
+def param_on(x, y, A, B, v):
+    """Parameter of vertex ``v`` along segment ``A -> B`` (0 at A, 1 at B)."""
+    if v == A:
+        return 0.0
+    if v == B:
+        return 1.0
+    dx = x[B] - x[A]
+    dy = y[B] - y[A]
+    return ((x[v] - x[A]) * dx + (y[v] - y[A]) * dy) / (dx * dx + dy * dy)
+
+
+@njit(cache=True)
+def place_on_piece(x, y, seg_ends, sid, u, v, shell_at, q):
+    """Write into vertex ``q`` the split point of piece ``u v`` of segment
+    ``sid``: the midpoint, or with ``shell_at`` (``u`` or ``v``) the point at
+    the power-of-two distance from that end nearest the middle (Ruppert's
+    concentric shells: pieces at a small angle get split at equal radii).
+    Placed along the input segment, so it lies on it up to one rounding."""
+    A = seg_ends[sid - 1, 0]
+    B = seg_ends[sid - 1, 1]
+    tu = param_on(x, y, A, B, u)
+    tv = param_on(x, y, A, B, v)
+    if shell_at >= 0:
+        tc, to = (tu, tv) if shell_at == u else (tv, tu)
+        length = np.sqrt((x[v] - x[u]) ** 2 + (y[v] - y[u]) ** 2)
+        shell = 1.0
+        while length > 3.0 * shell:
+            shell *= 2.0
+        while length < 1.5 * shell:
+            shell *= 0.5
+        tm = tc + (shell / length) * (to - tc)
+    else:
+        tm = 0.5 * (tu + tv)
+    x[q] = x[A] + tm * (x[B] - x[A])
+    y[q] = y[A] + tm * (y[B] - y[A])
+
+
+@njit(cache=True)
+def shell_centre(tri, twin, cons, lab, e):
+    """Triangle's rule: when exactly one end of piece ``e`` meets another
+    segment inside a domain triangle beside it (the two span an angle there),
+    split on the concentric shells around that end; else (-1) at the midpoint."""
+    f = twin[e]
+    se = lab[e // 3] != OUT
+    sf = lab[f // 3] != OUT
+    at_u = (se and cons[prv(e)] != 0) or (sf and cons[nxt(f)] != 0)
+    at_v = (se and cons[nxt(e)] != 0) or (sf and cons[prv(f)] != 0)
+    if at_u and not at_v:
+        return tri[e]
+    if at_v and not at_u:
+        return tri[f]
+    return -1
+
+
+@njit(cache=True)
+def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0, stack, counts):
+    """Split the segment piece of half-edge ``e`` at new vertex ``q``, then
+    restore the constrained Delaunay property by flips. A split that would
+    invert a triangle (the piece is at the limit of floating point) freezes
+    the piece instead. Returns ``(done, ntri)``."""
+    sid = cons[e]
+    u = tri[e]
+    v = tri[nxt(e)]
+    f = twin[e]
+    c = tri[prv(e)]
+    d = tri[prv(f)]
+    place_on_piece(x, y, seg_ends, sid, u, v, shell_centre(tri, twin, cons, lab, e), q)
+    ok = True
+    if c != inf:
+        ok = orient(x, y, c, u, q) > 0 and orient(x, y, v, c, q) > 0
+    if ok and d != inf:
+        ok = orient(x, y, d, v, q) > 0 and orient(x, y, u, d, q) > 0
+    if not ok:
+        cons[e] = -sid
+        cons[f] = -sid
+        counts[C_FROZEN] += 1
+        return False, ntri
+    t1 = e // 3
+    t2 = f // 3
+    ntri = split_edge(tri, twin, cons, e, q, ntri)
+    lab[ntri - 2] = lab[t1]
+    lab[ntri - 1] = lab[t2]
+    vseg[q] = sid
+    stack[0] = 3 * t1
+    stack[1] = 3 * t2
+    stack[2] = 3 * (ntri - 2)
+    stack[3] = 3 * (ntri - 1)
+    _legalize(tri, twin, cons, x, y, inf, q, stack, 4, counts)
+    counts[C_SEG_SPLITS] += 1
+    return True, ntri
+
+
+@njit(cache=True)
+def _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts):
+    fc = np.zeros(2, np.int64)
+    legalize(tri, twin, cons, x, y, x, False, inf, q, stack, sp, False, np.zeros(1, np.int8), fc)
+    counts[C_FLIPS] += fc[0]
+
+
+@njit(cache=True)
+def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts):
+    """Insert vertex ``q`` located at ``(code, h)`` (inside a triangle or on a
+    non-segment edge) and flip. Returns ``(slot of a triangle at q, ntri)``."""
+    t = h // 3
+    if code == INSIDE:
+        ntri = split_triangle(tri, twin, cons, t, q, ntri)
+        lab[ntri - 2] = lab[t]
+        lab[ntri - 1] = lab[t]
+        stack[0] = 3 * t
+        stack[1] = 3 * (ntri - 2)
+        stack[2] = 3 * (ntri - 1)
+        sp = 3
+    else:
+        t2 = twin[h] // 3
+        ntri = split_edge(tri, twin, cons, h, q, ntri)
+        lab[ntri - 2] = lab[t]
+        lab[ntri - 1] = lab[t2]
+        stack[0] = 3 * t
+        stack[1] = 3 * t2
+        stack[2] = 3 * (ntri - 2)
+        stack[3] = 3 * (ntri - 1)
+        sp = 4
+    _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts)
+    return t, ntri
+
+
+# ------------------------------------------------------------- main loop
+@njit(cache=True)
+def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
+                offconstant, lens, area_of_label, conforming, max_new, counts):
+    """Refine until no piece is encroached and no triangle is bad (or is
+    excused: small input angle, frozen segments). Work queues are rebuilt from
+    a scan on entry and whenever they run dry after progress, so nothing is
+    lost when a flip moves a queued half-edge. Returns ``(status, ntri, nv)``:
+    FINISHED, NEED_ROOM (grow the arrays, call again) or LIMIT (``max_new``
+    vertices inserted)."""
+    cap_tri = tri.shape[0] // 3
+    hkeys = np.empty(1024, np.float64)
+    hitems = np.empty((1024, 4), np.int64)
+    hn = 0
+    pushes = 0
+    sq = np.empty((256, 4), np.int64)      # e, u, v, forced
+    sn = 0
+    mark = np.zeros(cap_tri, np.int64)
+    stamp = 0
+    bstack = np.empty(cap_tri + 8, np.int64)
+    stack = np.empty(inf + 16, np.int64)
+    enc = np.empty(64, np.int64)
+    walk_limit = 64 + 4 * ntri
+    scanned_at = -1
+    while True:
+        if sn == 0 and hn == 0:
+            if scanned_at == counts[C_STEINER]:
+                return FINISHED, ntri, nv
+            scanned_at = counts[C_STEINER]
+            # scan everything: bad triangles and encroached pieces
+            for t in range(ntri):
+                L = lab[t]
+                if L == OUT:
+                    continue
+                a = tri[3 * t]
+                b = tri[3 * t + 1]
+                c = tri[3 * t + 2]
+                angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_of_label[L + 1])
+                if angle_bad or area_bad:
+                    if hn == hkeys.shape[0]:
+                        hkeys, hitems = _grow_heap(hkeys, hitems)
+                    hn = heap_push(hkeys, hitems, hn, key + pushes * FIFO, t, a, b, c)
+                    pushes += 1
+            for e in range(3 * ntri):
+                if cons[e] > 0 and e < twin[e] and piece_needs_split(tri, twin, x, y, inf, lab,
+                                                                     conforming, lens, e):
+                    if sn == sq.shape[0]:
+                        sq = _grow_rows(sq)
+                    sq[sn, 0] = e
+                    sq[sn, 1] = tri[e]
+                    sq[sn, 2] = tri[nxt(e)]
+                    sq[sn, 3] = 0
+                    sn += 1
+            continue
+        if nv + 1 >= inf or ntri + 2 > cap_tri:
+            return NEED_ROOM, ntri, nv
+        if counts[C_STEINER] >= max_new:
+            return LIMIT, ntri, nv
+        q = nv
+        if sn > 0:
+            sn -= 1
+            e = sq[sn, 0]
+            if tri[e] != sq[sn, 1] or tri[nxt(e)] != sq[sn, 2] or cons[e] <= 0:
+                continue  # stale (the scan will find it again) or frozen
+            if sq[sn, 3] == 0 and not piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, e):
+                continue
+            done, ntri = split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg,
+                                     seg_ends, nv0, stack, counts)
+            if not done:
+                continue
+            slot = e // 3
+        else:
+            hn = heap_pop(hkeys, hitems, hn)
+            t = hitems[hn, 0]
+            a = hitems[hn, 1]
+            b = hitems[hn, 2]
+            c = hitems[hn, 3]
+            if tri[3 * t] != a or tri[3 * t + 1] != b or tri[3 * t + 2] != c or lab[t] == OUT:
+                continue  # stale
+            angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound,
+                                              area_of_label[lab[t] + 1])
+            if not area_bad and at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
+                counts[C_SKIPPED] += 1
+                continue
+            px, py = steiner_point(x, y, a, b, c, offconstant if angle_bad else 0.0)
+            x[q] = px
+            y[q] = py
+            code, h = walk_to(tri, twin, cons, x, y, t, q, walk_limit)
+            if code == WALK_FAILED or code == ON_VERTEX:
+                counts[C_SKIPPED] += 1
+                continue
+            nenc = 0
+            if code == WALK_BLOCKED or (code == ON_EDGE and cons[h] != 0):
+                enc[0] = h
+                nenc = 1
+            else:
+                stamp += 1
+                nenc = cavity_encroached(tri, twin, cons, x, y, inf, h, code == ON_EDGE, q,
+                                         mark, stamp, bstack, enc, lens)
+            if nenc > 0:
+                pushed = 0
+                for i in range(nenc):
+                    g = enc[i]
+                    if cons[g] > 0:
+                        if sn == sq.shape[0]:
+                            sq = _grow_rows(sq)
+                        sq[sn, 0] = g
+                        sq[sn, 1] = tri[g]
+                        sq[sn, 2] = tri[nxt(g)]
+                        sq[sn, 3] = 1
+                        sn += 1
+                        pushed += 1
+                if pushed > 0:
+                    if hn == hkeys.shape[0]:
+                        hkeys, hitems = _grow_heap(hkeys, hitems)
+                    hn = heap_push(hkeys, hitems, hn, key + pushes * FIFO, t, a, b, c)
+                    pushes += 1  # try again after
+                    continue
+                if code == WALK_BLOCKED or code == ON_EDGE:
+                    counts[C_SKIPPED] += 1   # behind (or on) a frozen segment
+                    continue
+                # only frozen pieces are encroached: insert anyway (Triangle's -Y)
+            slot, ntri = insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack,
+                                     counts)
+        nv += 1
+        counts[C_STEINER] += 1
+        # queue what the new vertex's star needs
+        e0 = 3 * slot
+        while tri[e0] != q:
+            e0 += 1
+        e = e0
+        while True:
+            t = e // 3
+            L = lab[t]
+            if L != OUT:
+                a = tri[3 * t]
+                b = tri[3 * t + 1]
+                c = tri[3 * t + 2]
+                angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_of_label[L + 1])
+                if angle_bad or area_bad:
+                    if hn == hkeys.shape[0]:
+                        hkeys, hitems = _grow_heap(hkeys, hitems)
+                    hn = heap_push(hkeys, hitems, hn, key + pushes * FIFO, t, a, b, c)
+                    pushes += 1
+            for k in range(3):
+                g = 3 * t + k
+                if cons[g] > 0 and piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, g):
+                    if sn == sq.shape[0]:
+                        sq = _grow_rows(sq)
+                    sq[sn, 0] = g
+                    sq[sn, 1] = tri[g]
+                    sq[sn, 2] = tri[nxt(g)]
+                    sq[sn, 3] = 0
+                    sn += 1
+            e = twin[prv(e)]
+            if e == e0:
+                break
+
+
+@njit(cache=True)
+def hull_pieces(tri, twin, cons, lab, ntri, inf, first_id):
+    """Make every convex-hull edge of an inside triangle a segment (ids from
+    ``first_id``), so refinement splits it like any boundary segment. Returns
+    the new segments' endpoints."""
+    out = np.empty((ntri + 3, 2), np.int64)
+    n = 0
+    for e in range(3 * ntri):
+        if cons[e] != 0 or lab[e // 3] == OUT:
+            continue
+        f = twin[e]
+        if tri[3 * (f // 3)] == inf or tri[3 * (f // 3) + 1] == inf or tri[3 * (f // 3) + 2] == inf:
+            cons[e] = first_id + n
+            cons[f] = first_id + n
+            out[n, 0] = tri[e]
+            out[n, 1] = tri[nxt(e)]
+            n += 1
+    return out[:n]
+
+
+@njit(cache=True)
+def freeze_boundary(tri, twin, cons, lab, ntri):
+    """``split_boundary=False``: freeze the pieces with the outside on one side."""
+    for e in range(3 * ntri):
+        if cons[e] > 0 and (lab[e // 3] == OUT) != (lab[twin[e] // 3] == OUT):
+            cons[e] = -cons[e]
+            cons[twin[e]] = -cons[twin[e]]
+
+
+def refine_mesh(mesh, lab, seg_ends, *, min_angle, max_area, area_of_label, conforming,
+                split_boundary, max_new):
+    """Run the refinement on a :class:`cdt._Mesh` whose triangle labels are
+    ``lab``. Returns ``(status, counts, lab, seg_ends)``; ``seg_ends`` gains the
+    hull edges made segments. Frozen pieces are unfrozen on return."""
+    nv0 = mesh.nv
+    hull = hull_pieces(mesh.tri, mesh.twin, mesh.cons, lab, mesh.ntri, mesh.inf, len(seg_ends) + 1)
+    seg_ends = np.vstack([seg_ends.reshape(-1, 2), hull]).astype(np.int64)
+    if not split_boundary:
+        freeze_boundary(mesh.tri, mesh.twin, mesh.cons, lab, mesh.ntri)
+    if min_angle:
+        theta = np.radians(min_angle)
+        sin2_bound = np.sin(theta) ** 2
+        offconstant = 0.475 * np.sqrt((1.0 + np.cos(theta)) / (1.0 - np.cos(theta)))
+    else:
+        sin2_bound, offconstant = 0.0, 0.0
+    # diametral lenses for quality meshing, circles for conforming Delaunay
+    lens = 0.0 if conforming else float(np.cos(2 * np.radians(min_angle))) ** 2
+    vseg = np.zeros(mesh.inf + 1, np.int64)
+    counts = np.zeros(5, np.int64)
+    while True:
+        status, mesh.ntri, mesh.nv = refine_loop(
+            mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.inf, mesh.ntri, mesh.nv, nv0, lab,
+            vseg, seg_ends, sin2_bound, offconstant, lens, area_of_label, conforming, max_new, counts)
+        if status != NEED_ROOM:
+            break
+        mesh.grow_vertices()
+        lab = _grown(lab, len(mesh.tri) // 3, OUT)
+        vseg = _grown(vseg, mesh.inf + 1, 0)
+    np.abs(mesh.cons, out=mesh.cons)
+    return status, counts, lab, seg_ends
+
+
+def _grown(a, n, fill):
+    b = np.full(n, fill, a.dtype)
+    b[: len(a)] = a
+    return b
