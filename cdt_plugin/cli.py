@@ -1,0 +1,454 @@
+"""The ``cdt-plugin`` command line (also ``python -m cdt_plugin``).
+
+``cdt-plugin mesh INPUT -o OUTPUT`` triangulates a file and writes the mesh;
+``cdt-plugin report INPUT`` prints the quality report. Inputs: Triangle's
+``.poly`` / ``.node``, GeoJSON (``.geojson`` / ``.json``: a geometry, a Feature or
+a FeatureCollection, one mesh per feature; a bare JSON array of rings is read as
+one polygon, earcut's fixture format) and ``.wkt``. Outputs, by extension:
+``.ply``, ``.obj``, ``.stl``, ``.glb``, ``.off`` (written by trimesh; its PLY, STL
+and GLB writers store float32 coordinates, OBJ and OFF are written with 17
+decimals), ``.geojson``
+/ ``.json`` (a FeatureCollection of triangles per input feature) and Triangle's
+``.node`` / ``.ele`` / ``.poly`` (all three are written).
+
+Errors are one line on stderr (``cdt-plugin: error: ...``) and exit status 1;
+command-line usage errors exit with 2.
+
+>>> main(["report", "--help"])      # doctest: +ELLIPSIS
+usage: cdt-plugin report [-h] ...
+...
+0
+"""
+from __future__ import annotations
+
+import argparse
+import inspect
+import json
+import os
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from .errors import CDTError
+
+__all__ = ["main", "build_parser", "read_input", "triangulate_features", "concatenate",
+           "write_output", "Feature"]
+
+MESH_FORMATS = (".ply", ".obj", ".stl", ".glb", ".off")
+GEOJSON_FORMATS = (".geojson", ".json")
+TRIANGLE_FORMATS = (".node", ".ele", ".poly")
+INPUT_FORMATS = (".poly", ".node", ".geojson", ".json", ".wkt")
+GIS_FORMATS = (".shp", ".gpkg")
+
+EXAMPLES = """\
+examples:
+  cdt-plugin mesh letter.poly -o letter.ply
+  cdt-plugin mesh countries.geojson -o countries.geojson --report
+  cdt-plugin mesh countries.geojson -o countries.glb --extrude 0.5
+  cdt-plugin mesh shape.wkt -o shape.stl --extrude 2 --plot shape.png
+  cdt-plugin mesh A.poly -o A.ele --min-angle 30 --max-area 0.01
+  cdt-plugin report polygon.json --against earcut
+  cdt-plugin report polygon.geojson --against other_mesh.ply --json
+"""
+
+
+class CLIError(Exception):
+    """A problem with the command's input or options: printed as one line."""
+
+
+@dataclass
+class Feature:
+    """One thing to triangulate: a geometry (shapely, or a GeoJSON mapping) or PLC
+    arrays (Triangle files), with its GeoJSON properties."""
+    name: str
+    geometry: Any = None
+    arrays: dict = field(default_factory=dict)
+    properties: dict = field(default_factory=dict)
+
+
+# ------------------------------------------------------------------- parser
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser (subcommands ``mesh`` and ``report``)."""
+    fmt = argparse.RawDescriptionHelpFormatter
+    parser = argparse.ArgumentParser(
+        prog="cdt-plugin", formatter_class=fmt, epilog=EXAMPLES,
+        description="Constrained Delaunay triangulation of polygon and PSLG files: "
+                    "mesh them, report their quality, compare with other meshes.")
+    from . import __version__
+    parser.add_argument("--version", action="version", version=f"cdt-plugin {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="{mesh,report}", required=True)
+
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("input", metavar="INPUT",
+                        help="input file: .poly/.node (Triangle), .geojson/.json, .wkt")
+    common.add_argument("--min-angle", type=float, metavar="A",
+                        help="quality refinement: smallest angle in degrees (Steiner points added)")
+    common.add_argument("--max-area", type=float, metavar="S",
+                        help="quality refinement: largest triangle area")
+    common.add_argument("--intersections", choices=("raise", "split"), default="raise",
+                        help="crossing segments: report them (default), or split them at the "
+                             "crossing (polygons are then not validated: even-odd inside)")
+    common.add_argument("--repair", action="store_true",
+                        help="repair invalid polygons with shapely.make_valid instead of failing")
+    common.add_argument("--plot", metavar="PNG", type=Path,
+                        help="also draw the mesh and its angle histogram to this image")
+    bar = common.add_mutually_exclusive_group()
+    bar.add_argument("--progress", dest="progress", action="store_true", default=None,
+                     help="always show a progress bar over the features (default: on a terminal)")
+    bar.add_argument("--no-progress", dest="progress", action="store_false",
+                     help="never show a progress bar")
+
+    mesh = sub.add_parser("mesh", parents=[common], formatter_class=fmt, epilog=EXAMPLES,
+                          help="triangulate INPUT and write the mesh",
+                          description="Triangulate INPUT (constrained Delaunay, optionally "
+                                      "refined) and write the mesh to OUTPUT.")
+    mesh.add_argument("-o", "--output", required=True, type=Path, metavar="OUTPUT",
+                      help="output file: .ply .obj .stl .glb .off (trimesh), .geojson/.json, "
+                           ".node/.ele/.poly (Triangle: all three written)")
+    mesh.add_argument("--extrude", type=float, metavar="H",
+                      help="extrude the mesh into a watertight solid of height H (mesh formats)")
+    mesh.add_argument("--report", action="store_true", help="also print the quality report")
+    mesh.set_defaults(func=_cmd_mesh)
+
+    rep = sub.add_parser("report", parents=[common], formatter_class=fmt, epilog=EXAMPLES,
+                         help="print the quality report of INPUT's triangulation",
+                         description="Triangulate INPUT and print its quality report "
+                                     "(angles, circumdisks, Delaunay certificate).")
+    rep.add_argument("--against", metavar="earcut|MESH",
+                     help="compare with mapbox_earcut's triangulation of the same polygons, or "
+                          "with a mesh file (anything trimesh loads; x and y are used)")
+    rep.add_argument("--json", action="store_true", help="print the report as JSON")
+    rep.set_defaults(func=_cmd_report)
+    return parser
+
+
+# ------------------------------------------------------------------- reading
+def read_input(path: Path) -> list[Feature]:
+    """The features of an input file (see the module docstring for formats)."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix in GIS_FORMATS:
+        raise CLIError(f"{path}: {suffix} input needs the GIS adapter, which is not available yet; "
+                       "convert it to GeoJSON first (ogr2ogr -f GeoJSON out.geojson in" + suffix + ")")
+    if suffix not in INPUT_FORMATS:
+        raise CLIError(f"{path}: unknown input format {suffix or '(no extension)'!r}; "
+                       f"expected one of {', '.join(INPUT_FORMATS)}")
+    if not path.exists():
+        raise CLIError(f"{path}: no such file")
+    from . import io
+    if suffix == ".poly":
+        pd = io.read_poly(path)
+        arrays = {"vertices": pd.vertices, "segments": pd.segments, "holes": pd.holes}
+        if len(pd.regions):
+            arrays["regions"] = pd.regions
+        return [Feature(path.name, arrays=arrays)]
+    if suffix == ".node":
+        return [Feature(path.name, arrays={"vertices": io.read_node(path).vertices})]
+    if suffix == ".wkt":
+        shapely = _import("shapely", "reading WKT")
+        try:
+            geometry = shapely.from_wkt(path.read_text(encoding="utf-8").strip())
+        except shapely.errors.GEOSException as exc:
+            raise CLIError(f"{path}: not valid WKT ({exc})") from None
+        return [Feature(path.name, geometry=geometry)]
+    return _read_json(path)
+
+
+def _read_json(path: Path) -> list[Feature]:
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise CLIError(f"{path}: not valid JSON ({exc})") from None
+    if isinstance(data, list):     # earcut's fixtures: [shell, hole, ...] rings
+        data = {"type": "Polygon", "coordinates": data}
+    if not isinstance(data, dict) or "type" not in data:
+        raise CLIError(f"{path}: expected GeoJSON (a geometry, Feature or FeatureCollection) "
+                       "or a JSON array of rings")
+    if data["type"] == "FeatureCollection":
+        raw = data.get("features") or []
+    elif data["type"] == "Feature":
+        raw = [data]
+    else:
+        raw = [{"type": "Feature", "geometry": data, "properties": {}}]
+    features = []
+    for i, feat in enumerate(raw):
+        props = (feat.get("properties") if isinstance(feat, dict) else None) or {}
+        name = props.get("name") or props.get("NAME") or props.get("admin")
+        label = f"feature {i}" + (f" ({name})" if name else "") if len(raw) > 1 else path.name
+        if isinstance(feat, dict) and feat.get("geometry"):    # null geometry: nothing to mesh
+            features.append(Feature(label, geometry=feat["geometry"], properties=props))
+    if not features:
+        raise CLIError(f"{path}: no geometry to triangulate")
+    return features
+
+
+def _shapely_geometry(feature: Feature):
+    """The feature's geometry as a shapely geometry (GeoJSON mappings are converted)."""
+    if not isinstance(feature.geometry, dict):
+        return feature.geometry
+    shapely = _import("shapely", "validating GeoJSON polygons")
+    try:
+        return shapely.geometry.shape(feature.geometry)
+    except (ValueError, TypeError, KeyError, AttributeError, IndexError,
+            shapely.errors.ShapelyError) as exc:
+        raise CLIError(f"{feature.name}: not a valid GeoJSON geometry ({exc}); "
+                       "--intersections split meshes its rings as they are") from None
+
+
+def _import(module: str, purpose: str):
+    import importlib
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        extra = {"shapely": "shapely", "trimesh": "trimesh", "matplotlib": "plot"}.get(module, module)
+        raise CLIError(f"{purpose} needs {module} (pip install 'cdt-plugin[{extra}]')") from None
+
+
+# --------------------------------------------------------------- meshing
+def _options(args) -> dict:
+    """Keyword options for triangulate; refinement options only when given."""
+    options: dict = {"intersections": args.intersections}
+    asked = {k: v for k, v in (("min_angle", args.min_angle), ("max_area", args.max_area))
+             if v is not None}
+    if asked:
+        from . import triangulate
+        accepted = inspect.signature(triangulate).parameters
+        missing = [k for k in asked if k not in accepted]
+        if missing:
+            raise CLIError("refinement options need a cdt_plugin whose triangulate() accepts "
+                           f"{', '.join(missing)} (quality refinement is not in this version)")
+        options.update(asked)
+    return options
+
+
+def triangulate_features(features: Sequence[Feature], options: dict, *, repair: bool = False,
+                         progress: bool | None = None) -> list:
+    """Triangulate each feature (a progress bar over many features when ``progress``
+    is True, or None and stderr is a terminal). Errors name the feature."""
+    from . import triangulate
+    items = features
+    if len(features) > 1 and progress is not False:
+        try:
+            from tqdm import tqdm
+            items = tqdm(features, desc="triangulating", unit="feature", disable=progress is None
+                         and not sys.stderr.isatty(), file=sys.stderr)
+        except ImportError:
+            pass
+    # Geometry goes through the shapely adapter (GEOS validity check, optional
+    # repair) unless crossings are to be split: the engine then meshes the rings
+    # as they are, by even-odd depth where they cross.
+    validate = repair or options.get("intersections") != "split"
+    tris = []
+    for feature in items:
+        try:
+            if feature.geometry is not None and validate:
+                from .adapters.shapely import triangulate as triangulate_geometry
+                tris.append(triangulate_geometry(_shapely_geometry(feature), repair=repair,
+                                                 **options))
+            elif feature.geometry is not None:
+                tris.append(triangulate(feature.geometry, **options))
+            else:
+                tris.append(triangulate(**feature.arrays, **options))
+        except CDTError as exc:
+            message = str(exc).replace(
+                "pass repair=True to repair it with shapely.make_valid",
+                "pass --repair to repair it with shapely.make_valid, or --intersections split "
+                "to mesh its rings as they are")
+            raise CLIError(f"{feature.name}: {message}" if len(features) > 1 else message) from None
+    return tris
+
+
+def concatenate(tris: Sequence) -> Any:
+    """One Triangulation holding several (vertices, triangles, segments offset;
+    ``regions`` = the index of the triangulation each triangle came from; numeric
+    ``stats`` summed). One input is returned as it is.
+
+    >>> import cdt_plugin
+    >>> a = cdt_plugin.triangulate([[0, 0], [1, 0], [0, 1]], [[0, 1], [1, 2], [2, 0]])
+    >>> both = concatenate([a, a])
+    >>> both.triangles.tolist(), both.regions.tolist(), both.is_delaunay()
+    ([[0, 1, 2], [3, 4, 5]], [0, 1], True)
+    """
+    from .triangulation import Triangulation
+    if len(tris) == 1:
+        return tris[0]
+    voff = np.cumsum([0] + [len(t.vertices) for t in tris])
+    toff = np.cumsum([0] + [len(t.triangles) for t in tris])
+    soff = np.cumsum([0] + [t.stats.get("input_segments", 0) for t in tris])
+    shift = lambda a, off: np.where(a >= 0, a + off, -1)  # noqa: E731
+    out = Triangulation(
+        np.vstack([t.vertices for t in tris]),
+        np.vstack([t.triangles + o for t, o in zip(tris, voff)]).astype(np.int64),
+        np.vstack([shift(t.neighbors, o) for t, o in zip(tris, toff)]).astype(np.int64),
+        np.concatenate([shift(t.vertex_map, o) for t, o in zip(tris, voff)]),
+        _sum_stats([t.stats for t in tris]))
+    out.constrained = np.vstack([t.constrained for t in tris])
+    out.segments = np.vstack([t.segments + o for t, o in zip(tris, voff)]).astype(np.int64)
+    out.segment_ids = np.concatenate([shift(t.segment_ids, o) for t, o in zip(tris, soff)])
+    out.steiner = np.concatenate([t.steiner + o for t, o in zip(tris, voff)]).astype(np.int64)
+    out.regions = np.repeat(np.arange(len(tris)), [len(t.triangles) for t in tris])
+    return out
+
+
+def _sum_stats(stats: list[dict]) -> dict:
+    out: dict = {}
+    for key in stats[0]:
+        values = [s.get(key) for s in stats]
+        if all(isinstance(v, bool) for v in values):
+            out[key] = all(values)
+        elif all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values):
+            out[key] = sum(values)
+    return out
+
+
+# ------------------------------------------------------------------ writing
+def _check_output(path: Path, extrude: float | None) -> str:
+    suffix = path.suffix.lower()
+    if suffix not in MESH_FORMATS + GEOJSON_FORMATS + TRIANGLE_FORMATS:
+        raise CLIError(f"{path}: unknown output format {suffix or '(no extension)'!r}; expected one "
+                       f"of {', '.join(MESH_FORMATS + GEOJSON_FORMATS + TRIANGLE_FORMATS)}")
+    if extrude is not None and suffix not in MESH_FORMATS:
+        raise CLIError(f"--extrude makes a solid: write it to a mesh format "
+                       f"({', '.join(MESH_FORMATS)}), not {suffix}")
+    if extrude is not None and not (np.isfinite(extrude) and extrude != 0):
+        raise CLIError(f"--extrude needs a finite nonzero height, got {extrude}")
+    if not path.parent.exists():
+        raise CLIError(f"{path}: the directory {path.parent} does not exist")
+    return suffix
+
+
+def write_output(path: Path, features: Sequence[Feature], tris: Sequence, combined,
+                 extrude: float | None = None) -> str:
+    """Write the mesh to ``path`` (format by extension); returns a one-line summary."""
+    path = Path(path)
+    suffix = _check_output(path, extrude)
+    if suffix in MESH_FORMATS:
+        _import("trimesh", f"writing {suffix}")
+        from .adapters.trimesh import extrude_triangulation
+        mesh = combined.to_trimesh(remove_unreferenced=True)
+        if extrude is not None:
+            mesh = extrude_triangulation(mesh.vertices[:, :2], mesh.faces, extrude)
+        # OBJ and OFF are text: 17 decimals keep the coordinates (trimesh's
+        # PLY, STL and GLB writers store float32)
+        mesh.export(path, **({"digits": 17} if suffix in (".obj", ".off") else {}))
+        return f"wrote {path}: {len(mesh.vertices):,} vertices, {len(mesh.faces):,} triangles"
+    if suffix in GEOJSON_FORMATS:
+        shapely = _import("shapely", "writing GeoJSON")
+        from .adapters.shapely import to_shapely
+        out = {"type": "FeatureCollection", "features": [
+            {"type": "Feature", "properties": {**f.properties, "triangles": len(t.triangles)},
+             "geometry": shapely.geometry.mapping(to_shapely(t, ccw=True))}
+            for f, t in zip(features, tris)]}
+        path.write_text(json.dumps(out), encoding="utf-8")
+        return f"wrote {path}: {len(tris)} feature(s), {len(combined.triangles):,} triangles"
+    from . import io
+    base = path.with_suffix("")
+    attributes = combined.regions if len(tris) > 1 else None
+    io.write_node(base.with_suffix(".node"), combined.vertices)
+    io.write_ele(base.with_suffix(".ele"), combined.triangles, attributes=attributes)
+    io.write_poly(base.with_suffix(".poly"), combined.vertices, combined.segments)
+    return (f"wrote {base}.node/.ele/.poly: {len(combined.vertices):,} vertices, "
+            f"{len(combined.triangles):,} triangles, {len(combined.segments):,} segment edges")
+
+
+# ----------------------------------------------------------------- commands
+def _mesh_all(args):
+    features = read_input(Path(args.input))
+    options = _options(args)
+    if args.plot is not None:
+        _check_plot(args.plot)
+    tris = triangulate_features(features, options, repair=args.repair, progress=args.progress)
+    return features, tris, concatenate(tris)
+
+
+def _check_plot(path: Path) -> None:
+    _import("matplotlib", "--plot")
+    if not path.parent.exists():
+        raise CLIError(f"{path}: the directory {path.parent} does not exist")
+
+
+def _save_plot(path: Path, combined, against=None, against_name="against") -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    from .plot import save
+    save(combined, path, against=against, against_name=against_name)
+
+
+def _cmd_mesh(args) -> int:
+    output = Path(args.output)
+    _check_output(output, args.extrude)
+    features, tris, combined = _mesh_all(args)
+    print(write_output(output, features, tris, combined, args.extrude))
+    if args.report:
+        print(combined.report())
+    if args.plot is not None:
+        _save_plot(args.plot, combined)
+    return 0
+
+
+def _against(spec: str, features: Sequence[Feature]):
+    """(vertices, triangles, name) of the ``--against`` triangulation."""
+    if spec == "earcut":
+        if any(f.geometry is None for f in features):
+            raise CLIError("--against earcut needs polygon input (.geojson, .json or .wkt)")
+        from .report import earcut
+        _import("mapbox_earcut", "--against earcut")
+        collection = {"type": "GeometryCollection", "geometries": [f.geometry for f in features]}
+        return earcut(collection), "earcut"
+    path = Path(spec)
+    if not path.exists():
+        raise CLIError(f"--against {spec}: expected 'earcut' or an existing mesh file")
+    trimesh = _import("trimesh", "--against MESH")
+    mesh = trimesh.load(path, force="mesh", process=False)
+    return (np.asarray(mesh.vertices), np.asarray(mesh.faces)), path.name
+
+
+def _cmd_report(args) -> int:
+    features, tris, combined = _mesh_all(args)
+    against, name = _against(args.against, features) if args.against else (None, "against")
+    rep = combined.report(against=against, against_name=name)
+    print(rep.to_json() if args.json else rep)
+    if args.plot is not None:
+        _save_plot(args.plot, combined, against, name)
+    return 0
+
+
+# --------------------------------------------------------------------- main
+def _fail(message: str) -> int:
+    line = " ".join(str(message).split())
+    print(f"cdt-plugin: error: {line}", file=sys.stderr)
+    return 1
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status (0 ok, 1 error, 2 usage)."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:          # --help, --version, usage errors
+        return int(exc.code or 0)
+    try:
+        return args.func(args)
+    except BrokenPipeError:            # the reader went away (| head): stop quietly
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1
+    except KeyboardInterrupt:
+        _fail("interrupted")
+        return 130
+    except (CLIError, CDTError) as exc:
+        return _fail(str(exc))
+    except OSError as exc:
+        where = f"{exc.filename}: " if exc.filename else ""
+        return _fail(f"{where}{exc.strerror or exc}")
+    except (ValueError, TypeError, ImportError) as exc:
+        return _fail(str(exc) or type(exc).__name__)
+    except Exception as exc:           # never a traceback
+        return _fail(f"unexpected {type(exc).__name__}: {exc}")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

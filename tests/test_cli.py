@@ -1,0 +1,274 @@
+"""The ``cdt-plugin`` command line: run as a subprocess on corpus files, the
+outputs loaded back with trimesh, shapely and cdt_plugin.io; errors are one line
+on stderr with exit status 1, never a traceback. The quicker checks call
+``main()`` in-process."""
+from __future__ import annotations
+
+import doctest
+import inspect
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cdt_plugin
+import cdt_plugin.cli as cli
+from cdt_plugin import io as tio
+from cdt_plugin.report import triangle_quality
+from corpus import corpus_dir
+
+ROOT = Path(__file__).resolve().parents[1]
+CORPUS = corpus_dir()
+needs_corpus = pytest.mark.skipif(not CORPUS.exists(), reason="corpus not found")
+has_refinement = "min_angle" in inspect.signature(cdt_plugin.triangulate).parameters
+
+
+def run(*args, check=True):
+    """``python -m cdt_plugin ARGS`` in a fresh process."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    proc = subprocess.run([sys.executable, "-m", "cdt_plugin", *map(str, args)], capture_output=True,
+                          text=True, env=env, timeout=600)
+    assert "Traceback" not in proc.stderr, proc.stderr
+    if check:
+        assert proc.returncode == 0, proc.stderr
+    return proc
+
+
+def test_docstring_examples():
+    result = doctest.testmod(cli)
+    assert result.attempted >= 3 and result.failed == 0
+
+
+def test_console_script_is_registered():
+    scripts = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]
+    assert scripts["cdt-plugin"] == "cdt_plugin.cli:main"
+    exe = shutil.which("cdt-plugin")
+    if exe is not None:       # installed (pip install -e .): the script runs main()
+        out = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=120)
+        assert out.returncode == 0 and out.stdout.strip() == f"cdt-plugin {cdt_plugin.__version__}"
+
+
+def test_help_shows_examples():
+    proc = run("--help")
+    assert "examples:" in proc.stdout and "cdt-plugin mesh" in proc.stdout
+    assert "cdt-plugin report polygon.json --against earcut" in proc.stdout
+
+
+# ------------------------------------------------- subprocess, corpus files
+@needs_corpus
+def test_mesh_poly_to_ply(tmp_path):
+    trimesh = pytest.importorskip("trimesh")
+    src = CORPUS / "triangle" / "A.poly"
+    out = tmp_path / "A.ply"
+    proc = run("mesh", src, "-o", out, "--report")
+    pd = tio.read_poly(src)
+    tri = cdt_plugin.triangulate(pd.vertices, pd.segments, holes=pd.holes)
+    assert proc.stdout.splitlines()[0] == f"wrote {out}: 29 vertices, 29 triangles"
+    assert "non-Delaunay non-segment edges" in proc.stdout
+    mesh = trimesh.load(out, process=False)
+    assert len(mesh.faces) == len(tri.triangles) == 29          # Triangle's -p count
+    assert np.allclose(mesh.vertices[:, 2], 0.0)
+    assert mesh.area == pytest.approx(_areas(tri.vertices, tri.triangles).sum(), rel=1e-6)   # float32 PLY
+    assert (mesh.face_normals[:, 2] > 0).all()                 # counter-clockwise seen from +z
+
+
+def _areas(V, T):
+    P = np.asarray(V)[np.asarray(T)]
+    return 0.5 * np.abs((P[:, 1, 0] - P[:, 0, 0]) * (P[:, 2, 1] - P[:, 0, 1])
+                        - (P[:, 1, 1] - P[:, 0, 1]) * (P[:, 2, 0] - P[:, 0, 0]))
+
+
+@needs_corpus
+def test_mesh_feature_collection_to_geojson_with_progress_bar(tmp_path):
+    shapely = pytest.importorskip("shapely")
+    pytest.importorskip("tqdm")
+    src = CORPUS / "gis" / "naturalearth_lowres.geojson"
+    out = tmp_path / "countries.geojson"
+    proc = run("mesh", src, "-o", out, "--progress")
+    assert "177/177" in proc.stderr and "triangulating" in proc.stderr
+    assert proc.stdout.strip() == f"wrote {out}: 177 feature(s), 9,791 triangles"
+    written = json.loads(out.read_text())["features"]
+    given = json.loads(src.read_text())["features"]
+    assert len(written) == len(given) == 177
+    for w, g in zip(written, given):
+        triangles = shapely.geometry.shape(w["geometry"])
+        polygon = shapely.geometry.shape(g["geometry"])
+        assert triangles.geom_type == "GeometryCollection"
+        assert len(triangles.geoms) == w["properties"]["triangles"]
+        assert w["properties"]["name"] == g["properties"]["name"]
+        parts = np.array(triangles.geoms)
+        assert shapely.is_ccw(shapely.get_exterior_ring(parts)).all()
+        assert shapely.area(parts).sum() == pytest.approx(polygon.area, rel=1e-9)
+        assert shapely.union_all(parts).symmetric_difference(polygon).area <= 1e-9 * polygon.area
+
+
+@needs_corpus
+def test_mesh_wkt_extruded_to_stl(tmp_path):
+    trimesh = pytest.importorskip("trimesh")
+    shapely = pytest.importorskip("shapely")
+    rings = json.loads((CORPUS / "earcut" / "dude.json").read_text())
+    polygon = shapely.Polygon(rings[0], rings[1:])
+    assert polygon.is_valid
+    src = tmp_path / "dude.wkt"
+    src.write_text(polygon.wkt)
+    out = tmp_path / "dude.stl"
+    run("mesh", src, "-o", out, "--extrude", 2.5)
+    solid = trimesh.load(out)                 # STL: float32, vertices merged on load
+    assert solid.is_watertight and solid.is_winding_consistent
+    assert solid.volume == pytest.approx(polygon.area * 2.5, rel=1e-5)
+
+
+@needs_corpus
+def test_report_against_earcut_as_json():
+    proc = run("report", CORPUS / "earcut" / "dude.json", "--against", "earcut", "--json")
+    rep = json.loads(proc.stdout)
+    theirs = rep["against"]
+    assert theirs["name"] == "earcut" and theirs["triangles"] == rep["triangles"]
+    assert rep["comparison"]["theorem_applies"] is True
+    assert rep["min_angle"] >= theirs["min_angle"]
+    assert rep["max_circumradius"] <= theirs["max_circumradius"]
+    assert rep["max_min_containment_radius"] <= theirs["max_min_containment_radius"]
+    assert rep["non_delaunay_edges"] == 0 < theirs["non_delaunay_edges"]
+
+
+def test_error_is_one_line_without_traceback(tmp_path):
+    proc = run("mesh", tmp_path / "missing.poly", "-o", tmp_path / "x.ply", check=False)
+    assert proc.returncode == 1 and proc.stdout == ""
+    assert proc.stderr.splitlines() == [f"cdt-plugin: error: {tmp_path / 'missing.poly'}: no such file"]
+
+
+# ------------------------------------------------------------- in-process
+@needs_corpus
+def test_mesh_to_triangle_files_round_trip(tmp_path, capsys):
+    src = CORPUS / "triangle" / "A.poly"
+    assert cli.main(["mesh", str(src), "-o", str(tmp_path / "A.ele")]) == 0
+    assert capsys.readouterr().out.startswith(f"wrote {tmp_path / 'A'}.node/.ele/.poly: 29 vertices")
+    pd = tio.read_poly(src)
+    tri = cdt_plugin.triangulate(pd.vertices, pd.segments, holes=pd.holes)
+    node = tio.read_node(tmp_path / "A.node")
+    assert np.array_equal(node.vertices, tri.vertices)                # bit for bit
+    assert np.array_equal(tio.read_ele(tmp_path / "A.ele").triangles, tri.triangles)
+    poly = tio.read_poly(tmp_path / "A.poly")
+    assert np.array_equal(poly.segments, tri.segments)
+
+
+@needs_corpus
+def test_report_against_a_mesh_file(tmp_path, capsys):
+    pytest.importorskip("trimesh")
+    src = CORPUS / "triangle" / "A.poly"
+    assert cli.main(["mesh", str(src), "-o", str(tmp_path / "A.obj")]) == 0
+    assert cli.main(["report", str(src), "--against", str(tmp_path / "A.obj"), "--json"]) == 0
+    rep = json.loads(capsys.readouterr().out.split("\n", 1)[1])
+    assert rep["against"]["name"] == "A.obj"
+    assert rep["comparison"]["same_vertices"] is True          # OBJ keeps the coordinates
+    for key in ("triangles", "min_angle", "max_circumradius", "max_min_containment_radius",
+                "non_delaunay_edges", "cocircular_edges"):
+        assert rep["against"][key] == rep[key], key
+
+
+def test_multi_feature_mesh_and_plot(tmp_path, capsys):
+    pytest.importorskip("shapely")
+    pytest.importorskip("matplotlib")
+    features = {"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": "a"},
+         "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [4, 0], [4, 4], [0, 4], [0, 0]],
+                                                         [[1, 1], [1, 3], [3, 3], [3, 1], [1, 1]]]}},
+        {"type": "Feature", "properties": {"name": "empty"}, "geometry": None},
+        {"type": "Feature", "properties": {"name": "b"},
+         "geometry": {"type": "Polygon", "coordinates": [[[5, 0], [6, 0], [5, 1], [5, 0]]]}}]}
+    src = tmp_path / "two.geojson"
+    src.write_text(json.dumps(features))
+    png = tmp_path / "two.png"
+    assert cli.main(["mesh", str(src), "-o", str(tmp_path / "two.node"), "--plot", str(png),
+                     "--report", "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "2 feature" not in out and "9 triangles" in out
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    ele = tio.read_ele(tmp_path / "two.ele")
+    assert ele.attributes[:, 0].tolist() == [0.0] * 8 + [1.0]        # feature of each triangle
+    nodes = tio.read_node(tmp_path / "two.node").vertices
+    assert nodes.shape == (11, 2) and nodes[ele.triangles[-1]].tolist() == [[5, 0], [6, 0], [5, 1]]
+
+
+def test_concatenate_offsets_everything():
+    a = cdt_plugin.triangulate([[0, 0], [4, 0], [4, 4], [0, 4], [1, 1], [3, 1], [3, 3], [1, 3]],
+                               [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4]])
+    b = cdt_plugin.triangulate([[10, 0], [11, 0], [10, 1], [10, 0]], [[0, 1], [1, 2], [2, 0]])
+    both = cli.concatenate([a, b])
+    assert np.array_equal(both.triangles, np.vstack([a.triangles, b.triangles + 8]))
+    assert both.neighbors[-1].tolist() == [-1, -1, -1]
+    assert np.array_equal(both.neighbors[:8], a.neighbors)
+    assert both.vertex_map.tolist() == a.vertex_map.tolist() + [8, 9, 10, 8]
+    assert both.segment_ids.tolist() == a.segment_ids.tolist() + (b.segment_ids + 8).tolist()
+    assert both.stats["input_points"] == 12 and both.stats["duplicates"] == 1
+    assert both.is_delaunay() and both.report().segment_edges == 11
+
+
+@pytest.mark.parametrize("args, message", [
+    (["mesh", "{c}/triangle/A.poly", "-o", "{t}/x.xyz"], "unknown output format '.xyz'"),
+    (["mesh", "{c}/triangle/A.poly", "-o", "{t}/x.geojson", "--extrude", "2"], "--extrude makes a solid"),
+    (["mesh", "{c}/triangle/A.poly", "-o", "{t}/x.ply", "--extrude", "0"], "finite nonzero height"),
+    (["mesh", "{c}/triangle/A.poly", "-o", "{t}/nowhere/x.ply"], "does not exist"),
+    (["mesh", "{t}/x.shp", "-o", "{t}/x.ply"], ".shp input needs the GIS adapter"),
+    (["report", "{c}/README.md"], "unknown input format '.md'"),
+    (["report", "{t}/bad.json"], "not valid JSON"),
+    (["report", "{c}/triangle/A.poly", "--against", "earcut"], "--against earcut needs polygon input"),
+    (["report", "{c}/triangle/A.poly", "--against", "{t}/none.ply"], "expected 'earcut' or an existing"),
+    (["report", "{c}/earcut/water.json"], "pass --repair"),
+    (["report", "{c}/earcut/steiner.json"], "not a valid GeoJSON geometry"),
+    (["report", "{c}/gis/ne_50m_admin_0_countries.geojson", "--no-progress"], "feature 98 (India)"),
+    (["report", "{c}/triangle/A.poly", "--max-area", "-1"], "max_area"),
+])
+@needs_corpus
+def test_errors_are_one_clear_line(tmp_path, capsys, args, message):
+    (tmp_path / "bad.json").write_text("{not json")
+    argv = [a.format(c=CORPUS, t=tmp_path) for a in args]
+    assert cli.main(argv) == 1
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith("cdt-plugin: error: ")
+    assert message in err[0]
+
+
+def test_usage_errors_exit_2(capsys):
+    assert cli.main(["mesh"]) == 2
+    assert "the following arguments are required: INPUT, -o/--output" in capsys.readouterr().err
+    assert cli.main(["report", "x.poly", "--intersections", "maybe"]) == 2
+
+
+@needs_corpus
+def test_split_and_repair_read_invalid_polygons(capsys):
+    src = str(CORPUS / "earcut" / "steiner.json")         # holes of one point each
+    assert cli.main(["report", src, "--intersections", "split", "--json"]) == 0
+    rep = json.loads(capsys.readouterr().out)
+    assert rep["input_vertices"] == 8 and rep["non_delaunay_edges"] == 0
+    assert cli.main(["report", str(CORPUS / "earcut" / "water3b.json"), "--repair"]) == 0
+    assert "non-Delaunay non-segment edges" in capsys.readouterr().out
+
+
+@pytest.mark.skipif(not has_refinement, reason="triangulate() has no min_angle yet")
+@needs_corpus
+def test_mesh_with_min_angle(tmp_path):
+    trimesh = pytest.importorskip("trimesh")
+    out = tmp_path / "A.obj"
+    proc = run("mesh", CORPUS / "triangle" / "A.poly", "-o", out, "--min-angle", "30", "--report")
+    mesh = trimesh.load(out, process=False)
+    q = triangle_quality(mesh.vertices[:, :2], mesh.faces)
+    assert q["angles"].min() >= 30.0 - 1e-6
+    steiner = next(line for line in proc.stdout.splitlines() if line.strip().startswith("Steiner"))
+    assert int(steiner.split()[-1].replace(",", "")) == len(mesh.vertices) - 29 > 0
+
+
+@pytest.mark.skipif(not has_refinement, reason="triangulate() has no max_area yet")
+@needs_corpus
+def test_mesh_with_max_area(tmp_path, capsys):
+    out = tmp_path / "A.ele"
+    assert cli.main(["mesh", str(CORPUS / "triangle" / "A.poly"), "-o", str(out), "--max-area", "0.01"]) == 0
+    T = tio.read_ele(out).triangles
+    areas = _areas(tio.read_node(tmp_path / "A.node").vertices, T)
+    assert len(T) > 29 and areas.max() <= 0.01 * (1 + 1e-12)
