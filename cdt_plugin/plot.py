@@ -8,8 +8,8 @@ keeps working without it.
   their circumcircles;
 * :func:`histogram` draws the angle histogram of the quality report, with the
   ``against`` triangulation's histogram overlaid when given;
-* :func:`figure` puts both side by side and :func:`save` writes that to a file
-  (what ``cdt-plugin mesh --plot out.png`` does).
+* :func:`figure` puts them side by side (and the ``against`` mesh between them)
+  and :func:`save` writes that to a file (what ``cdt-plugin ... --plot out.png`` does).
 
 >>> import matplotlib; matplotlib.use("Agg")
 >>> import cdt_plugin
@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from .report import ANGLE_BINS, Report, mesh_report, report as quality_report, triangle_quality
+from .report import ANGLE_BINS, Report, _against_arrays, mesh_report, report as quality_report, triangle_quality
 
 __all__ = ["plot", "histogram", "figure", "save"]
 
@@ -58,6 +58,9 @@ def plot(tri, ax=None, *, worst: int = 3, circumcircles: bool = True, face_color
          worst_color: str = WORST, linewidth: float = 0.5, title: str | None = None):
     """Draw a triangulation on ``ax`` (a new figure's Axes if None) and return the Axes.
 
+    ``tri``: a Triangulation, or another mesh as a ``(vertices, triangles)`` pair
+    or an object with ``vertices`` and ``faces`` (drawn without segments).
+
     Triangles are filled with ``face_color`` and outlined with ``edge_color``:
     only the triangles, so holes and the outside of the domain stay empty.
     Segment pieces (``tri.segments``) are drawn ``segment_width`` wide. The
@@ -69,11 +72,9 @@ def plot(tri, ax=None, *, worst: int = 3, circumcircles: bool = True, face_color
     from matplotlib.patches import Circle
 
     ax = _axes(ax)
-    V = np.asarray(tri.vertices, dtype=np.float64)[:, :2]
-    T = np.asarray(tri.triangles, dtype=np.int64)
+    V, T, S = _mesh_parts(tri)
     ax.add_collection(PolyCollection(V[T], facecolors=face_color, edgecolors=edge_color,
                                      linewidths=linewidth, zorder=1))
-    S = np.asarray(getattr(tri, "segments", np.empty((0, 2), np.int64)), dtype=np.int64)
     ax.add_collection(LineCollection(V[S], colors=segment_color, linewidths=segment_width,
                                      capstyle="round", zorder=3))
     if worst and len(T):
@@ -96,6 +97,18 @@ def plot(tri, ax=None, *, worst: int = 3, circumcircles: bool = True, face_color
     ax.set_aspect("equal")
     ax.set_title(title if title is not None else f"{len(T):,} triangles, {len(S):,} segment edges")
     return ax
+
+
+def _mesh_parts(mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Vertices (n, 2), triangles and segment edges of a Triangulation, of a
+    ``(vertices, triangles)`` pair or of a mesh with ``vertices`` and ``faces``."""
+    if hasattr(mesh, "vertex_map"):
+        V, T, S = mesh.vertices, mesh.triangles, mesh.segments
+    else:
+        V, T = _against_arrays(mesh)
+        S = np.empty((0, 2), np.int64)
+    return (np.asarray(V, dtype=np.float64)[:, :2], np.asarray(T, dtype=np.int64),
+            np.asarray(S, dtype=np.int64).reshape(-1, 2))
 
 
 def _circumcenter(P) -> np.ndarray:
@@ -143,12 +156,22 @@ def _as_report(obj, against, against_name, bins) -> Report:
 
 
 def figure(tri, *, against=None, against_name: str = "against", worst: int = 3,
-           size: tuple[float, float] = (12.0, 5.5), **plot_kwargs: Any):
-    """A Figure with the triangulation (left) and the angle histogram (right)."""
+           size: tuple[float, float] | None = None, **plot_kwargs: Any):
+    """A Figure with the triangulation (left), the ``against`` triangulation (middle,
+    when given, drawn the same way) and the angle histogram (right)."""
     plt = _pyplot()
-    fig, (left, right) = plt.subplots(1, 2, figsize=size, width_ratios=[3, 2])
-    plot(tri, left, worst=worst, **plot_kwargs)
-    histogram(tri, right, against=against, against_name=against_name)
+    panels = 2 if against is None else 3
+    size = size or ((12.0, 5.5) if against is None else (17.0, 5.5))
+    fig, axes = plt.subplots(1, panels, figsize=size, width_ratios=[3] * (panels - 1) + [2])
+    plot(tri, axes[0], worst=worst, title=f"cdt_plugin: {len(tri.triangles):,} triangles",
+         **plot_kwargs)
+    if against is not None:
+        theirs = _mesh_parts(against)
+        plot(against, axes[1], worst=worst, title=f"{against_name}: {len(theirs[1]):,} triangles",
+             **plot_kwargs)
+        axes[1].set_xlim(axes[0].get_xlim())
+        axes[1].set_ylim(axes[0].get_ylim())
+    histogram(tri, axes[-1], against=against, against_name=against_name)
     fig.tight_layout()
     return fig
 

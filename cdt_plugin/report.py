@@ -36,6 +36,7 @@ from numba import njit
 
 from .certify import edge_lifted_values
 from .errors import CDTError, InputShapeError
+from .io import _as_index
 from .predicates import orient2d
 
 __all__ = ["Report", "report", "compare", "mesh_report", "triangle_quality", "mesh_neighbors",
@@ -324,7 +325,7 @@ def mesh_report(vertices, triangles, *, segments=None, name: str = "mesh",
     1
     """
     V, T = _as_arrays(vertices, triangles)
-    S = None if segments is None else _as_index_pairs(segments, len(V), "segments")
+    S = None if segments is None else _as_index(segments, "segments", 2, len(V))
     used = np.unique(T)
     uniq, inverse = np.unique(V[used], axis=0, return_inverse=True)
     merged = np.full(len(V), -1, np.int64)
@@ -473,23 +474,8 @@ def _as_arrays(vertices, triangles) -> tuple[np.ndarray, np.ndarray]:
     V = np.asarray(vertices, dtype=np.float64)
     if V.ndim != 2 or V.shape[1] not in (2, 3):
         raise InputShapeError(f"vertices must have shape (n, 2) or (n, 3), got {V.shape}")
-    T = _as_index_pairs(triangles, len(V), "triangles", cols=3)
+    T = _as_index(triangles, "triangles", 3, len(V))
     return np.ascontiguousarray(V[:, :2]), T
-
-
-def _as_index_pairs(a, n, what, cols=2) -> np.ndarray:
-    arr = np.asarray(a)
-    if arr.size == 0:
-        return np.empty((0, cols), np.int64)
-    if arr.ndim != 2 or arr.shape[1] != cols or not np.issubdtype(arr.dtype, np.integer):
-        raise InputShapeError(f"{what} must be an integer array of shape (m, {cols}), "
-                              f"got {arr.dtype} {arr.shape}")
-    arr = arr.astype(np.int64)
-    bad = ((arr < 0) | (arr >= n)).any(axis=1)
-    if bad.any():
-        j = int(np.flatnonzero(bad)[0])
-        raise InputShapeError(f"{what} row {j} {arr[j].tolist()} names a vertex outside 0..{n - 1}")
-    return arr
 
 
 def _against_arrays(against) -> tuple[np.ndarray, np.ndarray]:
@@ -596,7 +582,7 @@ def _table(r: Report) -> str:
     width = max(len(label) for label, _ in body) + 2
     colw = [max(len(x.name), *(len(cells[i]) for _, cells in body)) + 2 for i, x in enumerate(reports)]
     lines = ["quality report".ljust(width) + "".join(x.name.rjust(w) for x, w in zip(reports, colw))]
-    lines += [label.ljust(width) + "".join(c.rjust(w) for c, w in zip(cells, colw))
+    lines += [(label.ljust(width) + "".join(c.rjust(w) for c, w in zip(cells, colw))).rstrip()
               for label, cells in body]
     if r.comparison is not None:
         lines.append(_verdict(r))

@@ -122,8 +122,15 @@ def test_save_writes_both_panels(tmp_path):
     img = matplotlib.image.imread(path)
     assert path.read_bytes()[:8] == PNG_SIGNATURE
     assert img.shape[:2] == (200, 400)
-    fig = cplot.figure(tri, against=(tri.vertices, tri.triangles))
-    left, right = fig.axes[:2]
-    assert left.get_title() == "8 triangles, 8 segment edges"
-    assert right.get_title() == "angle histogram"
+    fig = cplot.figure(tri)
+    assert [ax.get_title() for ax in fig.axes] == ["cdt_plugin: 8 triangles", "angle histogram"]
+    plt.close(fig)
+    fan = (tri.vertices, [[0, 1, 5], [0, 5, 4], [1, 2, 5], [2, 6, 5], [2, 3, 6], [3, 7, 6],
+                          [3, 0, 7], [0, 4, 7]])
+    fig = cplot.figure(tri, against=fan, against_name="fan")
+    ours, theirs, hist = fig.axes
+    assert theirs.get_title() == "fan: 8 triangles" and hist.get_title() == "angle histogram"
+    drawn = [c for c in theirs.collections if isinstance(c, PolyCollection)][0]
+    assert len(drawn.get_paths()) == 8
+    assert theirs.get_xlim() == ours.get_xlim() and theirs.get_ylim() == ours.get_ylim()
     plt.close(fig)
