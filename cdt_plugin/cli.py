@@ -51,7 +51,7 @@ examples:
   cdt-plugin mesh shape.wkt -o shape.stl --extrude 2 --plot shape.png
   cdt-plugin mesh A.poly -o A.ele --min-angle 30 --max-area 0.01
   cdt-plugin report polygon.json --against earcut
-  cdt-plugin report polygon.geojson --against other_mesh.ply --json
+  cdt-plugin report polygon.geojson --against other_mesh.obj --json
 """
 
 
@@ -119,7 +119,9 @@ def build_parser() -> argparse.ArgumentParser:
                                      "(angles, circumdisks, Delaunay certificate).")
     rep.add_argument("--against", metavar="earcut|MESH",
                      help="compare with mapbox_earcut's triangulation of the same polygons, or "
-                          "with a mesh file (anything trimesh loads; x and y are used)")
+                          "with a mesh file (anything trimesh loads; x and y are used; PLY, STL "
+                          "and GLB hold float32 coordinates, so use OBJ or OFF to compare with "
+                          "the same vertices)")
     rep.add_argument("--json", action="store_true", help="print the report as JSON")
     rep.set_defaults(func=_cmd_report)
     return parser
