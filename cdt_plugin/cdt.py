@@ -21,7 +21,7 @@ from .certify import locate_in_arrays
 from .mesh import IDX
 from .ordering import brio_order, lexicographic_order
 from .plc import as_plc
-from .refine import C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, FINISHED, OUT, refine_mesh
+from .refine import C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, FINISHED, OUT, count_below, refine_mesh
 from .regions import flood, segment_depths
 from .segments import (ALL_DONE, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING, STOP_LIMIT,
                        STOP_OVERLAP, insert_segments, intersection_point, make_buffers)
@@ -359,6 +359,8 @@ def _refine(plc, mesh, segs, classes, opts, split_boundary, stats):
     stats["refinement_segment_splits"] = int(counts[C_SEG_SPLITS])
     stats["refinement_flips"] = int(counts[C_FLIPS])
     stats["frozen_segment_pieces"] = int(counts[C_FROZEN])
+    stats["refinement_attempts"] = int(counts[C_ATTEMPTS])
+    stats["refinement_deferred"] = int(counts[C_DEFERRED])
     stats["refinement_complete"] = status == FINISHED
     stats["_limit"] = limit
     T, N, tid = solid_triangles(mesh.tri, mesh.twin, mesh.ntri, mesh.inf)
@@ -396,11 +398,10 @@ def _finish_refinement(out, plc, opts, stats):
     ids = out.segment_ids
     ids[ids >= len(plc.segments)] = -1
     below = np.empty(0, np.int64)
-    if opts["min_angle"] and len(out.triangles):
-        from .report import triangle_quality
-        # the refinement decided with sin^2 of the angle: forgive the last bits here
-        smallest = triangle_quality(out.vertices, out.triangles)["angles"].min(axis=1)
-        below = np.flatnonzero(smallest < opts["min_angle"] * (1 - 1e-12))
+    if opts["min_angle"]:
+        V = out.vertices
+        below = count_below(V[:, 0].copy(), V[:, 1].copy(), out.triangles,
+                            np.sin(np.radians(opts["min_angle"])) ** 2)
     stats["below_min_angle"] = int(len(below))
     out.below_min_angle = below
     limit = stats.pop("_limit")

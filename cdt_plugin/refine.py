@@ -41,6 +41,7 @@ from numba import njit
 from .insertion import legalize
 from .kernel import edge_is_illegal, lifted_test, orient
 from .locate import INSIDE, ON_EDGE, ON_VERTEX, classify_in_solid
+from .predicates import incircle
 from .mesh import nxt, prv, split_edge, split_triangle
 
 OUT = -2            # label of a triangle outside the domain (ghosts too)
@@ -56,6 +57,8 @@ C_SEG_SPLITS = 1    # of which on segments
 C_SKIPPED = 2       # bad triangles left alone (small input angle, frozen segments)
 C_FROZEN = 3        # pieces found too short to split in floating point
 C_FLIPS = 4
+C_ATTEMPTS = 5      # bad triangles taken from the queue (live ones)
+C_DEFERRED = 6      # of which waited for encroached segments to be split
 
 
 # ---------------------------------------------------------------- geometry
@@ -91,7 +94,7 @@ def shortest_edge2(x, y, a, b, c):
                (x[a] - x[c]) ** 2 + (y[a] - y[c]) ** 2)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def is_bad(x, y, a, b, c, sin2_bound, area_bound):
     """Whether the triangle breaks the angle or the area bound; and its key."""
     key, d = sin2_min_angle(x, y, a, b, c)
@@ -119,7 +122,7 @@ def encroaches(x, y, a, b, px, py, lens):
     return lens == 0.0 or dot * dot >= lens * (ax * ax + ay * ay) * (bx * bx + by * by)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def steiner_point(x, y, a, b, c, offconstant):
     """Circumcentre of counter-clockwise ``a b c``, pulled in to the off-centre
     on the bisector of the shortest edge when ``offconstant > 0`` and the
@@ -160,7 +163,7 @@ def steiner_point(x, y, a, b, c, offconstant):
 
 # ------------------------------------------------------------ priority queue
 FIFO = 2.0 ** -40   # per push: order inside a bucket (< 1 for 2^30 pushes)
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def heap_push(keys, items, n, key, t, a, b, c):
     """Push ``(key; t, a, b, c)`` on the binary min-heap ``keys[:n]``; the heap
     must have room. Returns the new size."""
@@ -179,7 +182,7 @@ def heap_push(keys, items, n, key, t, a, b, c):
     return n + 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def heap_pop(keys, items, n):
     """Remove the smallest entry; it is left at index ``n - 1``. Returns ``n - 1``."""
     n -= 1
@@ -226,7 +229,7 @@ def _grow_rows(rows):
 
 
 # ------------------------------------------------------------------ tests
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, h):
     """Whether constrained half-edge ``h`` is encroached: a triangle vertex
     beside it (inside the domain, or anywhere with ``conforming``) lies strictly
@@ -246,7 +249,7 @@ def piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, h):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
     """Shewchuk's rule (as in Triangle): leave a skinny triangle alone when its
     shortest edge joins Steiner vertices on two segments that share an endpoint
@@ -283,7 +286,7 @@ WALK_BLOCKED = -3
 WALK_FAILED = -1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def walk_to(tri, twin, cons, x, y, t, q, limit):
     """Visibility walk from triangle ``t`` to vertex ``q`` that never crosses a
     segment. Returns ``(code, e)`` as :func:`locate` does, or
@@ -320,7 +323,7 @@ def walk_to(tri, twin, cons, x, y, t, q, limit):
     return WALK_FAILED, -1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def cavity_encroached(tri, twin, cons, x, y, inf, h, on_edge, q, mark, stamp, bstack, enc, lens):
     """The segment pieces that new vertex ``q`` (located at half-edge ``h``)
     would encroach: those bounding its cavity, the triangles whose circumdisk
@@ -357,14 +360,14 @@ def cavity_encroached(tri, twin, cons, x, y, inf, h, on_edge, q, mark, stamp, bs
             c = tri[3 * m + 2]
             if a == inf or b == inf or c == inf:
                 continue
-            if lifted_test(x, y, x, False, a, b, c, q) > 0:
+            if incircle(x[a], y[a], x[b], y[b], x[c], y[c], x[q], y[q]) > 0:
                 mark[m] = stamp
                 bstack[sp] = m
                 sp += 1
     return n
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def param_on(x, y, A, B, v):
     """Parameter of vertex ``v`` along segment ``A -> B`` (0 at A, 1 at B)."""
     if v == A:
@@ -376,7 +379,7 @@ def param_on(x, y, A, B, v):
     return ((x[v] - x[A]) * dx + (y[v] - y[A]) * dy) / (dx * dx + dy * dy)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def place_on_piece(x, y, seg_ends, sid, u, v, shell_at, q):
     """Write into vertex ``q`` the split point of piece ``u v`` of segment
     ``sid``: the midpoint, or with ``shell_at`` (``u`` or ``v``) the point at
@@ -402,7 +405,7 @@ def place_on_piece(x, y, seg_ends, sid, u, v, shell_at, q):
     y[q] = y[A] + tm * (y[B] - y[A])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def shell_centre(tri, twin, cons, lab, e):
     """Triangle's rule: when exactly one end of piece ``e`` meets another
     segment inside a domain triangle beside it (the two span an angle there),
@@ -419,7 +422,7 @@ def shell_centre(tri, twin, cons, lab, e):
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0, stack, counts):
     """Split the segment piece of half-edge ``e`` at new vertex ``q``, then
     restore the constrained Delaunay property by flips. A split that would
@@ -448,23 +451,30 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
     lab[ntri - 2] = lab[t1]
     lab[ntri - 1] = lab[t2]
     vseg[q] = sid
-    stack[0] = 3 * t1
-    stack[1] = 3 * t2
-    stack[2] = 3 * (ntri - 2)
-    stack[3] = 3 * (ntri - 1)
-    _legalize(tri, twin, cons, x, y, inf, q, stack, 4, counts)
+    # flip on real sides only: a hull piece split at a rounded point may leave
+    # the hull non-convex by an ulp, and its ghosts must stay as they are
+    sp = 0
+    if c != inf:
+        stack[0] = 3 * t1
+        stack[1] = 3 * (ntri - 2)
+        sp = 2
+    if d != inf:
+        stack[sp] = 3 * t2
+        stack[sp + 1] = 3 * (ntri - 1)
+        sp += 2
+    _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts)
     counts[C_SEG_SPLITS] += 1
     return True, ntri
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts):
     fc = np.zeros(2, np.int64)
     legalize(tri, twin, cons, x, y, x, False, inf, q, stack, sp, False, np.zeros(1, np.int8), fc)
     counts[C_FLIPS] += fc[0]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts):
     """Insert vertex ``q`` located at ``(code, h)`` (inside a triangle or on a
     non-segment edge) and flip. Returns ``(slot of a triangle at q, ntri)``."""
@@ -572,6 +582,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 continue  # stale
             angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound,
                                               area_of_label[lab[t] + 1])
+            counts[C_ATTEMPTS] += 1
             if not area_bad and at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
                 counts[C_SKIPPED] += 1
                 continue
@@ -604,14 +615,25 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                         sn += 1
                         pushed += 1
                 if pushed > 0:
+                    counts[C_DEFERRED] += 1
                     if hn == hkeys.shape[0]:
                         hkeys, hitems = _grow_heap(hkeys, hitems)
                     hn = heap_push(hkeys, hitems, hn, key + pushes * FIFO, t, a, b, c)
                     pushes += 1  # try again after
                     continue
                 if code == WALK_BLOCKED or code == ON_EDGE:
-                    counts[C_SKIPPED] += 1   # behind (or on) a frozen segment
-                    continue
+                    # behind (or on) a frozen segment: a triangle that is too
+                    # large still gets its centroid (its children are a third
+                    # of it, so this ends); a skinny one is left as it is
+                    if not area_bad:
+                        counts[C_SKIPPED] += 1
+                        continue
+                    x[q] = (x[a] + x[b] + x[c]) / 3.0
+                    y[q] = (y[a] + y[b] + y[c]) / 3.0
+                    code, h = walk_to(tri, twin, cons, x, y, t, q, walk_limit)
+                    if code != INSIDE and (code != ON_EDGE or cons[h] != 0):
+                        counts[C_SKIPPED] += 1
+                        continue
                 # only frozen pieces are encroached: insert anyway (Triangle's -Y)
             slot, ntri = insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack,
                                      counts)
@@ -697,8 +719,11 @@ def refine_mesh(mesh, lab, seg_ends, *, min_angle, max_area, area_of_label, conf
         sin2_bound, offconstant = 0.0, 0.0
     # diametral lenses for quality meshing, circles for conforming Delaunay
     lens = 0.0 if conforming else float(np.cos(2 * np.radians(min_angle))) ** 2
+    while mesh.inf < 4 * nv0 + 64:      # room for the usual few Steiner points per vertex
+        mesh.grow_vertices()
+    lab = _grown(lab, len(mesh.tri) // 3, OUT)
     vseg = np.zeros(mesh.inf + 1, np.int64)
-    counts = np.zeros(5, np.int64)
+    counts = np.zeros(8, np.int64)
     while True:
         status, mesh.ntri, mesh.nv = refine_loop(
             mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.inf, mesh.ntri, mesh.nv, nv0, lab,
@@ -716,3 +741,17 @@ def _grown(a, n, fill):
     b = np.full(n, fill, a.dtype)
     b[: len(a)] = a
     return b
+
+
+@njit(cache=True)
+def count_below(x, y, triangles, sin2_bound):
+    """Indices of the triangles whose smallest angle is below the bound, by
+    the test the refinement itself uses."""
+    out = np.empty(triangles.shape[0], np.int64)
+    n = 0
+    for t in range(triangles.shape[0]):
+        key, _ = sin2_min_angle(x, y, triangles[t, 0], triangles[t, 1], triangles[t, 2])
+        if key < sin2_bound:
+            out[n] = t
+            n += 1
+    return out[:n]

@@ -387,8 +387,8 @@ def _fmt_pt(P, i) -> str:
 
 
 def check_triangulation(points, triangles, *, segments=None, weights=None, domain="hull",
-                        submerged: Iterable[int] = (), require_all_vertices: bool = True
-                        ) -> CheckReport:
+                        submerged: Iterable[int] = (), require_all_vertices: bool = True,
+                        exempt_segments: bool = True) -> CheckReport:
     """Verify a triangulation exactly and from scratch.
 
     Parameters
@@ -410,6 +410,8 @@ def check_triangulation(points, triangles, *, segments=None, weights=None, domai
         a triangle (domain "hull"); with weights, its lifted point must not lie strictly
         below the lifted triangle containing it (else it had to be a vertex, Sec. 2.8).
     require_all_vertices : every vertex not in ``submerged`` must be used by a triangle.
+    exempt_segments : with False, segment edges must be locally Delaunay too (a
+        conforming Delaunay triangulation, Def. 2.12).
 
     Checks: (1) index validity and strictly positive exact orientation; (2) simplicial
     complex: no duplicate triangles, each undirected edge used by at most two triangles and
@@ -582,7 +584,7 @@ def check_triangulation(points, triangles, *, segments=None, weights=None, domai
 
     # -- (6) locally Delaunay / locally regular ------------------------------------------
     inner = np.flatnonzero(has_twin & (src < dst))
-    if len(seg_edge_keys):
+    if len(seg_edge_keys) and exempt_segments:
         inner = inner[~np.isin(ukey[inner], seg_edge_keys)]
     if len(inner):
         a, b, c = src[inner], dst[inner], opp[inner]
@@ -782,3 +784,92 @@ def canonical_triangles(points, triangles) -> Set[Tuple[Tuple[float, float], ...
     for t in T:
         out.add(tuple(sorted((float(P[i, 0]) + 0.0, float(P[i, 1]) + 0.0) for i in t)))
     return out
+
+
+def check_steiner_segments(in_points, in_segments, out_points, vertex_map, pieces, piece_ids,
+                           ulps: int = 4) -> CheckReport:
+    """Refined output against its input PLC: every input segment ``s`` is the chain of the
+    pieces with ``piece_ids == s``, from its first to its last endpoint, through vertices
+    in strictly increasing order along it; each chain vertex that is an input point lies
+    exactly on the segment, and each other (Steiner) vertex lies within ``ulps`` units in
+    the last place of the segment's largest coordinate magnitude of the exact segment
+    (the rounding of ``A + t (B - A)``) and strictly between its ends. Exact arithmetic."""
+    rep = CheckReport()
+    P = np.asarray(in_points, np.float64)
+    V = np.asarray(out_points, np.float64)
+    vm = np.asarray(vertex_map, np.int64)
+    S = np.asarray(in_segments, np.int64).reshape(-1, 2)
+    pieces = np.asarray(pieces, np.int64).reshape(-1, 2)
+    piece_ids = np.asarray(piece_ids, np.int64)
+    is_input = np.zeros(len(V), bool)
+    is_input[vm[vm >= 0]] = True
+    for s, (a, b) in enumerate(S):
+        A, B = vm[a], vm[b]
+        if A == B:
+            continue
+        mine = pieces[piece_ids == s]
+        if len(mine) == 0:
+            rep.add("segment_missing", f"segment {s} has no pieces in the output")
+            continue
+        adj: Dict[int, List[int]] = {}
+        for u, v in mine.tolist():
+            adj.setdefault(u, []).append(v)
+            adj.setdefault(v, []).append(u)
+        chain, prev, cur = [int(A)], -1, int(A)
+        while cur != B:
+            nxt_ = [w for w in adj.get(cur, []) if w != prev]
+            if len(nxt_) != 1 or len(chain) > len(mine) + 1:
+                rep.add("segment_chain", f"the pieces of segment {s} do not form one path from "
+                                         f"vertex {A} to vertex {B} (stuck at {cur})")
+                break
+            prev, cur = cur, nxt_[0]
+            chain.append(cur)
+        else:
+            if len(chain) != len(mine) + 1:
+                rep.add("segment_chain", f"segment {s} has pieces off its path")
+        ax, ay, bx, by = (Fraction(float(c)) for c in (V[A, 0], V[A, 1], V[B, 0], V[B, 1]))
+        dx, dy = bx - ax, by - ay
+        L2 = dx * dx + dy * dy
+        scale = max(abs(float(c)) for c in (V[A, 0], V[A, 1], V[B, 0], V[B, 1]))
+        tol = Fraction(ulps) * Fraction(float(np.spacing(scale if scale > 0 else 1.0)))
+        last = Fraction(0)
+        for v in chain[1:-1]:
+            px, py = Fraction(float(V[v, 0])) - ax, Fraction(float(V[v, 1])) - ay
+            cross = dx * py - dy * px
+            t = (dx * px + dy * py) / L2
+            if is_input[v]:
+                if cross != 0:
+                    rep.add("off_segment", f"input vertex {v} on segment {s} is not exactly on it")
+            elif cross * cross > tol * tol * L2:
+                rep.add("off_segment", f"Steiner vertex {v} {_fmt_pt(V, v)} lies "
+                                       f"{float(abs(cross)) / float(L2) ** 0.5:.3g} off segment {s}, "
+                                       f"more than {ulps} ulps")
+            if not last < t < 1:
+                rep.add("segment_order", f"vertex {v} is out of order along segment {s}")
+            last = t
+    return rep.finish()
+
+
+def check_empty_circumcircles(points, triangles) -> CheckReport:
+    """Every triangle is Delaunay (Def. 2.4 / 2.12): no vertex strictly inside its
+    circumcircle. Floating-point screen for candidates, exact signs to decide."""
+    rep = CheckReport()
+    P = np.asarray(points, np.float64)
+    T = np.asarray(triangles, np.int64).reshape(-1, 3)
+    a, b, c = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
+    bx, by = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
+    cx, cy = c[:, 0] - a[:, 0], c[:, 1] - a[:, 1]
+    d = 2 * (bx * cy - by * cx)
+    ux = (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / d
+    uy = (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / d
+    centre = np.column_stack([a[:, 0] + ux, a[:, 1] + uy])
+    r2 = ux * ux + uy * uy
+    for t in range(len(T)):
+        dist2 = ((P - centre[t]) ** 2).sum(axis=1)
+        for v in np.flatnonzero(dist2 < r2[t] * (1 + 1e-6)):
+            if v in T[t]:
+                continue
+            if incircle_exact(P[T[t, 0]], P[T[t, 1]], P[T[t, 2]], P[v]) > 0:
+                rep.add("not_delaunay", f"vertex {v} {_fmt_pt(P, v)} is inside the circumcircle "
+                                        f"of triangle {t} {T[t].tolist()}")
+    return rep.finish()
