@@ -41,6 +41,7 @@ from trimesh import transformations
 
 import cdt_plugin
 from cdt_plugin import PLC
+from cdt_plugin.switches import options_from_switches
 
 __all__ = ["from_path2d", "to_trimesh", "triangulate_polygon", "extrude_polygon",
            "extrude_triangulation", "extrude_path"]
@@ -127,15 +128,16 @@ def triangulate_polygon(polygon, triangle_args=None, engine=None, force_vertices
     Parameters
     ----------
     polygon : shapely Polygon (or anything with ``__geo_interface__``: MultiPolygon...)
-    triangle_args : None
-        Accepted for signature compatibility only: Triangle switches are not
-        interpreted (pass engine keywords instead); anything but None raises.
+    triangle_args : str, optional
+        Triangle's switches, translated by
+        :func:`cdt_plugin.switches.options_from_switches` (``"pq30a0.1"`` gives
+        ``min_angle=30, max_area=0.1``); unsupported switches raise.
     engine : None
         Accepted for signature compatibility and ignored: this function *is*
         the engine.
     force_vertices : bool
         Raise ``ValueError`` if the triangulation has a vertex that is not an
-        input vertex (only possible with ``intersections="split"``).
+        input vertex (intersections with ``"split"``, or quality refinement).
     **kwargs
         Passed to :func:`cdt_plugin.triangulate` (``intersections=``, ...).
 
@@ -148,14 +150,13 @@ def triangulate_polygon(polygon, triangle_args=None, engine=None, force_vertices
         Counter-clockwise triangles.
     """
     if triangle_args is not None:
-        raise ValueError("triangle_args is Triangle's switch string and is not interpreted by "
-                         "cdt_plugin; pass keyword options of cdt_plugin.triangulate instead")
+        kwargs = {**options_from_switches(triangle_args), **kwargs}
     if polygon is None or polygon.is_empty:
         return np.empty((0, 2), np.float64), np.empty((0, 3), np.int64)
     tri = cdt_plugin.triangulate(polygon, **kwargs)
     if force_vertices and len(tri.steiner):
         raise ValueError(f"the triangulation inserted {len(tri.steiner)} vertices "
-                         "(segment intersections) and force_vertices is set")
+                         "(segment intersections or refinement) and force_vertices is set")
     return _compact(np.asarray(tri.vertices, np.float64), np.asarray(tri.triangles, np.int64))
 
 

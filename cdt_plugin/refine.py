@@ -586,7 +586,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             if not area_bad and at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
                 counts[C_SKIPPED] += 1
                 continue
-            px, py = steiner_point(x, y, a, b, c, offconstant if angle_bad else 0.0)
+            px, py = steiner_point(x, y, a, b, c, offconstant)
             x[q] = px
             y[q] = py
             code, h = walk_to(tri, twin, cons, x, y, t, q, walk_limit)

@@ -140,8 +140,19 @@ def test_triangulate_polygon_empty_and_multipolygon():
 
 def test_triangulate_polygon_keywords():
     polygon = POLYGONS["letter_a"]
-    with pytest.raises(ValueError, match="triangle_args"):
-        ct.triangulate_polygon(polygon, triangle_args="pq30")
+    # Triangle's switches are translated: quality meshing with angle and area bounds
+    v, f = ct.triangulate_polygon(polygon, triangle_args="pq30a0.5")
+    assert np.isclose(_areas(v, f).sum(), polygon.area)
+    assert _areas(v, f).max() <= 0.5
+    P = v[f]
+    for j in range(3):
+        u, w = P[:, (j + 1) % 3] - P[:, j], P[:, (j + 2) % 3] - P[:, j]
+        ang = np.degrees(np.arctan2(np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]), (u * w).sum(1)))
+        assert ang.min() >= 30 * (1 - 1e-9)
+    with pytest.raises(ValueError, match="force_vertices"):
+        ct.triangulate_polygon(polygon, triangle_args="pq30", force_vertices=True)
+    with pytest.raises(cdt_plugin.CDTError, match="'r'"):
+        ct.triangulate_polygon(polygon, triangle_args="pr")
     # engine= is accepted (trimesh's signature) and ignored
     v, f = ct.triangulate_polygon(polygon, engine="earcut", force_vertices=True)
     assert np.isclose(_areas(v, f).sum(), polygon.area)

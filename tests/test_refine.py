@@ -282,3 +282,15 @@ def test_fuzz_star_polygons(radii, angle, area, conforming):
         angle = 20.0
     tri = cdt_plugin.triangulate(v, s, min_angle=angle, max_area=area, conforming_delaunay=conforming)
     verify_refined(v, s, tri, min_angle=angle, max_area=area, conforming=conforming)
+
+
+def test_triangle_switches():
+    from cdt_plugin.switches import options_from_switches
+    assert options_from_switches("pq30a0.5Q") == {"min_angle": 30.0, "max_area": 0.5}
+    assert options_from_switches("pq") == {"min_angle": 20.0}
+    assert options_from_switches("pcDYS100") == {"keep_hull": True, "conforming_delaunay": True,
+                                                 "split_boundary": False, "max_steiner": 100}
+    assert options_from_switches("pq.5a.25") == {"min_angle": 0.5, "max_area": 0.25}
+    for bad in ("pr", "pq30-", "pu"):
+        with pytest.raises(CDTError):
+            options_from_switches(bad)
