@@ -39,9 +39,9 @@ import numpy as np
 from numba import njit
 
 from .insertion import legalize
-from .kernel import edge_is_illegal, lifted_test, orient
+from .kernel import edge_is_illegal, orient
 from .locate import INSIDE, ON_EDGE, ON_VERTEX, classify_in_solid
-from .predicates import incircle
+from .predicates import incircle, orient2d
 from .mesh import nxt, prv, split_edge, split_triangle
 
 OUT = -2            # label of a triangle outside the domain (ghosts too)
@@ -137,6 +137,10 @@ def steiner_point(x, y, a, b, c, offconstant):
     lb = bx * bx + by * by
     lc = cx * cx + cy * cy
     d = 2.0 * (bx * cy - by * cx)
+    if d == 0.0:   # a sliver whose float cross product cancels: the exact sign's value
+        d = 2.0 * orient2d(x[a], y[a], x[b], y[b], x[c], y[c])
+        if d == 0.0:
+            return np.nan, np.nan
     ox = (cy * lb - by * lc) / d          # circumcentre relative to a
     oy = (bx * lc - cx * lb) / d
     if offconstant > 0.0:
@@ -376,7 +380,10 @@ def param_on(x, y, A, B, v):
         return 1.0
     dx = x[B] - x[A]
     dy = y[B] - y[A]
-    return ((x[v] - x[A]) * dx + (y[v] - y[A]) * dy) / (dx * dx + dy * dy)
+    n = dx * dx + dy * dy
+    if n == 0.0:   # underflow on a segment of subnormal length
+        return 0.5
+    return ((x[v] - x[A]) * dx + (y[v] - y[A]) * dy) / n
 
 
 @njit(cache=True, inline="always")
@@ -587,6 +594,9 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 counts[C_SKIPPED] += 1
                 continue
             px, py = steiner_point(x, y, a, b, c, offconstant)
+            if not (np.isfinite(px) and np.isfinite(py)):
+                counts[C_SKIPPED] += 1
+                continue
             x[q] = px
             y[q] = py
             code, h = walk_to(tri, twin, cons, x, y, t, q, walk_limit)

@@ -803,11 +803,14 @@ def check_steiner_segments(in_points, in_segments, out_points, vertex_map, piece
     piece_ids = np.asarray(piece_ids, np.int64)
     is_input = np.zeros(len(V), bool)
     is_input[vm[vm >= 0]] = True
+    first: Dict[Tuple[int, int], int] = {}
     for s, (a, b) in enumerate(S):
         A, B = vm[a], vm[b]
         if A == B:
             continue
-        mine = pieces[piece_ids == s]
+        # a repeated segment is merged into its first occurrence
+        owner = first.setdefault((min(A, B), max(A, B)), s)
+        mine = pieces[piece_ids == owner]
         if len(mine) == 0:
             rep.add("segment_missing", f"segment {s} has no pieces in the output")
             continue

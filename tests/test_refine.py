@@ -47,7 +47,10 @@ def verify_refined(vertices, segments, tri, *, min_angle=None, max_area=None, do
                    conforming=False):
     """Exact checks plus the bounds. Returns the result for further asserts."""
     V, T = tri.vertices, tri.triangles
-    rep = check_triangulation(V, T, segments=tri.segments, domain=domain,
+    # the domain's own pieces (a piece dangling outside it has no triangle)
+    edges = {frozenset(e) for t in T.tolist() for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
+    inside = np.array([frozenset(p) in edges for p in tri.segments.tolist()], bool)
+    rep = check_triangulation(V, T, segments=tri.segments[inside].reshape(-1, 2), domain=domain,
                               require_all_vertices=False, exempt_segments=not conforming)
     assert rep.ok, str(rep)
     if segments is not None and len(segments):
@@ -294,3 +297,34 @@ def test_triangle_switches():
     for bad in ("pr", "pq30-", "pu"):
         with pytest.raises(CDTError):
             options_from_switches(bad)
+
+
+def _corpus_plc(name):
+    from corpus import iter_plcs
+    for plc in iter_plcs():
+        if plc.name == name:
+            return plc
+    pytest.skip(f"{name} not in the corpus")
+
+
+def test_corpus_sliver_triangles_do_not_crash():
+    # duplicate points and a near-degenerate triangle: the circumcentre's float
+    # denominator cancels to zero (was a ZeroDivisionError)
+    plc = _corpus_plc("earcut/infinite-loop-jhl.json")
+    tri = cdt_plugin.triangulate(plc.vertices, plc.segments, intersections="split", min_angle=30)
+    verify_refined(plc.vertices, plc.segments, tri, min_angle=30)
+
+
+def test_needle_stops_at_the_cap_with_a_valid_partial_mesh():
+    # two boundary segments meet at 1e-11 degrees: no finite refinement separates
+    # them, so the Steiner cap ends it with the documented error
+    plc = _corpus_plc("gis/naturalearth_lowres.geojson#14 Sudan")
+    with pytest.raises(RefinementLimitError) as err:
+        cdt_plugin.triangulate(plc.vertices, plc.segments, min_angle=30, max_steiner=3000)
+    part = err.value.triangulation
+    rep = check_triangulation(part.vertices, part.triangles, segments=part.segments,
+                              domain="segments", require_all_vertices=False)
+    assert rep.ok, str(rep)
+    # at 20 degrees the same polygon meshes: the needle's own triangles are reported
+    tri = cdt_plugin.triangulate(plc.vertices, plc.segments, max_area=0.5)
+    verify_refined(plc.vertices, plc.segments, tri, max_area=0.5)
