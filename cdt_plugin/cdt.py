@@ -149,9 +149,9 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
                                               False, mesh.inf, mesh.ntri))
     else:
         stats["flips"] = int(counts[0])
-    classes = _classify(plc, mesh, keep_hull, split, mult)
+    classes, tid = _classify(plc, mesh, keep_hull, split, mult)
     if refine is not None:
-        classes = _refine(plc, mesh, segs, classes, refine, split_boundary, stats)
+        classes = _refine(plc, mesh, segs, classes, tid, refine, split_boundary, stats)
     out = Triangulation.from_cdt(plc, mesh, order, dup_of, submerged, *classes, stats, t0)
     if refine is not None:
         _finish_refinement(out, plc, refine, stats)
@@ -294,7 +294,8 @@ def _edge_segment_ids(tri, cons, ntri, tid, k):
 def _classify(plc, mesh, keep_hull, split, mult):
     """Which real triangles are inside the domain, and their regions.
     Returns ``(T, N, cflag, inside, region, attributes)`` over the real
-    triangles ``T`` of the mesh (in slot order)."""
+    triangles ``T`` of the mesh (in slot order), and ``tid``, the index in
+    ``T`` of each mesh slot (-1: ghost)."""
     tri, twin, cons, ntri, inf = mesh.tri, mesh.twin, mesh.cons, mesh.ntri, mesh.inf
     T, N, tid = solid_triangles(tri, twin, ntri, inf)
     cflag = _edge_segment_ids(tri, cons, ntri, tid, len(T))
@@ -335,13 +336,13 @@ def _classify(plc, mesh, keep_hull, split, mult):
                 flood(N, cflag, k, label, r)
         region = label
         attributes = plc.regions
-    return T, N, cflag, inside, region, attributes
+    return (T, N, cflag, inside, region, attributes), tid
 
 
-def _refine(plc, mesh, segs, classes, opts, split_boundary, stats):
+def _refine(plc, mesh, segs, classes, tid, opts, split_boundary, stats):
     """Delaunay refinement of the classified mesh; returns the new classes."""
     T, N, cflag, inside, region, attributes = classes
-    slots = np.flatnonzero(_slot_is_real(mesh))
+    slots = np.flatnonzero(tid >= 0)          # the mesh slot of each real triangle
     lab = np.full(len(mesh.tri) // 3, OUT, np.int64)
     lab[slots] = np.where(inside, region, OUT)
     area_of_label = _area_bounds(plc, opts["max_area"], int(lab.max(initial=-1)))
@@ -368,11 +369,6 @@ def _refine(plc, mesh, segs, classes, opts, split_boundary, stats):
     kept_lab = lab[np.flatnonzero(tid >= 0)]
     inside = kept_lab != OUT
     return T, N, cflag, inside, np.where(inside, kept_lab, -1), attributes
-
-
-def _slot_is_real(mesh):
-    t = mesh.tri[: 3 * mesh.ntri].reshape(-1, 3)
-    return (t[:, 0] >= 0) & (t != mesh.inf).all(axis=1)
 
 
 def _area_bounds(plc, max_area, top):

@@ -99,32 +99,41 @@ def locate(tri, twin, x, y, inf, q, start, ntri):
             came = twin[e]
             t = came // 3
             continue
-        e = 3 * t
-        r = (q + step) % 3
-        moved = False
-        o0 = 1.0
-        o1 = 1.0
-        o2 = 1.0
-        for k in range(3):
-            s = (r + k) % 3
-            ek = e + s
-            if ek == came:
-                continue
-            o = orient(x, y, tri[ek], tri[nxt(ek)], q)
-            if o < 0:
-                came = twin[ek]
-                t = came // 3
-                moved = True
-                break
-            if s == 0:
-                o0 = o
-            elif s == 1:
-                o1 = o
-            else:
-                o2 = o
-        if not moved:
-            return classify_in_solid(tri, x, y, t, q, o0, o1, o2)
+        ek, code, e = solid_step(tri, x, y, t, q, step, came)
+        if ek < 0:
+            return code, e
+        came = twin[ek]
+        t = came // 3
     return locate_by_scan(tri, x, y, inf, q, ntri)
+
+
+@njit(cache=True, inline='always')
+def solid_step(tri, x, y, t, q, step, came):
+    """One step of the visibility walk in solid triangle ``t`` (entered through
+    half-edge ``came``): ``(ek, -1, -1)`` when ``q`` lies beyond edge ``ek``,
+    else ``(-1, code, e)``, where ``q`` lies in ``t`` (see :func:`locate`). The
+    first edge tested rotates with ``step`` so the walk cannot cycle."""
+    e = 3 * t
+    r = (q + step) % 3
+    o0 = 1.0
+    o1 = 1.0
+    o2 = 1.0
+    for k in range(3):
+        s = (r + k) % 3
+        ek = e + s
+        if ek == came:
+            continue
+        o = orient(x, y, tri[ek], tri[nxt(ek)], q)
+        if o < 0:
+            return ek, -1, -1
+        if s == 0:
+            o0 = o
+        elif s == 1:
+            o1 = o
+        else:
+            o2 = o
+    code, e = classify_in_solid(tri, x, y, t, q, o0, o1, o2)
+    return -1, code, e
 
 
 @njit(cache=True)

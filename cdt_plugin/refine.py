@@ -40,7 +40,7 @@ from numba import njit
 
 from .insertion import legalize
 from .kernel import edge_is_illegal, orient
-from .locate import INSIDE, ON_EDGE, ON_VERTEX, classify_in_solid
+from .locate import INSIDE, ON_EDGE, ON_VERTEX, solid_step
 from .predicates import incircle, orient2d
 from .mesh import nxt, prv, split_edge, split_triangle
 
@@ -232,6 +232,30 @@ def _grow_rows(rows):
     return r2
 
 
+@njit(cache=True, inline="always")
+def queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c):
+    """Put triangle ``t = (a, b, c)`` on the bad-triangle heap, behind every
+    earlier entry with the same bucket ``key``. Returns the (grown) heap, its
+    size and the push count."""
+    if hn == hkeys.shape[0]:
+        hkeys, hitems = _grow_heap(hkeys, hitems)
+    hn = heap_push(hkeys, hitems, hn, key + pushes * FIFO, t, a, b, c)
+    return hkeys, hitems, hn, pushes + 1
+
+
+@njit(cache=True, inline="always")
+def queue_piece(tri, sq, sn, g, forced):
+    """Put the segment piece of half-edge ``g`` on the split stack (``forced``:
+    split it even if no triangle vertex encroaches it by then)."""
+    if sn == sq.shape[0]:
+        sq = _grow_rows(sq)
+    sq[sn, 0] = g
+    sq[sn, 1] = tri[g]
+    sq[sn, 2] = tri[nxt(g)]
+    sq[sn, 3] = forced
+    return sq, sn + 1
+
+
 # ------------------------------------------------------------------ tests
 @njit(cache=True, inline="always")
 def piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, h):
@@ -297,33 +321,13 @@ def walk_to(tri, twin, cons, x, y, t, q, limit):
     ``(WALK_BLOCKED, segment half-edge)`` when a segment is in the way."""
     came = -1
     for step in range(limit):
-        e = 3 * t
-        r = (q + step) % 3
-        moved = False
-        o0 = 1.0
-        o1 = 1.0
-        o2 = 1.0
-        for k in range(3):
-            s = (r + k) % 3
-            ek = e + s
-            if ek == came:
-                continue
-            o = orient(x, y, tri[ek], tri[nxt(ek)], q)
-            if o < 0:
-                if cons[ek] != 0:
-                    return WALK_BLOCKED, ek
-                came = twin[ek]
-                t = came // 3
-                moved = True
-                break
-            if s == 0:
-                o0 = o
-            elif s == 1:
-                o1 = o
-            else:
-                o2 = o
-        if not moved:
-            return classify_in_solid(tri, x, y, t, q, o0, o1, o2)
+        ek, code, e = solid_step(tri, x, y, t, q, step, came)
+        if ek < 0:
+            return code, e
+        if cons[ek] != 0:
+            return WALK_BLOCKED, ek
+        came = twin[ek]
+        t = came // 3
     return WALK_FAILED, -1
 
 
@@ -547,20 +551,12 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 c = tri[3 * t + 2]
                 angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_of_label[L + 1])
                 if angle_bad or area_bad:
-                    if hn == hkeys.shape[0]:
-                        hkeys, hitems = _grow_heap(hkeys, hitems)
-                    hn = heap_push(hkeys, hitems, hn, key + pushes * FIFO, t, a, b, c)
-                    pushes += 1
+                    hkeys, hitems, hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key,
+                                                               t, a, b, c)
             for e in range(3 * ntri):
                 if cons[e] > 0 and e < twin[e] and piece_needs_split(tri, twin, x, y, inf, lab,
                                                                      conforming, lens, e):
-                    if sn == sq.shape[0]:
-                        sq = _grow_rows(sq)
-                    sq[sn, 0] = e
-                    sq[sn, 1] = tri[e]
-                    sq[sn, 2] = tri[nxt(e)]
-                    sq[sn, 3] = 0
-                    sn += 1
+                    sq, sn = queue_piece(tri, sq, sn, e, 0)
             continue
         if nv + 1 >= inf or ntri + 2 > cap_tri:
             return NEED_ROOM, ntri, nv
@@ -616,20 +612,12 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 for i in range(nenc):
                     g = enc[i]
                     if cons[g] > 0:
-                        if sn == sq.shape[0]:
-                            sq = _grow_rows(sq)
-                        sq[sn, 0] = g
-                        sq[sn, 1] = tri[g]
-                        sq[sn, 2] = tri[nxt(g)]
-                        sq[sn, 3] = 1
-                        sn += 1
+                        sq, sn = queue_piece(tri, sq, sn, g, 1)
                         pushed += 1
-                if pushed > 0:
+                if pushed > 0:   # try again after the pieces are split
                     counts[C_DEFERRED] += 1
-                    if hn == hkeys.shape[0]:
-                        hkeys, hitems = _grow_heap(hkeys, hitems)
-                    hn = heap_push(hkeys, hitems, hn, key + pushes * FIFO, t, a, b, c)
-                    pushes += 1  # try again after
+                    hkeys, hitems, hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key,
+                                                               t, a, b, c)
                     continue
                 if code == WALK_BLOCKED or code == ON_EDGE:
                     # behind (or on) a frozen segment: a triangle that is too
@@ -663,20 +651,12 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 c = tri[3 * t + 2]
                 angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_of_label[L + 1])
                 if angle_bad or area_bad:
-                    if hn == hkeys.shape[0]:
-                        hkeys, hitems = _grow_heap(hkeys, hitems)
-                    hn = heap_push(hkeys, hitems, hn, key + pushes * FIFO, t, a, b, c)
-                    pushes += 1
+                    hkeys, hitems, hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key,
+                                                               t, a, b, c)
             for k in range(3):
                 g = 3 * t + k
                 if cons[g] > 0 and piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, g):
-                    if sn == sq.shape[0]:
-                        sq = _grow_rows(sq)
-                    sq[sn, 0] = g
-                    sq[sn, 1] = tri[g]
-                    sq[sn, 2] = tri[nxt(g)]
-                    sq[sn, 3] = 0
-                    sn += 1
+                    sq, sn = queue_piece(tri, sq, sn, g, 0)
             e = twin[prv(e)]
             if e == e0:
                 break
