@@ -27,8 +27,10 @@ import shapely
 
 import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, TooFewPointsError
+from cdt_plugin.batch import MeshBatch, geometry_plc, triangulate_rings
 
-__all__ = ["triangulate", "to_shapely", "constrained_delaunay_triangles", "plc_from_shapely"]
+__all__ = ["triangulate", "triangulate_batch", "to_shapely", "constrained_delaunay_triangles",
+           "plc_from_shapely"]
 
 # GEOS type ids (shapely.GeometryType)
 _POINT, _LINESTRING, _LINEARRING, _POLYGON, _MULTIPOINT, _MULTILINESTRING, _MULTIPOLYGON, _COLLECTION = range(8)
@@ -108,6 +110,96 @@ def plc_from_shapely(geometry, *, repair=False) -> PLC:
     method = _repair_method(repair)
     arr = np.array([geometry], dtype=object)
     return _plcs(arr, method, indexed=False)[0]
+
+
+def triangulate_batch(geometries, *, repair=False, errors="raise", progress=False,
+                      **options) -> MeshBatch:
+    """Mesh many polygonal geometries in one call (the GIS batch path).
+
+    Every Polygon / MultiPolygon of ``geometries`` is one PLC (a MultiPolygon's
+    parts together); the triangles of all of them come back in one
+    :class:`cdt_plugin.batch.MeshBatch`, with the input position of each
+    triangle's geometry in ``batch.geometry``. Much faster than a loop of
+    :func:`triangulate` calls on many small polygons.
+
+    Parameters
+    ----------
+    geometries : array_like of shapely geometries
+        Polygons and MultiPolygons (with Z or not); a GeometryCollection
+        contributes its polygonal members. ``None``, empty and non-polygonal
+        geometries get no triangles.
+    repair : bool or {"linework", "structure"}
+        As in :func:`triangulate`: invalid polygons raise (or are skipped with
+        ``errors="skip"``) unless repaired with ``shapely.make_valid``.
+    errors : {"raise", "skip"}
+        A geometry that cannot be meshed raises a :class:`cdt_plugin.CDTError`
+        whose message starts ``geometry i:`` (attribute ``index``), or is left
+        without triangles and recorded in ``batch.errors``.
+    progress : bool
+        A tqdm progress bar over the geometries.
+    **options
+        Passed to :func:`cdt_plugin.triangulate` (``min_angle``, ``max_area``,
+        ``intersections``, ...).
+
+    Examples
+    --------
+    >>> import shapely
+    >>> polys = [shapely.box(0, 0, 1, 1), None, shapely.Polygon([(0, 0), (2, 0), (1, 1)])]
+    >>> b = triangulate_batch(polys)
+    >>> len(b), b.geometry.tolist(), b.offsets.tolist()
+    (3, [0, 0, 2], [0, 2, 2, 3])
+    """
+    if errors not in ("raise", "skip"):
+        raise CDTError(f"errors must be 'raise' or 'skip', got {errors!r}")
+    method = _repair_method(repair)
+    arr = np.array(geometries, dtype=object).ravel() if _is_array_input(geometries) else \
+        np.array([geometries], dtype=object)
+    ok = shapely.is_valid_input(arr)
+    if not ok.all():
+        i = int(np.flatnonzero(~ok)[0])
+        raise _fail(InputShapeError, f"expected a shapely geometry, got {type(arr[i]).__name__}",
+                    i, True)
+    arr = arr.copy()
+    arr[shapely.is_missing(arr)] = shapely.Polygon()
+    _collections_to_polygonal(arr)
+    types = shapely.get_type_id(arr)
+    arr[(types != _POLYGON) & (types != _MULTIPOLYGON)] = shapely.Polygon()
+    failed = {}
+    invalid = np.flatnonzero(~shapely.is_valid(arr))
+    for i in invalid:
+        i = int(i)
+        try:
+            arr[i] = _repair_or_raise(arr[i], int(types[i]), method, i, True)
+        except CDTError as e:
+            if errors == "raise":
+                raise
+            failed[i] = e
+            arr[i] = shapely.Polygon()
+    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, _ = _polygon_rings(arr)
+    for i in np.flatnonzero(bad_geom):   # not reachable from GEOS-valid polygons
+        e = _fail(InvalidGeometryError, "a ring has fewer than three distinct points or zero area",
+                  int(i), True)
+        if errors == "raise":
+            raise e
+        failed[int(i)] = e
+    if len(failed):
+        drop = np.zeros(len(arr), bool)
+        drop[list(failed)] = True
+        arr[drop] = shapely.Polygon()
+        xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, _, _ = _polygon_rings(arr)
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+        bar = tqdm(total=len(arr), unit="geom", desc="meshing")
+    try:
+        batch = triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, z=z,
+                                  errors=errors, progress=bar.update if bar else None, **options)
+    finally:
+        if bar is not None:
+            bar.close()
+    batch.errors.update(failed)
+    batch.stats["failed"] = len(batch.errors)
+    return batch
 
 
 def _repair_method(repair):
@@ -226,6 +318,16 @@ def _repair_or_raise(geom, type_id, method, i, indexed):
     return fixed
 
 
+def _collections_to_polygonal(flat):
+    """Replace each GeometryCollection of ``flat`` (in place) by its polygonal
+    members as one MultiPolygon (an empty Polygon when it has none)."""
+    for i in np.flatnonzero(shapely.get_type_id(flat) == _COLLECTION):
+        parts = _flat_parts(flat[i])
+        ptypes = shapely.get_type_id(parts)
+        polys = parts[(ptypes == _POLYGON) | (ptypes == _MULTIPOLYGON)]
+        flat[i] = shapely.MultiPolygon(list(shapely.get_parts(polys))) if len(polys) else shapely.Polygon()
+
+
 def _flat_parts(geom):
     """The non-collection members of a (nested) GeometryCollection."""
     parts = shapely.get_parts(geom)
@@ -253,6 +355,19 @@ def _polygon_plcs(geoms):
     one GEOS call each for parts, rings and coordinates, then NumPy. The result
     equals ``PLC.from_geo_interface`` of each geometry (same vertex order, segments,
     rings, polygon numbering). Geometries with a degenerate ring get ``None``."""
+    rings = _polygon_rings(geoms)
+    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, has_z = rings
+    return [None if bad_geom[g] else
+            geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole,
+                         z if has_z[g] else None, g)
+            for g in range(len(geoms))]
+
+
+def _polygon_rings(geoms):
+    """Flat ring arrays of a 1-D array of Polygons / MultiPolygons (empty parts
+    dropped): ``xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole,
+    bad_geom, has_z``. ``z`` is None when no geometry has Z; ``bad_geom`` marks
+    geometries with a degenerate ring (fewer than three points or zero area)."""
     n = len(geoms)
     parts, part_geom = shapely.get_parts(geoms, return_index=True)
     keep = ~shapely.is_empty(parts)
@@ -265,41 +380,28 @@ def _polygon_plcs(geoms):
     has_z = shapely.has_z(geoms)
     coords, vring = shapely.get_coordinates(rings, include_z=bool(has_z.any()), return_index=True)
     # drop each ring's closing point
-    last = np.r_[vring[1:] != vring[:-1], True]
+    last = np.r_[vring[1:] != vring[:-1], True] if len(vring) else np.zeros(0, bool)
     coords, vring = coords[~last], vring[~last]
     nv = len(vring)
-    ring_start = np.searchsorted(vring, np.arange(len(rings) + 1))
+    ring_start = np.searchsorted(vring, np.arange(len(rings) + 1)).astype(np.int64)
     ring_len = np.diff(ring_start)
     # next vertex along each ring (the last wraps to the first)
     nxt = np.arange(1, nv + 1)
-    ends = ring_start[1:] - 1
-    nxt[ends] = ring_start[:-1]
+    nonempty = ring_len > 0
+    nxt[ring_start[1:][nonempty] - 1] = ring_start[:-1][nonempty]
     x, y = coords[:, 0], coords[:, 1]
     # twice the signed area per ring (for the degenerate-ring check)
     cross = x * y[nxt] - x[nxt] * y
-    area2 = np.add.reduceat(cross, ring_start[:-1]) if nv else np.zeros(0)
-    bad_ring = (ring_len < 3) | (area2 == 0.0)
-    vgeom = ring_geom[vring]
-    geom_vstart = np.searchsorted(vgeom, np.arange(n + 1))
-    geom_rstart = np.searchsorted(ring_geom, np.arange(n + 1))
+    area2 = np.add.reduceat(cross, ring_start[:-1][nonempty]) if nv else np.zeros(0)
+    bad_ring = ring_len < 3
+    bad_ring[nonempty] |= area2 == 0.0
+    geom_ring_start = np.searchsorted(ring_geom, np.arange(n + 1)).astype(np.int64)
     bad_geom = np.zeros(n, bool)
     bad_geom[ring_geom[bad_ring]] = True
     xy = np.ascontiguousarray(coords[:, :2])
-    seg = np.column_stack([np.arange(nv), nxt]).astype(np.int64)
+    z = coords[:, 2].copy() if has_z.any() else None
     ring_poly = part_local[ring_part].astype(np.int64)
-    out = []
-    for g in range(n):
-        if bad_geom[g]:
-            out.append(None)
-            continue
-        v0, v1 = geom_vstart[g], geom_vstart[g + 1]
-        r0, r1 = geom_rstart[g], geom_rstart[g + 1]
-        out.append(PLC(xy[v0:v1], seg[v0:v1] - v0,
-                       segment_ring=vring[v0:v1].astype(np.int64) - r0,
-                       ring_polygon=ring_poly[r0:r1],
-                       ring_is_hole=ring_is_hole[r0:r1],
-                       z=coords[v0:v1, 2].copy() if has_z[g] else None))
-    return out
+    return xy, z, ring_start, geom_ring_start, ring_poly, ring_is_hole, bad_geom, has_z
 
 
 # -------------------------------------------------------------------------- output
@@ -388,13 +490,7 @@ def constrained_delaunay_triangles(geometry, **kwargs):
     if not ok.all():
         i = int(np.flatnonzero(~ok)[0])
         raise TypeError(f"one of the arguments is of incorrect type: {type(flat[i]).__name__}")
-    types = shapely.get_type_id(flat)
-    coll = np.flatnonzero(types == _COLLECTION)
-    for i in coll:
-        parts = _flat_parts(flat[i])
-        ptypes = shapely.get_type_id(parts)
-        polys = parts[(ptypes == _POLYGON) | (ptypes == _MULTIPOLYGON)]
-        flat[i] = shapely.MultiPolygon(list(shapely.get_parts(polys))) if len(polys) else shapely.Polygon()
+    _collections_to_polygonal(flat)
     types = shapely.get_type_id(flat)
     polygonal = ((types == _POLYGON) | (types == _MULTIPOLYGON)) & ~shapely.is_empty(flat)
     out = np.empty(len(flat), dtype=object)

@@ -1,0 +1,204 @@
+"""Many polygons in one call: the batch path for GIS-scale work.
+
+Input is flat ring arrays (what GEOS hands out for a whole GeoSeries at once):
+every geometry is a set of rings, every ring a closed chain of vertices. The
+result is one :class:`MeshBatch`: all triangles of all geometries in one
+array, with the geometry each comes from.
+
+Each geometry is the PLC of its rings (a Polygon with holes, or a
+MultiPolygon); inside and outside follow from the rings as in
+:func:`cdt_plugin.triangulate`.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import CDTError
+from .plc import PLC
+
+ERRORS = ("raise", "skip")
+
+
+@dataclass
+class MeshBatch:
+    """Triangles of many geometries, as flat NumPy arrays.
+
+    Attributes
+    ----------
+    vertices : (n, 2) float64
+        Every input ring vertex, geometry after geometry, ring after ring
+        (closing points dropped), then the Steiner vertices.
+    z : (n,) float64 or None
+        Z of every vertex when the input has Z (Steiner vertices interpolated,
+        see :mod:`cdt_plugin.lift`).
+    triangles : (k, 3) int64
+        Indices into ``vertices``, counter-clockwise, grouped by geometry.
+    geometry : (k,) int64
+        Which input geometry each triangle belongs to (non-decreasing).
+    region : (k,) int64
+        The polygon of its geometry each triangle lies in (0 for a Polygon,
+        the part number for a MultiPolygon).
+    offsets : (g + 1,) int64
+        Triangles of geometry ``i`` are ``triangles[offsets[i]:offsets[i + 1]]``.
+    errors : dict
+        Geometry index -> :class:`CDTError` for geometries that failed
+        (``errors="skip"``); they have no triangles.
+    stats : dict
+        ``geometries``, ``triangles``, ``steiner``, ``fallback`` (geometries
+        meshed one by one), ``seconds``.
+    """
+
+    vertices: np.ndarray
+    z: np.ndarray | None
+    triangles: np.ndarray
+    geometry: np.ndarray
+    region: np.ndarray
+    offsets: np.ndarray
+    errors: dict = field(default_factory=dict)
+    stats: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.offsets) - 1
+
+    def mesh(self, i: int):
+        """Geometry ``i`` alone: ``(vertices, triangles)`` with only the
+        vertices its triangles use (``vertices`` is (m, 3) when there is Z)."""
+        T = self.triangles[self.offsets[i]:self.offsets[i + 1]]
+        used, local = np.unique(T, return_inverse=True)
+        V = self.vertices[used]
+        if self.z is not None:
+            V = np.column_stack([V, self.z[used]])
+        return V, local.reshape(-1, 3)
+
+
+def geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, z, g) -> PLC:
+    """The PLC of geometry ``g`` of flat ring arrays (its rings' edges are the segments)."""
+    r0, r1 = geom_ring_start[g], geom_ring_start[g + 1]
+    v0, v1 = ring_start[r0], ring_start[r1]
+    n = v1 - v0
+    nxt = np.arange(1, n + 1)
+    local_start = ring_start[r0:r1 + 1] - v0
+    nxt[local_start[1:] - 1] = local_start[:-1]
+    ring_of = np.repeat(np.arange(r1 - r0), np.diff(local_start))
+    seg = np.column_stack([np.arange(n), nxt]).astype(np.int64)
+    return PLC(xy[v0:v1], seg, segment_ring=ring_of.astype(np.int64),
+               ring_polygon=np.asarray(ring_polygon[r0:r1], np.int64),
+               ring_is_hole=np.asarray(ring_is_hole[r0:r1], bool),
+               z=None if z is None else z[v0:v1].copy())
+
+
+def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, *, z=None,
+                      errors: str = "raise", progress=None, **options) -> MeshBatch:
+    """Constrained Delaunay triangulation of many geometries given as rings.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64
+        Ring vertices, without closing points, geometry after geometry.
+    ring_start : (r + 1,) int64
+        Ring ``j`` is ``xy[ring_start[j]:ring_start[j + 1]]``.
+    geom_ring_start : (g + 1,) int64
+        Geometry ``i`` is made of rings ``geom_ring_start[i]:geom_ring_start[i + 1]``.
+    ring_polygon : (r,) int64
+        The polygon (part) number of each ring within its geometry.
+    ring_is_hole : (r,) bool
+        Whether each ring is a hole of its polygon (checked: a hole outside its
+        shell raises :class:`cdt_plugin.InvalidGeometryError`).
+    z : (n,) float64, optional
+        Z of the ring vertices, carried to the output (Steiner vertices interpolated).
+    errors : {"raise", "skip"}
+        A geometry that cannot be meshed raises its :class:`CDTError` with
+        ``geometry i:`` in front of the message and an ``index`` attribute, or
+        (``"skip"``) is left without triangles and recorded in ``errors``.
+    progress : callable, optional
+        Called with the number of geometries finished since the last call.
+    **options
+        Passed to :func:`cdt_plugin.triangulate` (``intersections``,
+        ``min_angle``, ``max_area``, ...).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> xy = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [2, 0], [3, 0], [2, 1.0]])
+    >>> b = triangulate_rings(xy, [0, 4, 7], [0, 1, 2], [0, 0], [False, False])
+    >>> len(b), b.triangles.shape, b.geometry.tolist()
+    (2, (3, 3), [0, 0, 1])
+    """
+    from .cdt import triangulate
+
+    t0 = time.perf_counter()
+    if errors not in ERRORS:
+        raise CDTError(f"errors must be one of {ERRORS}, got {errors!r}")
+    xy = np.ascontiguousarray(xy, dtype=np.float64).reshape(-1, 2)
+    ring_start = np.asarray(ring_start, np.int64)
+    geom_ring_start = np.asarray(geom_ring_start, np.int64)
+    ng = len(geom_ring_start) - 1
+    parts = []          # (geometry, triangles (global ids), region)
+    steiner_xy, steiner_z = [], []
+    nsteiner = 0
+    failed = {}
+    for g in range(ng):
+        if geom_ring_start[g] == geom_ring_start[g + 1]:     # empty geometry: no triangles
+            if progress is not None:
+                progress(1)
+            continue
+        plc = geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, z, g)
+        v0 = ring_start[geom_ring_start[g]]
+        try:
+            tri = triangulate(plc, **options)
+        except CDTError as e:
+            if errors == "raise":
+                e.args = (f"geometry {g}: {e.args[0] if e.args else ''}",) + tuple(e.args[1:])
+                e.index = g
+                raise
+            failed[g] = e
+            continue
+        finally:
+            if progress is not None:
+                progress(1)
+        glob = _global_ids(tri, v0, len(xy) + nsteiner)
+        st = np.asarray(tri.steiner, np.int64)
+        if len(st):
+            steiner_xy.append(tri.vertices[st])
+            if z is not None:
+                from .lift import lift_z
+                steiner_z.append(lift_z(tri, plc.z, plc.segments)[st])
+            nsteiner += len(st)
+        parts.append((g, glob[tri.triangles], np.asarray(tri.regions, np.int64)))
+    return _assemble(xy, z, parts, steiner_xy, steiner_z, ng, failed, t0)
+
+
+def _global_ids(tri, v0, steiner0):
+    """Batch vertex id of each output vertex of ``tri``: input vertices map to
+    their first input occurrence (offset ``v0``), Steiner vertices to new ids
+    from ``steiner0``."""
+    vm = np.asarray(tri.vertex_map)
+    glob = np.empty(len(tri.vertices), np.int64)
+    first = np.flatnonzero(vm >= 0)[::-1]
+    glob[vm[first]] = v0 + first
+    st = np.asarray(tri.steiner, np.int64)
+    glob[st] = steiner0 + np.arange(len(st))
+    return glob
+
+
+def _assemble(xy, z, parts, steiner_xy, steiner_z, ng, failed, t0):
+    counts = np.zeros(ng, np.int64)
+    for g, T, _ in parts:
+        counts[g] = len(T)
+    offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    if parts:
+        triangles = np.concatenate([T for _, T, _ in parts]).astype(np.int64).reshape(-1, 3)
+        region = np.concatenate([r for _, _, r in parts]).astype(np.int64)
+    else:
+        triangles, region = np.empty((0, 3), np.int64), np.empty(0, np.int64)
+    geometry = np.repeat(np.arange(ng), counts)
+    vertices = np.vstack([xy] + steiner_xy) if steiner_xy else xy
+    zz = None
+    if z is not None:
+        zz = np.concatenate([np.asarray(z, np.float64)] + steiner_z)
+    stats = {"geometries": ng, "triangles": len(triangles), "steiner": len(vertices) - len(xy),
+             "failed": len(failed), "seconds": time.perf_counter() - t0}
+    return MeshBatch(vertices, zz, triangles, geometry, region, offsets, failed, stats)

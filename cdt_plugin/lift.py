@@ -1,0 +1,104 @@
+"""Z for every output vertex: 2.5D meshes from polygons with Z.
+
+Meshing is planar; a third coordinate given on the input vertices is carried
+along. Input vertices keep their own z (a merged duplicate takes the z of its
+first occurrence). A Steiner vertex gets z by linear interpolation:
+
+* on an input segment (a split piece, an intersection point): along that
+  segment, between the z of its two input endpoints;
+* inside the domain (refinement points): inside the triangle that contains it
+  in the constrained Delaunay triangulation of the vertices whose z is known
+  (input vertices and points on segments, with the segment pieces as
+  constraints), by barycentric coordinates.
+
+The interpolation is floating point; it never decides topology.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .certify import locate_in_arrays
+
+
+def lift_z(tri, plc_z: np.ndarray, plc_segments: np.ndarray) -> np.ndarray:
+    """The z of every vertex of ``tri``, a triangulation of a PLC whose input
+    vertices have z ``plc_z`` and whose input segments are ``plc_segments``.
+
+    Examples
+    --------
+    >>> import cdt_plugin
+    >>> tri = cdt_plugin.triangulate([[0, 0], [2, 0], [0, 2]], [[0, 1], [1, 2], [2, 0]],
+    ...                              max_area=0.1)
+    >>> z = lift_z(tri, [0.0, 2.0, 2.0], [[0, 1], [1, 2], [2, 0]])
+    >>> bool(np.allclose(z, tri.vertices[:, 0] + tri.vertices[:, 1]))   # the plane z = x + y
+    True
+    """
+    plc_z = np.asarray(plc_z, dtype=np.float64)
+    plc_segments = np.asarray(plc_segments, dtype=np.int64).reshape(-1, 2)
+    V = np.asarray(tri.vertices, dtype=np.float64)
+    z = np.full(len(V), np.nan)
+    vm = np.asarray(tri.vertex_map)
+    first = np.flatnonzero(vm >= 0)[::-1]           # reversed: the first occurrence writes last
+    z[vm[first]] = plc_z[first]
+    steiner = np.asarray(tri.steiner, dtype=np.int64)
+    if not len(steiner):
+        return z
+    _lift_on_segments(tri, V, z, plc_z, plc_segments)
+    inner = steiner[np.isnan(z[steiner])]
+    if len(inner):
+        _lift_inside(tri, V, z, inner)
+    return z
+
+
+def _lift_on_segments(tri, V, z, plc_z, plc_segments):
+    """Steiner vertices on segment pieces: linear along the input segment."""
+    pieces = np.asarray(tri.segments, dtype=np.int64).reshape(-1, 2)
+    sid = np.asarray(tri.segment_ids, dtype=np.int64)
+    if not len(pieces):
+        return
+    v = pieces.ravel()
+    s = np.repeat(sid, 2)
+    want = np.isnan(z[v]) & (s >= 0)
+    v, s = v[want], s[want]
+    if not len(v):
+        return
+    a, b = plc_segments[s, 0], plc_segments[s, 1]
+    vm = np.asarray(tri.vertex_map)
+    A, B = V[vm[a]], V[vm[b]]
+    d = B - A
+    t = ((V[v] - A) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), np.finfo(float).tiny)
+    t = np.clip(t, 0.0, 1.0)
+    z[v] = plc_z[a] + t * (plc_z[b] - plc_z[a])
+
+
+def _lift_inside(tri, V, z, inner):
+    """Interior Steiner vertices: barycentric in the CDT of the known vertices."""
+    from .cdt import triangulate
+
+    known = np.flatnonzero(~np.isnan(z))
+    local = np.full(len(V), -1, np.int64)
+    local[known] = np.arange(len(known))
+    pieces = np.asarray(tri.segments, dtype=np.int64).reshape(-1, 2)
+    pieces = pieces[(local[pieces] >= 0).all(axis=1)]
+    base = triangulate(V[known], local[pieces], keep_hull=True, intersections="split")
+    BV = base.vertices
+    bz = np.full(len(BV), np.nan)
+    bz[base.vertex_map] = z[known]
+    bx, by = BV[:, 0].copy(), BV[:, 1].copy()
+    T, N = base.triangles, base.neighbors
+    for v in inner:
+        k = locate_in_arrays(bx, by, T, N, V[v, 0], V[v, 1])
+        if k < 0:
+            continue
+        z[v] = _barycentric(BV[T[k]], bz[T[k]], V[v])
+
+
+def _barycentric(P, pz, q):
+    """z at ``q`` of the plane through the three points ``P`` with heights ``pz``."""
+    (x0, y0), (x1, y1), (x2, y2) = P
+    det = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
+    if det == 0:
+        return float(np.nanmean(pz))
+    l1 = ((q[0] - x0) * (y2 - y0) - (x2 - x0) * (q[1] - y0)) / det
+    l2 = ((x1 - x0) * (q[1] - y0) - (q[0] - x0) * (y1 - y0)) / det
+    return float(pz[0] + l1 * (pz[1] - pz[0]) + l2 * (pz[2] - pz[0]))
