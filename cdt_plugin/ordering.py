@@ -69,21 +69,32 @@ def brio_order(x: np.ndarray, y: np.ndarray, seed: int = 0) -> np.ndarray:
     >>> sorted(brio_order(np.arange(5.0), np.zeros(5)))
     [0, 1, 2, 3, 4]
     """
-    n = x.shape[0]
-    perm = np.random.default_rng(seed).permutation(n).astype(np.int64)
+    perm = np.random.default_rng(seed).permutation(x.shape[0]).astype(np.int64)
+    return brio_sort(x, y, perm)
+
+
+@njit(cache=True)
+def brio_sort(x, y, perm):
+    """Sort the random permutation ``perm`` into BRIO rounds: the last half of
+    the points, the half before it, ... down to at most 64 points, each round
+    but the first along a Hilbert curve over its own bounding box."""
+    n = perm.shape[0]
     out = np.empty(n, np.int64)
-    # round boundaries: ..., n/8, n/4, n/2, n (the last round holds half the points)
-    bounds = [n]
-    while bounds[-1] > 64:
-        bounds.append(bounds[-1] // 2)
-    bounds.append(0)
-    bounds = bounds[::-1]
-    for lo, hi in zip(bounds[:-1], bounds[1:]):
+    hi = n
+    while hi > 0:
+        lo = hi // 2 if hi > 64 else 0
         chunk = perm[lo:hi]
-        # about four points per grid cell is fine enough for walking
-        bits = int(min(HILBERT_BITS, max(1, np.ceil(np.log2(max(hi - lo, 2)) / 2))))
+        if lo == 0:
+            # the first round stays random: points along a curve (a polygon's
+            # ring) inserted in curve order flip O(n) edges each
+            out[:hi] = chunk
+            break
+        # the finest grid: points along curves (rings) crowd a coarse grid's cells,
+        # and inside a cell their order is random, which makes long walks
+        bits = HILBERT_BITS
         keys = hilbert_keys(x, y, chunk, bits)
-        out[lo:hi] = chunk[np.argsort(keys)]
+        out[lo:hi] = chunk[np.argsort(keys, kind="mergesort")]
+        hi = lo
     return out
 
 

@@ -38,6 +38,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .borrow import unowned
 from .insertion import legalize
 from .kernel import edge_is_illegal, orient
 from .locate import INSIDE, ON_EDGE, ON_VERTEX, solid_step
@@ -522,6 +523,8 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
     lost when a flip moves a queued half-edge. Returns ``(status, ntri, nv)``:
     FINISHED, NEED_ROOM (grow the arrays, call again) or LIMIT (``max_new``
     vertices inserted)."""
+    tri, twin, cons, x, y, lab = unowned(tri), unowned(twin), unowned(cons), unowned(x), unowned(y), unowned(lab)
+    vseg, seg_ends, area_of_label, counts = unowned(vseg), unowned(seg_ends), unowned(area_of_label), unowned(counts)
     cap_tri = tri.shape[0] // 3
     hkeys = np.empty(1024, np.float64)
     hitems = np.empty((1024, 4), np.int64)

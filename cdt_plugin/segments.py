@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .borrow import unowned
 from .kernel import orient
 from .insertion import insert_vertex
 from .locate import ON_VERTEX, locate
@@ -277,6 +278,10 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
     Returns ``(status, ntri, nv, ntask)``; on NEED_* the unfinished task is back
     on the queue so the caller can grow the arrays and call again.
     """
+    tri, twin, cons, x, y, w = unowned(tri), unowned(twin), unowned(cons), unowned(x), unowned(y), unowned(w)
+    tasks, seg_ends, counts, info, stack = (unowned(tasks), unowned(seg_ends), unowned(counts),
+                                            unowned(info), unowned(stack))
+    buf = (unowned(buf[0]), unowned(buf[1]), unowned(buf[2]), unowned(buf[3]), unowned(buf[4]))
     hint = 0
     flip_counts = np.zeros(2, np.int64)
     no_weights = np.zeros(1, np.int8)

@@ -39,6 +39,32 @@ def solid_triangles(tri, twin, ntri, inf):
 
 
 @njit(cache=True)
+def rotate_min_first(triangles, neighbors):
+    """List every triangle from its smallest vertex id (neighbours alike), in place."""
+    for i in range(triangles.shape[0]):
+        r = min_first(triangles[i, 0], triangles[i, 1], triangles[i, 2])
+        if r == 0:
+            continue
+        a0, a1, a2 = triangles[i, 0], triangles[i, 1], triangles[i, 2]
+        n0, n1, n2 = neighbors[i, 0], neighbors[i, 1], neighbors[i, 2]
+        if r == 1:
+            triangles[i, 0], triangles[i, 1], triangles[i, 2] = a1, a2, a0
+            neighbors[i, 0], neighbors[i, 1], neighbors[i, 2] = n1, n2, n0
+        else:
+            triangles[i, 0], triangles[i, 1], triangles[i, 2] = a2, a0, a1
+            neighbors[i, 0], neighbors[i, 1], neighbors[i, 2] = n2, n0, n1
+
+
+@njit(cache=True, inline="always")
+def min_first(a, b, c):
+    """The rotation that lists a triangle from its smallest vertex id: output
+    triangles then do not depend on the insertion order."""
+    if a < b and a < c:
+        return 0
+    return 1 if b < c else 2
+
+
+@njit(cache=True)
 def _cdt_arrays(T, N, cflag, inside, remap):
     """One pass over the real triangles of a constrained triangulation: the
     kept ones (``inside``) in output ids with their neighbours (-1 across the
@@ -65,6 +91,7 @@ def _cdt_arrays(T, N, cflag, inside, remap):
     p = 0
     for t in range(T.shape[0]):
         i = newid[t]
+        r = min_first(remap[T[t, 0]], remap[T[t, 1]], remap[T[t, 2]])
         for j in range(3):
             m = N[t, j]
             if cflag[t, j] != 0 and (m < 0 or t < m):
@@ -73,9 +100,11 @@ def _cdt_arrays(T, N, cflag, inside, remap):
                 segment_ids[p] = cflag[t, j] - 1
                 p += 1
             if i >= 0:
-                triangles[i, j] = remap[T[t, j]]
+                s = (j + r) % 3
+                m = N[t, s]
+                triangles[i, j] = remap[T[t, s]]
                 neighbors[i, j] = newid[m] if m >= 0 else -1
-                constrained[i, j] = cflag[t, j] != 0
+                constrained[i, j] = cflag[t, s] != 0
         if i >= 0:
             keep[i] = t
     return triangles, neighbors, constrained, segments, segment_ids, keep
@@ -172,6 +201,7 @@ class Triangulation:
         tri_out = remap[tri[: 3 * ntri]]
         twin_out = twin[: 3 * ntri]
         triangles, neighbors, _ = solid_triangles(tri_out, twin_out, ntri, len(kept))
+        rotate_min_first(triangles, neighbors)
         _finish_stats(stats, n, vertex_map, dup_of, submerged, len(triangles), t0)
         weights = None if w_in is None else w_in[kept]
         out = cls(pts[kept], triangles, neighbors, vertex_map, stats, weights,
@@ -357,6 +387,7 @@ class Triangulation:
         if flips >= 0 and defect < 0:
             self._mesh = (tri, twin, cons, ntri, inf)
             self.triangles, self.neighbors, _ = solid_triangles(tri, twin, ntri, inf)
+            rotate_min_first(self.triangles, self.neighbors)
             self.vertices = new
             self._edges = None
             self.stats.update(move_flips=flips, rebuilt=False)
