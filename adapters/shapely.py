@@ -389,8 +389,11 @@ def _polygon_rings(geoms):
     nxt = np.arange(1, nv + 1)
     nonempty = ring_len > 0
     nxt[ring_start[1:][nonempty] - 1] = ring_start[:-1][nonempty]
-    x, y = coords[:, 0], coords[:, 1]
-    # twice the signed area per ring (for the degenerate-ring check)
+    # twice the signed area per ring (for the degenerate-ring check), relative to the
+    # ring's first vertex: raw UTM-scale products cancel, and a valid millimetre-sized
+    # ring could sum to exactly 0.0
+    first = np.repeat(ring_start[:-1], ring_len)
+    x, y = coords[:, 0] - coords[first, 0], coords[:, 1] - coords[first, 1]
     cross = x * y[nxt] - x[nxt] * y
     area2 = np.add.reduceat(cross, ring_start[:-1][nonempty]) if nv else np.zeros(0)
     bad_ring = ring_len < 3

@@ -252,3 +252,17 @@ def test_triangulation_to_shapely_method():
     assert gc.geom_type == "GeometryCollection" and gc.area == 2.0
     empty = sa.to_shapely(sa.triangulate(shapely.MultiPoint([(0, 0), (1, 1)])))
     assert empty.is_empty and empty.geom_type == "GeometryCollection"
+
+
+def test_batch_meshes_a_millimetre_ring_at_utm_scale():
+    # valid (area 3.6e-7 m2), but its raw shoelace sum x_i y_j - x_j y_i cancels to exactly
+    # 0.0 at these magnitudes: the degenerate-ring check must not call it zero-area
+    sliver = shapely.from_wkt("POLYGON ((4421750.51858677 -948118.6153869622, 4421750.519423157 "
+                              "-948118.6160371872, 4421750.518822999 -948118.6164387744, "
+                              "4421750.51858677 -948118.6153869622))")
+    xy = shapely.get_coordinates(sliver)[:-1]
+    assert sliver.is_valid
+    assert (xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1]).sum() == 0.0
+    batch = sa.triangulate_batch([sliver])
+    assert batch.errors == {} and len(batch.triangles) == 1
+    assert_valid(batch.vertices, batch.triangles, segments=[[0, 1], [1, 2], [2, 0]], domain="segments")
