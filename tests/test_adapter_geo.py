@@ -1,0 +1,356 @@
+"""GIS adapter (``cdt_plugin.adapters.geo``) against the real geopandas, pyogrio,
+pyproj, trimesh and dask.distributed (no mocks). Every mesh is verified by the
+exact checker."""
+from __future__ import annotations
+
+import doctest
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+gpd = pytest.importorskip("geopandas")
+shapely = pytest.importorskip("shapely")
+pytest.importorskip("pyogrio")
+pytest.importorskip("pyproj")
+
+from cdt_plugin import InvalidGeometryError  # noqa: E402
+from cdt_plugin.adapters import geo  # noqa: E402
+
+from checker import assert_valid, canonical_triangles  # noqa: E402
+from corpus import corpus_dir  # noqa: E402
+
+LOWRES = corpus_dir() / "gis" / "naturalearth_lowres.geojson"
+needs_corpus = pytest.mark.skipif(not LOWRES.exists(), reason="corpus not found")
+CENTRAL_EUROPE = ["Germany", "Poland", "Czechia", "Austria", "Switzerland", "Hungary", "Slovakia"]
+
+# lon/lat layers warn (tested below); elsewhere the warning is expected noise
+pytestmark = pytest.mark.filterwarnings("ignore::cdt_plugin.adapters.geo.GeographicCRSWarning")
+
+
+@pytest.fixture(scope="module")
+def countries():
+    return gpd.read_file(LOWRES)
+
+
+# ------------------------------------------------------------------ helpers
+def input_segments(V, geometry) -> np.ndarray:
+    """The ring edges of ``geometry`` as index pairs into ``V`` (exact coordinates);
+    a KeyError means an input vertex is missing from the mesh."""
+    index = {(x, y): k for k, (x, y) in enumerate(np.asarray(V)[:, :2].tolist())}
+    segments = []
+    for ring in shapely.get_rings(shapely.get_parts(geometry)):
+        ids = [index[(x, y)] for x, y in shapely.get_coordinates(ring).tolist()]
+        segments += [(a, b) for a, b in zip(ids[:-1], ids[1:]) if a != b]
+    return np.array(segments, dtype=np.int64)
+
+
+def boundary_edges(T) -> np.ndarray:
+    """Edges used by one triangle: the segment pieces of a refined polygon mesh."""
+    e = np.sort(np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]), axis=1)
+    uniq, count = np.unique(e, axis=0, return_counts=True)
+    return uniq[count == 1]
+
+
+def verify_feature(mesh, i, geometry, refined=False):
+    """The exact checker on feature ``i`` of a GeoMesh: a simplicial complex, bounded
+    by segments, every other edge locally Delaunay; unrefined: every input vertex
+    present and every input ring edge an edge."""
+    V, T = mesh.feature_mesh(i)
+    segments = boundary_edges(T) if refined else input_segments(V, geometry)
+    return assert_valid(V[:, :2], T, segments=segments, domain="segments")
+
+
+def min_angles(V, T):
+    a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
+    out = []
+    for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
+        u, v = q - p, r - p
+        out.append(np.arctan2(np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]), (u * v).sum(axis=1)))
+    return np.degrees(np.min(out, axis=0))
+
+
+def triangle_sets(triangles, key="position") -> dict:
+    """Per feature (by ``key`` column) the set of triangles as sorted coordinate triples."""
+    corners = shapely.get_coordinates(triangles.geometry.array).reshape(-1, 4, 2)[:, :3]
+    out: dict = {}
+    for k, tri in zip(triangles[key].tolist(), corners.tolist()):
+        out.setdefault(k, set()).add(tuple(sorted(map(tuple, tri))))
+    return out
+
+
+def feature_areas(triangles, n) -> np.ndarray:
+    return np.bincount(triangles["position"].to_numpy(), minlength=n,
+                       weights=shapely.area(triangles.geometry.array))
+
+
+# -------------------------------------------------------------------- tests
+def test_docstring_examples():
+    result = doctest.testmod(geo)
+    assert result.attempted >= 15 and result.failed == 0
+
+
+@needs_corpus
+def test_countries_keep_attributes_crs_and_features(countries):
+    mesh = geo.triangulate(countries, output="mesh")
+    tris = mesh.to_geodataframe()
+    attrs = [c for c in countries.columns if c != "geometry"]
+    assert list(tris.columns) == ["feature", "position", "part", *attrs, "geometry"]
+    assert tris.crs == countries.crs and len(tris) == 9791
+    pos = tris["position"].to_numpy()
+    assert (tris["feature"].to_numpy() == countries.index.to_numpy()[pos]).all()
+    for column in attrs:
+        assert tris[column].reset_index(drop=True).equals(
+            countries[column].iloc[pos].reset_index(drop=True)), column
+    source = countries.geometry.to_numpy()
+    parts = shapely.get_num_geometries(source)
+    assert (tris["part"].to_numpy() < parts[pos]).all()
+    assert (np.diff(pos) >= 0).all() and set(pos) == set(range(len(countries)))
+    triangles = tris.geometry.to_numpy()
+    assert shapely.covers(source[pos], triangles).all()           # every triangle in its feature
+    assert shapely.is_ccw(shapely.get_exterior_ring(triangles)).all()
+    np.testing.assert_allclose(feature_areas(tris, len(countries)), shapely.area(source), rtol=1e-9)
+    for i, geometry in enumerate(source):                          # the exact checker, every country
+        verify_feature(mesh, i, geometry)
+
+
+@needs_corpus
+def test_geojson_dict_path_geopackage_and_shapefile_inputs(tmp_path, countries):
+    layer = countries[countries["continent"] == "Africa"]          # South Africa has a hole
+    expected = triangle_sets(geo.triangulate(layer))
+    geo.write_geojson(layer, tmp_path / "africa.geojson")
+    layer.to_file(tmp_path / "africa.gpkg", layer="africa")
+    countries.head(3).to_file(tmp_path / "africa.gpkg", layer="other")
+    layer.to_file(tmp_path / "africa.shp")
+    inputs = {"dict": (json.loads(layer.to_json()), None),
+              "geojson": (str(tmp_path / "africa.geojson"), None),
+              "gpkg": (tmp_path / "africa.gpkg", "africa"),
+              "shp": (tmp_path / "africa.shp", None)}
+    for kind, (data, name) in inputs.items():
+        tris = geo.triangulate(data, layer=name)
+        assert tris.crs.to_epsg() == 4326, kind
+        assert triangle_sets(tris) == expected, kind                # same triangles, feature by feature
+        names = tris.groupby("position")["name"].first()
+        assert names.tolist() == layer["name"].tolist(), kind       # attributes kept
+        assert "pop_est" in tris and "gdp_md_est" in tris, kind
+
+
+def plane(x, y):
+    return 0.25 * x - 0.5 * y + 3.0
+
+
+def test_z_kept_on_input_vertices_and_interpolated_on_steiner_vertices():
+    shell = [(0, 0), (8, 0), (8, 6), (4, 9), (0, 6)]
+    hole = [(2, 2), (2, 4), (4, 4), (4, 2)]
+    lift = lambda ring: [(x, y, plane(x, y)) for x, y in ring]  # noqa: E731
+    surface = shapely.Polygon(lift(shell), [lift(hole)])
+    layer = gpd.GeoDataFrame({"id": [1, 2]}, geometry=[surface, shapely.box(20, 0, 22, 2)],
+                             crs="EPSG:32633")
+    mesh = geo.triangulate(layer, output="mesh", max_area=0.5)
+    tris = mesh.to_geodataframe()
+    assert tris.has_z.tolist() == [p == 0 for p in tris["position"]]
+    V, T = mesh.feature_mesh(0)
+    assert V.shape[1] == 3
+    given = {tuple(p) for p in shapely.get_coordinates(surface, include_z=True).tolist()}
+    is_input = np.array([tuple(v) in given for v in V.tolist()])
+    assert is_input.sum() == len(given)                             # input vertices keep x, y, z
+    assert (~is_input).sum() > 20                                    # Steiner vertices, z interpolated
+    np.testing.assert_allclose(V[~is_input, 2], plane(V[~is_input, 0], V[~is_input, 1]),
+                               rtol=1e-12, atol=1e-12)
+    xyz = shapely.get_coordinates(tris.geometry.array[tris["position"] == 0], include_z=True)
+    np.testing.assert_allclose(xyz[:, 2], plane(xyz[:, 0], xyz[:, 1]), rtol=1e-12, atol=1e-12)
+    verify_feature(mesh, 0, surface, refined=True)
+    areas = feature_areas(tris, 2)
+    np.testing.assert_allclose(areas, [surface.area, 4.0], rtol=1e-12)
+    assert shapely.area(mesh.triangle_polygons()).max() <= 0.5 * (1 + 1e-12)
+    surface_mesh, flat_mesh = geo.triangulate(layer, output="trimesh", max_area=0.5)
+    np.testing.assert_allclose(surface_mesh.vertices[:, 2],
+                               plane(surface_mesh.vertices[:, 0], surface_mesh.vertices[:, 1]),
+                               rtol=1e-12, atol=1e-12)
+    assert (flat_mesh.vertices[:, 2] == 0).all()
+
+
+def grid_polygon() -> shapely.Polygon:
+    """A wavy 48-gon with a square hole, every coordinate on the 2^-10 grid in [0, 1000]."""
+    t = np.linspace(0.0, 2.0 * np.pi, 48, endpoint=False)
+    r = 400.0 + 40.0 * np.sin(5.0 * t)
+    shell = np.round(np.column_stack([500 + r * np.cos(t), 500 + r * np.sin(t)]) * 1024) / 1024
+    return shapely.Polygon(shell, [[(450, 450), (450, 550.5), (550.25, 550.5), (550.25, 450)]])
+
+
+@pytest.mark.parametrize("offset", [(5e5, 5e6), (3e5, 9.5e6)])
+def test_utm_scale_meshes_like_unit_scale(offset):
+    unit = grid_polygon()
+    far = shapely.transform(unit, lambda c: c + offset)            # exact: the grid survives
+    assert np.array_equal(shapely.get_coordinates(far) - offset, shapely.get_coordinates(unit))
+    near_layer = gpd.GeoDataFrame(geometry=[unit])
+    far_layer = gpd.GeoDataFrame(geometry=[far], crs="EPSG:32633")
+    a = geo.triangulate(near_layer, output="mesh")
+    b = geo.triangulate(far_layer, output="mesh")
+    assert np.array_equal(b.vertices, b.batch.vertices)             # no translation, no rounding
+    assert canonical_triangles(b.vertices - offset, b.triangles) == \
+        canonical_triangles(a.vertices, a.triangles)
+    verify_feature(a, 0, unit)
+    verify_feature(b, 0, far)                                        # exact, on the raw UTM values
+    refined = geo.triangulate(far_layer, output="mesh", min_angle=25)
+    V, T = refined.feature_mesh(0)
+    assert len(T) > 2 * len(b.triangles)
+    assert min_angles(V - offset, T).min() >= 25 * (1 - 1e-9)
+    verify_feature(refined, 0, far, refined=True)
+    assert shapely.area(refined.triangle_polygons()).sum() == pytest.approx(far.area, rel=1e-9)
+
+
+@needs_corpus
+def test_geographic_crs_warns_unless_projected(countries):
+    layer = countries[countries["name"].isin(CENTRAL_EUROPE)]
+    with pytest.warns(geo.GeographicCRSWarning, match=r"geographic.*degrees.*project='utm'") as record:
+        geo.triangulate(layer)
+    assert record[0].filename == __file__                            # points at the caller
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", geo.GeographicCRSWarning)
+        geo.triangulate(layer, project="aeqd")
+        geo.triangulate(layer.to_crs("EPSG:3035"))                   # projected
+        geo.triangulate(layer.set_crs(None, allow_override=True))    # no CRS: raw coordinates
+
+
+@needs_corpus
+@pytest.mark.parametrize("project", ["utm", "aeqd", "EPSG:3035"])
+def test_projection_round_trip_keeps_input_coordinates(countries, project):
+    layer = countries[countries["name"].isin(CENTRAL_EUROPE)]
+    mesh = geo.triangulate(layer, output="mesh", project=project, min_angle=25)
+    assert mesh.mesh_crs.is_projected
+    if project == "utm":
+        assert mesh.mesh_crs.to_epsg() == 32633
+    original = {tuple(p) for p in shapely.get_coordinates(layer.geometry.array).tolist()}
+    V = mesh.vertices
+    is_input = np.array([tuple(v) in original for v in V.tolist()])
+    assert {tuple(v) for v in V[is_input].tolist()} == original      # every lon/lat back, bit for bit
+    assert (~is_input).sum() > 100                                    # Steiner vertices, inverse-projected
+    tris = mesh.to_geodataframe()
+    corners = {tuple(p) for p in shapely.get_coordinates(tris.geometry.array).tolist()}
+    assert original <= corners
+    # in the meshing CRS: checked exactly, areas equal the projected polygons'
+    projected = layer.to_crs(mesh.mesh_crs).geometry.to_numpy()
+    for i, geometry in enumerate(projected):
+        Vi, Ti = mesh.batch.mesh(i)
+        assert_valid(Vi, Ti, segments=boundary_edges(Ti), domain="segments")
+        area = shapely.area(shapely.polygons(Vi[Ti[:, [0, 1, 2, 0]]])).sum()
+        assert area == pytest.approx(geometry.area, rel=1e-9)
+    # back in lon/lat: a Steiner vertex is on its feature's boundary (a split edge,
+    # moved to the same fraction of the original edge) or inverse-projected
+    steiner = np.flatnonzero(~is_input)
+    feature_of = np.zeros(len(V), np.int64)
+    feature_of[mesh.triangles.ravel()] = np.repeat(mesh.position, 3)
+    rings = shapely.boundary(layer.geometry.to_numpy())[feature_of[steiner]]
+    on_boundary = shapely.distance(rings, shapely.points(V[steiner])) < 1e-12
+    forward = gpd.GeoSeries(shapely.points(V[steiner]), crs=layer.crs).to_crs(mesh.mesh_crs)
+    moved = np.hypot(*(shapely.get_coordinates(forward.array) - mesh.batch.vertices[steiner]).T)
+    # metres; EPSG:3035 is on ETRS89: the datum shift's round trip is good to 0.4 mm
+    assert on_boundary.sum() > 20 and (moved[~on_boundary] < 1e-3).all()
+    assert shapely.is_ccw(shapely.get_exterior_ring(tris.geometry.array)).all()
+    np.testing.assert_allclose(feature_areas(tris, len(layer)), shapely.area(layer.geometry.array),
+                               rtol=1e-12)                           # they tile the lon/lat polygons
+
+
+@needs_corpus
+def test_feature_split_at_the_antimeridian_cannot_be_projected(countries):
+    fiji = countries[countries["name"].isin(["Fiji", "New Zealand"])]   # Fiji: parts at +-180
+    with pytest.raises(geo.ProjectionError, match=r"^feature 0: \d+ of its triangles turn clockwise "
+                       r"when mapped back from 'Azimuthal equidistant centred at lon 17\d\.\d+"):
+        geo.triangulate(fiji, project="aeqd", repair=True)
+    with pytest.warns(geo.SkippedFeaturesWarning, match=r"\(0\)"):
+        tris = geo.triangulate(fiji, project="aeqd", repair=True, errors="skip")
+    assert set(tris["name"]) == {"New Zealand"} and list(tris.attrs["cdt_errors"]) == [0]
+    assert shapely.is_ccw(shapely.get_exterior_ring(tris.geometry.array)).all()
+    unprojected = geo.triangulate(fiji)                 # in lon/lat the parts stay apart
+    np.testing.assert_allclose(feature_areas(unprojected, 2), shapely.area(fiji.geometry.array),
+                               rtol=1e-12)
+
+
+def test_invalid_feature_is_named_and_skip_records_it():
+    bowtie = shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
+    layer = gpd.GeoDataFrame({"v": [1, 2, 3]}, index=["a", "bow", "c"],
+                             geometry=[shapely.box(0, 0, 1, 1), bowtie, shapely.box(3, 0, 4, 1)])
+    with pytest.raises(InvalidGeometryError, match=r"^feature bow: Polygon is not valid: "
+                                                   r"Self-intersection.*repair=True") as info:
+        geo.triangulate(layer)
+    assert info.value.feature == "bow" and info.value.index == 1
+    with pytest.warns(geo.SkippedFeaturesWarning, match=r"^1 feature\(s\) could not be meshed .*\(bow\)"):
+        tris = geo.triangulate(layer, errors="skip")
+    assert tris["feature"].tolist() == ["a", "a", "c", "c"] and tris["v"].tolist() == [1, 1, 3, 3]
+    assert tris.attrs["cdt_errors"]["bow"].startswith("InvalidGeometryError: feature bow: Polygon")
+    assert list(tris.attrs["cdt_errors"]) == ["bow"] and json.dumps(tris.attrs)   # to_parquet-safe
+    with pytest.warns(geo.SkippedFeaturesWarning):
+        mesh = geo.triangulate(layer, errors="skip", output="mesh")
+    assert isinstance(mesh.errors[1], InvalidGeometryError) and mesh.errors[1].feature == "bow"
+    repaired = geo.triangulate(layer, repair=True, output="mesh")
+    assert repaired.to_geodataframe()["feature"].tolist().count("bow") == 2   # two triangles
+    verify_feature(repaired, 0, layer.geometry.iloc[0])
+
+
+def test_layers_without_polygons_are_a_clear_error():
+    layer = gpd.GeoDataFrame(geometry=[shapely.Point(0, 0), shapely.LineString([(0, 0), (1, 1)]),
+                                       None, shapely.Polygon()])
+    with pytest.raises(geo.NoPolygonsError, match=r"no Polygon or MultiPolygon feature to "
+                       r"triangulate \(4 feature\(s\): 1 LineString, 1 None, 1 Point, 1 empty Polygon\)"):
+        geo.triangulate(layer)
+    with pytest.raises(geo.NoPolygonsError, match="the layer is empty"):
+        geo.triangulate({"type": "FeatureCollection", "features": []})
+    mixed = gpd.GeoDataFrame(geometry=[shapely.Point(0, 0), shapely.box(0, 0, 1, 1)])
+    meshes = geo.triangulate(mixed, output="trimesh")
+    assert meshes[0] is None and len(meshes[1].faces) == 2
+
+
+def test_projection_errors():
+    square = gpd.GeoDataFrame(geometry=[shapely.box(0, 0, 1, 1)])
+    for project in ("utm", "aeqd", "EPSG:32633"):
+        with pytest.raises(geo.ProjectionError, match="needs the layer's CRS"):
+            geo.triangulate(square, project=project)
+    lonlat = square.set_crs("EPSG:4326")
+    with pytest.raises(geo.ProjectionError, match="'WGS 84' is not a projected CRS"):
+        geo.triangulate(lonlat, project="EPSG:4326")
+    with pytest.raises(geo.ProjectionError, match="project must be 'utm', 'aeqd' or a projected CRS"):
+        geo.triangulate(lonlat, project="mercator please")
+    with pytest.raises(geo.CDTError, match="output must be one of"):
+        geo.triangulate(lonlat, output="svg")
+
+
+def test_trimesh_output_one_mesh_per_feature():
+    trimesh = pytest.importorskip("trimesh")
+    holed = shapely.Polygon([(0, 0), (10, 0), (10, 8), (0, 8)], [[(2, 2), (2, 5), (6, 5), (6, 2)]])
+    islands = shapely.MultiPolygon([shapely.box(20, 0, 21, 1), shapely.box(23, 0, 25, 3)])
+    layer = gpd.GeoDataFrame({"name": ["holed", "point", "islands"]}, crs="EPSG:32633",
+                             geometry=[holed, shapely.Point(5, 5), islands])
+    meshes = geo.triangulate(layer, output="trimesh")
+    assert len(meshes) == 3 and meshes[1] is None
+    for m, geometry in ((meshes[0], holed), (meshes[2], islands)):
+        assert isinstance(m, trimesh.Trimesh)
+        assert m.area == pytest.approx(geometry.area, rel=1e-12)
+        assert (m.vertices[:, 2] == 0).all() and (m.face_normals[:, 2] > 0).all()   # ccw from +z
+        assert_valid(m.vertices[:, :2], m.faces, segments=input_segments(m.vertices, geometry),
+                     domain="segments")
+
+
+@needs_corpus
+def test_dask_local_cluster_matches_single_machine(countries):
+    dask_geopandas = pytest.importorskip("dask_geopandas")
+    distributed = pytest.importorskip("distributed")
+    single = geo.triangulate(countries)                   # also compiles / loads the numba cache
+    with pytest.warns(geo.SkippedFeaturesWarning, match="2 feature"):     # Russia, Antarctica
+        single_aeqd = geo.triangulate(countries, project="aeqd", repair=True, errors="skip")
+    ddf = dask_geopandas.from_geopandas(countries, npartitions=4)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster):
+        with pytest.warns(geo.GeographicCRSWarning):
+            lazy = geo.triangulate_dask(ddf)
+        assert isinstance(lazy, dask_geopandas.GeoDataFrame)
+        assert list(lazy.columns) == list(single.columns)
+        result = lazy.compute()
+        result_aeqd = geo.triangulate_dask(ddf, project="aeqd", repair=True, errors="skip").compute()
+    for ours, reference in ((result, single), (result_aeqd, single_aeqd)):
+        assert ours.crs == reference.crs and len(ours) == len(reference)
+        assert triangle_sets(ours, "feature") == triangle_sets(reference, "feature")
+        names = ours.groupby("feature")["name"].first()
+        assert names.to_dict() == countries["name"][names.index].to_dict()
+    assert len(result["feature"].unique()) == len(countries) == len(result_aeqd["feature"].unique()) + 2
