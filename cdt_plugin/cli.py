@@ -4,12 +4,21 @@
 ``cdt-plugin report INPUT`` prints the quality report. Inputs: Triangle's
 ``.poly`` / ``.node``, GeoJSON (``.geojson`` / ``.json``: a geometry, a Feature or
 a FeatureCollection, one mesh per feature; a bare JSON array of rings is read as
-one polygon, earcut's fixture format) and ``.wkt``. Outputs, by extension:
-``.ply``, ``.obj``, ``.stl``, ``.glb``, ``.off`` (written by trimesh; its PLY, STL
-and GLB writers store float32 coordinates, OBJ and OFF are written with 17
-decimals), ``.geojson``
-/ ``.json`` (a FeatureCollection of triangles per input feature) and Triangle's
-``.node`` / ``.ele`` / ``.poly`` (all three are written).
+one polygon, earcut's fixture format), ``.wkt``, and GIS layers ``.shp`` /
+``.gpkg`` (read with pyogrio; ``--layer`` picks a GeoPackage layer). Outputs, by
+extension: ``.ply``, ``.obj``, ``.stl``, ``.glb``, ``.off`` (written by trimesh;
+its PLY, STL and GLB writers store float32 coordinates, OBJ and OFF are written
+with 17 decimals), ``.geojson`` / ``.json`` (a FeatureCollection of triangles per
+input feature) and Triangle's ``.node`` / ``.ele`` / ``.poly`` (all three are
+written).
+
+Layers in, layers out: from a ``.shp``, ``.gpkg`` or ``.geojson`` layer (or a
+``.json`` Feature/FeatureCollection), ``.gpkg`` and ``.geojson`` / ``.json`` output
+is a layer of triangles, one Polygon feature per triangle carrying the source
+feature's attributes, its index (``feature``), row number and part, in the source
+CRS (:func:`cdt_plugin.adapters.geo.triangulate`, one batch call for all
+features). ``--project utm|aeqd|CRS`` meshes a geographic layer in metres and maps
+the triangles back (input vertices exactly).
 
 Errors are one line on stderr (``cdt-plugin: error: ...``) and exit status 1;
 command-line usage errors exit with 2.
@@ -26,6 +35,7 @@ import inspect
 import json
 import os
 import sys
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
@@ -34,19 +44,23 @@ import numpy as np
 
 from .errors import CDTError
 
-__all__ = ["main", "build_parser", "read_input", "triangulate_features", "concatenate",
-           "write_output", "Feature"]
+__all__ = ["main", "build_parser", "read_input", "read_layer", "is_layer", "triangulate_features",
+           "concatenate", "write_output", "write_layer", "layer_report", "Feature"]
 
 MESH_FORMATS = (".ply", ".obj", ".stl", ".glb", ".off")
 GEOJSON_FORMATS = (".geojson", ".json")
 TRIANGLE_FORMATS = (".node", ".ele", ".poly")
-INPUT_FORMATS = (".poly", ".node", ".geojson", ".json", ".wkt")
 GIS_FORMATS = (".shp", ".gpkg")
+INPUT_FORMATS = (".poly", ".node", ".geojson", ".json", ".wkt") + GIS_FORMATS
+LAYER_OUTPUTS = (".gpkg",) + GEOJSON_FORMATS
+NAME_COLUMNS = ("name", "NAME", "admin")
 
 EXAMPLES = """\
 examples:
   cdt-plugin mesh letter.poly -o letter.ply
   cdt-plugin mesh countries.geojson -o countries.geojson --report
+  cdt-plugin mesh countries.shp -o triangles.gpkg --project aeqd --min-angle 25
+  cdt-plugin mesh regions.gpkg --layer parcels -o parcels_mesh.gpkg
   cdt-plugin mesh countries.geojson -o countries.glb --extrude 0.5
   cdt-plugin mesh shape.wkt -o shape.stl --extrude 2 --plot shape.png
   cdt-plugin mesh A.poly -o A.ele --min-angle 30 --max-area 0.01
@@ -83,7 +97,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("input", metavar="INPUT",
-                        help="input file: .poly/.node (Triangle), .geojson/.json, .wkt")
+                        help="input file: .poly/.node (Triangle), .geojson/.json, .wkt, "
+                             ".shp/.gpkg (GIS layers)")
+    common.add_argument("--layer", metavar="NAME",
+                        help="the layer of a multi-layer input (GeoPackage): name or number")
     common.add_argument("--min-angle", type=float, metavar="A",
                         help="quality refinement: smallest angle in degrees (Steiner points added)")
     common.add_argument("--max-area", type=float, metavar="S",
@@ -107,10 +124,17 @@ def build_parser() -> argparse.ArgumentParser:
                                       "refined) and write the mesh to OUTPUT.")
     mesh.add_argument("-o", "--output", required=True, type=Path, metavar="OUTPUT",
                       help="output file: .ply .obj .stl .glb .off (trimesh), .geojson/.json, "
-                           ".node/.ele/.poly (Triangle: all three written)")
+                           ".node/.ele/.poly (Triangle: all three written), .gpkg; from a "
+                           "layer (.shp/.gpkg/.geojson) .gpkg and .geojson get one feature per "
+                           "triangle with the source attributes")
     mesh.add_argument("--extrude", type=float, metavar="H",
                       help="extrude the mesh into a watertight solid of height H (mesh formats)")
     mesh.add_argument("--report", action="store_true", help="also print the quality report")
+    mesh.add_argument("--project", metavar="utm|aeqd|CRS",
+                      help="layer output: mesh in the layer's UTM zone, in an azimuthal "
+                           "equidistant projection centred on it, or in a projected CRS "
+                           "(e.g. EPSG:32633), and map the triangles back to the layer's CRS "
+                           "(for lon/lat layers: angles and areas in metres)")
     mesh.set_defaults(func=_cmd_mesh)
 
     rep = sub.add_parser("report", parents=[common], formatter_class=fmt, epilog=EXAMPLES,
@@ -128,18 +152,20 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 # ------------------------------------------------------------------- reading
-def read_input(path: Path) -> list[Feature]:
-    """The features of an input file (see the module docstring for formats)."""
+def read_input(path: Path, layer: str | None = None) -> list[Feature]:
+    """The features of an input file (see the module docstring for formats);
+    ``layer``: the layer of a multi-layer GIS file."""
     path = Path(path)
     suffix = path.suffix.lower()
-    if suffix in GIS_FORMATS:
-        raise CLIError(f"{path}: {suffix} input needs the GIS adapter, which is not available yet; "
-                       "convert it to GeoJSON first (ogr2ogr -f GeoJSON out.geojson in" + suffix + ")")
     if suffix not in INPUT_FORMATS:
         raise CLIError(f"{path}: unknown input format {suffix or '(no extension)'!r}; "
                        f"expected one of {', '.join(INPUT_FORMATS)}")
     if not path.exists():
         raise CLIError(f"{path}: no such file")
+    if suffix in GIS_FORMATS:
+        return _layer_features(path, read_layer(path, layer))
+    if layer is not None:
+        raise CLIError(f"--layer applies to GIS layers (.gpkg, .shp), not {suffix}")
     from . import io
     if suffix == ".poly":
         pd = io.read_poly(path)
@@ -187,6 +213,63 @@ def _read_json(path: Path) -> list[Feature]:
     return features
 
 
+def is_layer(path: Path) -> bool:
+    """Whether ``path`` is a GIS layer: .shp, .gpkg, .geojson, or a .json Feature or
+    FeatureCollection (not a bare geometry or earcut's ring arrays)."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix in GIS_FORMATS + (".geojson",):
+        return True
+    if suffix != ".json" or not path.exists():
+        return False
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError):
+        return False
+    return isinstance(data, dict) and data.get("type") in ("Feature", "FeatureCollection")
+
+
+def read_layer(path: Path, layer: str | None = None):
+    """A GIS layer as a GeoDataFrame (geopandas + pyogrio); ``layer``: a name, or a
+    number given as digits."""
+    _import("geopandas", f"reading {Path(path).suffix} layers")
+    from .adapters.geo import read
+    if layer is not None and layer.isdigit():
+        layer = int(layer)
+    try:
+        return read(path, layer=layer)
+    except FileNotFoundError:
+        raise CLIError(f"{path}: no such file") from None
+    except Exception as exc:           # pyogrio's DataSourceError, DataLayerError, ...
+        if isinstance(exc, CDTError):
+            raise
+        raise CLIError(f"{path}: cannot read it as a GIS layer ({exc})") from None
+
+
+def _layer_features(path: Path, frame) -> list[Feature]:
+    """The rows of a GeoDataFrame with a geometry, as Features (for the per-feature formats)."""
+    features = []
+    table = frame.drop(columns=[frame.geometry.name])
+    for i, (label, geometry) in enumerate(zip(frame.index, frame.geometry)):
+        if geometry is None or geometry.is_empty:
+            continue
+        properties = {k: v for k, v in table.iloc[i].items()}
+        features.append(Feature(_feature_label(frame, i) if len(frame) > 1 else path.name,
+                                geometry=geometry, properties=properties))
+    if not features:
+        raise CLIError(f"{path}: no geometry to triangulate")
+    return features
+
+
+def _feature_label(frame, i: int) -> str:
+    """``feature <index label> (<name>)`` for row ``i`` of a layer."""
+    label = frame.index[i]
+    label = label.item() if isinstance(label, np.generic) else label
+    column = next((c for c in NAME_COLUMNS if c in frame.columns), None)
+    name = frame[column].iloc[i] if column is not None else None
+    return f"feature {label}" + (f" ({name})" if isinstance(name, str) and name else "")
+
+
 def _shapely_geometry(feature: Feature):
     """The feature's geometry as a shapely geometry (GeoJSON mappings are converted)."""
     if not isinstance(feature.geometry, dict):
@@ -205,7 +288,8 @@ def _import(module: str, purpose: str):
     try:
         return importlib.import_module(module)
     except ImportError:
-        extra = {"shapely": "shapely", "trimesh": "trimesh", "matplotlib": "plot"}.get(module, module)
+        extra = {"shapely": "shapely", "trimesh": "trimesh", "matplotlib": "plot",
+                 "geopandas": "gis"}.get(module, module)
         raise CLIError(f"{purpose} needs {module} (pip install 'cdt-plugin[{extra}]')") from None
 
 
@@ -309,9 +393,10 @@ def _sum_stats(stats: list[dict]) -> dict:
 # ------------------------------------------------------------------ writing
 def _check_output(path: Path, extrude: float | None) -> str:
     suffix = path.suffix.lower()
-    if suffix not in MESH_FORMATS + GEOJSON_FORMATS + TRIANGLE_FORMATS:
+    known = MESH_FORMATS + GEOJSON_FORMATS + TRIANGLE_FORMATS + (".gpkg",)
+    if suffix not in known:
         raise CLIError(f"{path}: unknown output format {suffix or '(no extension)'!r}; expected one "
-                       f"of {', '.join(MESH_FORMATS + GEOJSON_FORMATS + TRIANGLE_FORMATS)}")
+                       f"of {', '.join(known)}")
     if extrude is not None and suffix not in MESH_FORMATS:
         raise CLIError(f"--extrude makes a solid: write it to a mesh format "
                        f"({', '.join(MESH_FORMATS)}), not {suffix}")
@@ -356,9 +441,113 @@ def write_output(path: Path, features: Sequence[Feature], tris: Sequence, combin
             f"{len(combined.triangles):,} triangles, {len(combined.segments):,} segment edges")
 
 
+def write_layer(path: Path, triangles, mesh) -> str:
+    """Write a GeoDataFrame of triangles as a GeoPackage (``.gpkg``, with pyogrio) or
+    GeoJSON (:func:`cdt_plugin.adapters.geo.write_geojson`); either way the
+    coordinates read back bit for bit. An existing file is replaced. Returns a
+    one-line summary."""
+    path = Path(path)
+    if path.suffix.lower() == ".gpkg":
+        if path.exists():
+            path.unlink()
+        triangles.to_file(path, driver="GPKG", engine="pyogrio")
+    else:
+        from .adapters.geo import write_geojson
+        write_geojson(triangles, path)
+    meshed = int(np.count_nonzero(np.diff(mesh.offsets)))
+    return f"wrote {path}: {meshed} feature(s), {len(triangles):,} triangles"
+
+
+# ------------------------------------------------------------ layers (GIS)
+def _layer_job(args) -> bool:
+    """Layer in, layer out: meshed with the GIS adapter (one batch call)."""
+    return Path(args.output).suffix.lower() in LAYER_OUTPUTS and is_layer(Path(args.input))
+
+
+def _mesh_layer(args, output: Path) -> int:
+    if args.intersections == "split":
+        raise CLIError("--intersections split is for the per-feature formats: layer output "
+                       "validates polygons (pass --repair to repair invalid ones)")
+    if args.plot is not None:
+        _check_plot(args.plot)
+    frame = read_layer(Path(args.input), args.layer)
+    mesh = _triangulate_layer(frame, args, _options(args))
+    print(write_layer(output, mesh.to_geodataframe(), mesh))
+    if args.report or args.plot is not None:
+        rep = layer_report(mesh)
+        if args.report:
+            print(rep)
+        if args.plot is not None:
+            _save_layer_plot(args.plot, mesh, rep)
+    return 0
+
+
+def _triangulate_layer(frame, args, options: dict):
+    """:func:`cdt_plugin.adapters.geo.triangulate` (``output="mesh"``) with the
+    command's options; its warnings become ``cdt-plugin: warning:`` lines."""
+    from .adapters import geo
+    progress = args.progress if args.progress is not None else len(frame) > 1 and sys.stderr.isatty()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            mesh = geo.triangulate(frame, output="mesh", project=args.project, repair=args.repair,
+                                   progress=progress, **options)
+        except CDTError as exc:
+            raise CLIError(_layer_error(exc, frame)) from None
+    for w in caught:
+        if issubclass(w.category, geo.GeographicCRSWarning):
+            message = str(w.message).replace("pass project='utm', 'aeqd' or a projected CRS",
+                                             "pass --project utm or --project aeqd")
+            print(f"cdt-plugin: warning: {message}", file=sys.stderr)
+    return mesh
+
+
+def _layer_error(exc: CDTError, frame) -> str:
+    """The adapter's message with the feature's name and the command's option names."""
+    message = str(exc).replace("pass repair=True to repair it with shapely.make_valid",
+                               "pass --repair to repair it with shapely.make_valid")
+    prefix = f"feature {getattr(exc, 'feature', None)}:"
+    if getattr(exc, "index", None) is not None and message.startswith(prefix):
+        message = f"{_feature_label(frame, exc.index)}:{message[len(prefix):]}"
+    return message
+
+
+def layer_report(mesh):
+    """The quality report of a layer's triangles, in the CRS they were meshed in
+    (segments: the polygons' boundary edges)."""
+    from .report import mesh_report
+    V = mesh.batch.vertices
+    rep = mesh_report(V, mesh.triangles, segments=mesh.boundary_edges(), name="cdt_plugin")
+    steiner = mesh.batch.stats.get("steiner")
+    if steiner is not None:
+        rep.steiner_vertices, rep.input_vertices = int(steiner), len(V) - int(steiner)
+    rep.seconds = mesh.batch.stats.get("seconds")
+    return rep
+
+
+def _save_layer_plot(path: Path, mesh, rep) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from .plot import histogram, plot
+    fig, axes = plt.subplots(1, 2, figsize=(12.0, 5.5), width_ratios=[3, 2])
+    try:
+        # no circumcircles: at map scale a sliver's circle is huge (and slow to dash)
+        plot((mesh.batch.vertices, mesh.triangles), axes[0], circumcircles=False,
+             title=f"cdt_plugin: {len(mesh.triangles):,} triangles")
+        histogram(rep, axes[1])
+        fig.tight_layout()
+        fig.savefig(path, dpi=120)
+    finally:
+        plt.close(fig)
+
+
 # ----------------------------------------------------------------- commands
 def _mesh_all(args):
-    features = read_input(Path(args.input))
+    if getattr(args, "project", None) is not None:
+        raise CLIError("--project applies to layer output (.gpkg or .geojson from a .shp, .gpkg "
+                       "or .geojson layer)")
+    features = read_input(Path(args.input), args.layer)
     options = _options(args)
     if args.plot is not None:
         _check_plot(args.plot)
@@ -382,6 +571,11 @@ def _save_plot(path: Path, combined, against=None, against_name="against") -> No
 def _cmd_mesh(args) -> int:
     output = Path(args.output)
     _check_output(output, args.extrude)
+    if _layer_job(args):
+        return _mesh_layer(args, output)
+    if output.suffix.lower() == ".gpkg":
+        raise CLIError(f"{output}: .gpkg output needs a GIS layer input (.shp, .gpkg, .geojson, "
+                       "or a .json Feature or FeatureCollection)")
     features, tris, combined = _mesh_all(args)
     print(write_output(output, features, tris, combined, args.extrude))
     if args.report:

@@ -1,11 +1,15 @@
 """GIS adapter (``cdt_plugin.adapters.geo``) against the real geopandas, pyogrio,
 pyproj, trimesh and dask.distributed (no mocks). Every mesh is verified by the
-exact checker."""
+exact checker; the command line and the examples run as subprocesses."""
 from __future__ import annotations
 
 import doctest
 import json
+import os
+import subprocess
+import sys
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,6 +25,7 @@ from cdt_plugin.adapters import geo  # noqa: E402
 from checker import assert_valid, canonical_triangles  # noqa: E402
 from corpus import corpus_dir  # noqa: E402
 
+ROOT = Path(__file__).resolve().parents[1]
 LOWRES = corpus_dir() / "gis" / "naturalearth_lowres.geojson"
 needs_corpus = pytest.mark.skipif(not LOWRES.exists(), reason="corpus not found")
 CENTRAL_EUROPE = ["Germany", "Poland", "Czechia", "Austria", "Switzerland", "Hungary", "Slovakia"]
@@ -83,6 +88,15 @@ def triangle_sets(triangles, key="position") -> dict:
 def feature_areas(triangles, n) -> np.ndarray:
     return np.bincount(triangles["position"].to_numpy(), minlength=n,
                        weights=shapely.area(triangles.geometry.array))
+
+
+def run_cli(*args):
+    """``python -m cdt_plugin ARGS`` in a fresh process."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    proc = subprocess.run([sys.executable, "-m", "cdt_plugin", *map(str, args)], capture_output=True,
+                          text=True, env=env, timeout=300)
+    assert "Traceback" not in proc.stderr and proc.returncode == 0, proc.stderr
+    return proc
 
 
 # -------------------------------------------------------------------- tests
@@ -354,3 +368,41 @@ def test_dask_local_cluster_matches_single_machine(countries):
         names = ours.groupby("feature")["name"].first()
         assert names.to_dict() == countries["name"][names.index].to_dict()
     assert len(result["feature"].unique()) == len(countries) == len(result_aeqd["feature"].unique()) + 2
+
+
+@needs_corpus
+def test_cli_geopackage_to_geopackage(tmp_path, countries):
+    layer = countries[countries["name"].isin(CENTRAL_EUROPE)]
+    src, out = tmp_path / "europe.gpkg", tmp_path / "triangles.gpkg"
+    countries.head(2).to_file(src, layer="first")
+    layer.to_file(src, layer="central")
+    proc = run_cli("mesh", src, "--layer", "central", "-o", out, "--project", "utm",
+                   "--min-angle", "25", "--no-progress")
+    expected = geo.triangulate(gpd.read_file(src, layer="central"), project="utm", min_angle=25)
+    assert proc.stdout.strip() == f"wrote {out}: 7 feature(s), {len(expected):,} triangles"
+    assert "warning" not in proc.stderr
+    back = gpd.read_file(out)
+    assert back.crs == layer.crs and len(back) == len(expected)
+    assert list(back.columns) == list(expected.columns)
+    assert back.groupby("position")["name"].first().tolist() == layer["name"].tolist()
+    assert back["feature"].tolist() == expected["feature"].tolist()
+    assert triangle_sets(back) == triangle_sets(expected)             # GeoPackage: exact doubles
+
+
+@needs_corpus
+def test_cli_geojson_to_geojson(tmp_path, countries):
+    layer = countries[countries["continent"] == "South America"]
+    src, out = tmp_path / "south_america.geojson", tmp_path / "triangles.geojson"
+    geo.write_geojson(layer, src)
+    proc = run_cli("mesh", src, "-o", out, "--progress")
+    assert "13/13" in proc.stderr and "meshing" in proc.stderr
+    assert "cdt-plugin: warning: the layer's CRS (WGS 84) is geographic" in proc.stderr
+    assert "--project utm" in proc.stderr
+    expected = geo.triangulate(layer)
+    assert proc.stdout.strip() == f"wrote {out}: 13 feature(s), {len(expected):,} triangles"
+    back = gpd.read_file(out)
+    assert back.crs.to_epsg() == 4326
+    assert back.groupby("position")["name"].first().tolist() == layer["name"].tolist()
+    assert back["pop_est"].tolist() == expected["pop_est"].tolist()
+    assert triangle_sets(back) == triangle_sets(expected)             # coordinates exact
+    assert shapely.is_ccw(shapely.get_exterior_ring(back.geometry.array)).all()

@@ -85,27 +85,39 @@ def _areas(V, T):
 
 
 @needs_corpus
-def test_mesh_feature_collection_to_geojson_with_progress_bar(tmp_path):
+def test_mesh_feature_collection_to_geojson_layer_with_progress_bar(tmp_path):
     shapely = pytest.importorskip("shapely")
+    gpd = pytest.importorskip("geopandas")
     pytest.importorskip("tqdm")
     src = CORPUS / "gis" / "naturalearth_lowres.geojson"
     out = tmp_path / "countries.geojson"
     proc = run("mesh", src, "-o", out, "--progress")
-    assert "177/177" in proc.stderr and "triangulating" in proc.stderr
+    assert "177/177" in proc.stderr and "meshing" in proc.stderr
+    assert "cdt-plugin: warning: the layer's CRS (WGS 84) is geographic" in proc.stderr
     assert proc.stdout.strip() == f"wrote {out}: 177 feature(s), 9,791 triangles"
-    written = json.loads(out.read_text())["features"]
+    written = gpd.read_file(out)                       # a layer: one Polygon per triangle
     given = json.loads(src.read_text())["features"]
-    assert len(written) == len(given) == 177
-    for w, g in zip(written, given):
-        triangles = shapely.geometry.shape(w["geometry"])
+    assert len(written) == 9791 and (written.geom_type == "Polygon").all()
+    assert written["feature"].tolist() == written["position"].tolist()
+    parts = written.geometry.to_numpy()
+    assert shapely.is_ccw(shapely.get_exterior_ring(parts)).all()
+    for i, g in enumerate(given):
+        mine = (written["position"] == i).to_numpy()
         polygon = shapely.geometry.shape(g["geometry"])
-        assert triangles.geom_type == "GeometryCollection"
-        assert len(triangles.geoms) == w["properties"]["triangles"]
-        assert w["properties"]["name"] == g["properties"]["name"]
-        parts = np.array(triangles.geoms)
-        assert shapely.is_ccw(shapely.get_exterior_ring(parts)).all()
-        assert shapely.area(parts).sum() == pytest.approx(polygon.area, rel=1e-9)
-        assert shapely.union_all(parts).symmetric_difference(polygon).area <= 1e-9 * polygon.area
+        assert (written["name"][mine] == g["properties"]["name"]).all()
+        assert shapely.area(parts[mine]).sum() == pytest.approx(polygon.area, rel=1e-9)
+        assert shapely.union_all(parts[mine]).symmetric_difference(polygon).area <= 1e-9 * polygon.area
+
+
+@needs_corpus
+def test_geojson_output_of_a_polygon_file_is_one_collection_per_feature(tmp_path, capsys):
+    pytest.importorskip("shapely")
+    out = tmp_path / "dude.geojson"
+    assert cli.main(["mesh", str(CORPUS / "earcut" / "dude.json"), "-o", str(out)]) == 0
+    assert capsys.readouterr().out.strip() == f"wrote {out}: 1 feature(s), 106 triangles"
+    written = json.loads(out.read_text())["features"]
+    assert len(written) == 1 and written[0]["geometry"]["type"] == "GeometryCollection"
+    assert written[0]["properties"]["triangles"] == 106 == len(written[0]["geometry"]["geometries"])
 
 
 @needs_corpus
@@ -215,7 +227,17 @@ def test_concatenate_offsets_everything():
     (["mesh", "{c}/triangle/A.poly", "-o", "{t}/x.geojson", "--extrude", "2"], "--extrude makes a solid"),
     (["mesh", "{c}/triangle/A.poly", "-o", "{t}/x.ply", "--extrude", "0"], "finite nonzero height"),
     (["mesh", "{c}/triangle/A.poly", "-o", "{t}/nowhere/x.ply"], "does not exist"),
-    (["mesh", "{t}/x.shp", "-o", "{t}/x.ply"], ".shp input needs the GIS adapter"),
+    (["mesh", "{t}/x.shp", "-o", "{t}/x.ply"], "x.shp: no such file"),
+    (["mesh", "{c}/triangle/A.poly", "-o", "{t}/x.gpkg"], ".gpkg output needs a GIS layer input"),
+    (["mesh", "{c}/triangle/A.poly", "-o", "{t}/x.ply", "--layer", "a"], "--layer applies to GIS layers"),
+    (["mesh", "{c}/triangle/A.poly", "-o", "{t}/x.ply", "--project", "utm"],
+     "--project applies to layer output"),
+    (["mesh", "{c}/gis/ne_50m_admin_0_countries.geojson", "-o", "{t}/x.gpkg", "--no-progress"],
+     "feature 98 (India): MultiPolygon is not valid"),
+    (["mesh", "{c}/gis/naturalearth_lowres.geojson", "-o", "{t}/x.gpkg", "--project", "EPSG:4326"],
+     "'WGS 84' is not a projected CRS"),
+    (["mesh", "{c}/gis/naturalearth_lowres.geojson", "-o", "{t}/x.gpkg", "--intersections", "split"],
+     "--intersections split is for the per-feature formats"),
     (["report", "{c}/README.md"], "unknown input format '.md'"),
     (["report", "{t}/bad.json"], "not valid JSON"),
     (["report", "{c}/triangle/A.poly", "--against", "earcut"], "--against earcut needs polygon input"),
