@@ -406,3 +406,26 @@ def test_cli_geojson_to_geojson(tmp_path, countries):
     assert back["pop_est"].tolist() == expected["pop_est"].tolist()
     assert triangle_sets(back) == triangle_sets(expected)             # coordinates exact
     assert shapely.is_ccw(shapely.get_exterior_ring(back.geometry.array)).all()
+
+
+def run_example(*args):
+    env = dict(os.environ, CDT_CORPUS=str(corpus_dir()),
+               PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    proc = subprocess.run([sys.executable, *map(str, args)], capture_output=True, text=True,
+                          env=env, timeout=300, cwd=ROOT)
+    assert proc.returncode == 0, proc.stderr
+    return proc.stdout
+
+
+@needs_corpus
+def test_example_gis_countries_quick(tmp_path):
+    png = tmp_path / "countries.png"
+    out = run_example(ROOT / "examples" / "gis_countries.py", png, "--quick")
+    assert "37 countries" in out and f"wrote {png}" in out
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_example_geojson_roundtrip(tmp_path):
+    out = run_example(ROOT / "examples" / "geojson_roundtrip.py", tmp_path)
+    assert "input vertices exact: True" in out and "attributes kept: True" in out
+    assert (tmp_path / "triangles.geojson").exists()
