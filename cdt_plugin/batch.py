@@ -48,7 +48,7 @@ class MeshBatch:
         (closing points dropped), then the Steiner vertices.
     z : (n,) float64 or None
         Z of every vertex when the input has Z (Steiner vertices interpolated,
-        see :mod:`cdt_plugin.lift`).
+        see :mod:`cdt_plugin.lift`; NaN for the vertices of geometries without Z).
     triangles : (k, 3) int64
         Indices into ``vertices``, counter-clockwise, grouped by geometry.
     geometry : (k,) int64

@@ -11,13 +11,16 @@ first occurrence). A Steiner vertex gets z by linear interpolation:
   (input vertices and points on segments, with the segment pieces as
   constraints), by barycentric coordinates.
 
-The interpolation is floating point; it never decides topology.
+The interpolation is floating point; it never decides topology. Vertices
+without z (NaN: a 2D polygon in a batch with 3D ones) give NaN, and so do the
+Steiner vertices interpolated from them.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from .certify import locate_in_arrays
+from .errors import CDTError
 
 
 def lift_z(tri, plc_z: np.ndarray, plc_segments: np.ndarray) -> np.ndarray:
@@ -76,11 +79,16 @@ def _lift_inside(tri, V, z, inner):
     from .cdt import triangulate
 
     known = np.flatnonzero(~np.isnan(z))
+    if len(known) < 3:          # no z to interpolate from (a 2D polygon in a 3D batch)
+        return
     local = np.full(len(V), -1, np.int64)
     local[known] = np.arange(len(known))
     pieces = np.asarray(tri.segments, dtype=np.int64).reshape(-1, 2)
     pieces = pieces[(local[pieces] >= 0).all(axis=1)]
-    base = triangulate(V[known], local[pieces], keep_hull=True, intersections="split")
+    try:
+        base = triangulate(V[known], local[pieces], keep_hull=True, intersections="split")
+    except CDTError:            # the known vertices are collinear: nothing to interpolate in
+        return
     BV = base.vertices
     bz = np.full(len(BV), np.nan)
     bz[base.vertex_map] = z[known]

@@ -200,6 +200,16 @@ def test_z_is_kept_on_input_vertices_and_interpolated_on_steiner_vertices():
     np.testing.assert_allclose(V[:, 2], plane(V[:, 0], V[:, 1]), rtol=0, atol=1e-12)
 
 
+def test_two_d_polygons_in_a_three_d_batch_get_nan_z():
+    geoms = [shapely.Polygon([(0, 0, 5), (4, 0, 5), (4, 4, 5), (0, 4, 5)]), shapely.box(10, 0, 14, 4)]
+    b = triangulate_batch(geoms, max_area=0.5)
+    assert b.stats["steiner"] > 0
+    V0, _ = b.mesh(0)
+    V1, _ = b.mesh(1)
+    assert np.all(V0[:, 2] == 5.0)
+    assert np.isnan(V1[:, 2]).all()
+
+
 def test_progress_bar_counts_every_geometry(capsys):
     b = triangulate_batch([shapely.box(i, 0, i + 1, 1) for i in range(30)] + [None], progress=True)
     assert len(b) == 31
