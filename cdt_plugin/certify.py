@@ -47,10 +47,10 @@ def edge_lifted_values(vx, vy, vw, weighted, triangles, neighbors):
 
 
 @njit(cache=True)
-def locate_in_arrays(vx, vy, triangles, neighbors, px, py):
+def locate_in_arrays(vx, vy, triangles, neighbors, px, py, start=0):
     """Triangle containing point (px, py) (closed), by a visibility walk over
-    ``neighbors``; -1 if outside the triangulation."""
-    k = 0
+    ``neighbors`` from triangle ``start``; -1 if outside the triangulation."""
+    k = start
     nt = triangles.shape[0]
     for _ in range(4 * nt + 16):
         moved = False
@@ -76,6 +76,19 @@ def locate_in_arrays(vx, vy, triangles, neighbors, px, py):
         if inside:
             return k
     return -1
+
+
+@njit(cache=True)
+def locate_all(vx, vy, triangles, neighbors, px, py):
+    """:func:`locate_in_arrays` for many points, each walk starting where the
+    previous one ended (nearby points in a row walk a few steps)."""
+    out = np.full(px.shape[0], -1, np.int64)
+    k = 0
+    for i in range(px.shape[0]):
+        out[i] = locate_in_arrays(vx, vy, triangles, neighbors, px[i], py[i], k)
+        if out[i] >= 0:
+            k = out[i]
+    return out
 
 
 @njit(cache=True)

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .certify import locate_in_arrays
+from .certify import locate_all
 from .errors import CDTError
 
 
@@ -92,21 +92,20 @@ def _lift_inside(tri, V, z, inner):
     BV = base.vertices
     bz = np.full(len(BV), np.nan)
     bz[base.vertex_map] = z[known]
-    bx, by = BV[:, 0].copy(), BV[:, 1].copy()
-    T, N = base.triangles, base.neighbors
-    for v in inner:
-        k = locate_in_arrays(bx, by, T, N, V[v, 0], V[v, 1])
-        if k < 0:
-            continue
-        z[v] = _barycentric(BV[T[k]], bz[T[k]], V[v])
+    T = base.triangles
+    k = locate_all(BV[:, 0].copy(), BV[:, 1].copy(), T, base.neighbors,
+                   V[inner, 0].copy(), V[inner, 1].copy())
+    found = k >= 0
+    z[inner[found]] = _barycentric(BV[T[k[found]]], bz[T[k[found]]], V[inner[found]])
 
 
 def _barycentric(P, pz, q):
-    """z at ``q`` of the plane through the three points ``P`` with heights ``pz``."""
-    (x0, y0), (x1, y1), (x2, y2) = P
-    det = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
-    if det == 0:
-        return float(np.nanmean(pz))
-    l1 = ((q[0] - x0) * (y2 - y0) - (x2 - x0) * (q[1] - y0)) / det
-    l2 = ((x1 - x0) * (q[1] - y0) - (q[0] - x0) * (y1 - y0)) / det
-    return float(pz[0] + l1 * (pz[1] - pz[0]) + l2 * (pz[2] - pz[0]))
+    """z at points ``q`` (m, 2) of the planes through triangles ``P`` (m, 3, 2)
+    with heights ``pz`` (m, 3)."""
+    d1, d2, dq = P[:, 1] - P[:, 0], P[:, 2] - P[:, 0], q - P[:, 0]
+    det = d1[:, 0] * d2[:, 1] - d2[:, 0] * d1[:, 1]
+    safe = np.where(det == 0, 1.0, det)
+    l1 = (dq[:, 0] * d2[:, 1] - d2[:, 0] * dq[:, 1]) / safe
+    l2 = (d1[:, 0] * dq[:, 1] - dq[:, 0] * d1[:, 1]) / safe
+    out = pz[:, 0] + l1 * (pz[:, 1] - pz[:, 0]) + l2 * (pz[:, 2] - pz[:, 0])
+    return np.where(det == 0, np.nanmean(pz, axis=1), out)
