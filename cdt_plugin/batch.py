@@ -32,8 +32,11 @@ from .segments import ALL_DONE, NEED_EDGE_ROOM, insert_segments, make_buffers
 ERRORS = ("raise", "skip")
 CHUNK = 4096               # geometries per compiled call (progress granularity)
 # options the compiled path handles; anything else (refinement, seeds) goes one by one
-_KERNEL_DEFAULTS = {"keep_hull": False, "holes": None, "regions": None, "algorithm": "incremental",
+_KERNEL_DEFAULTS = {"keep_hull": False, "holes": None, "regions": None,
                     "min_angle": None, "max_area": None, "conforming_delaunay": False}
+# routes to the same triangles; the kernel builds by incremental insertion,
+# which is the fastest for the small polygons of a batch
+_KERNEL_ALGORITHMS = ("auto", "divide", "incremental")
 _KERNEL_FREE = ("intersections", "split_boundary", "max_steiner")
 
 
@@ -204,6 +207,10 @@ def _kernel_can_do(options) -> bool:
     """Whether the compiled path handles these options (plain CDT)."""
     for key, value in options.items():
         if key in _KERNEL_FREE:
+            continue
+        if key == "algorithm":
+            if value not in _KERNEL_ALGORITHMS:
+                return False
             continue
         if key not in _KERNEL_DEFAULTS:
             raise CDTError(f"unknown option {key!r}")

@@ -13,7 +13,7 @@ import time
 import numpy as np
 from numba import njit
 
-from .delaunay import _build_in_order, _reorder_seed_first, seed_triangle
+from .delaunay import _build_in_order, resolve_algorithm, _reorder_seed_first, seed_triangle
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError)
 from .flips import flip_to_delaunay
@@ -31,7 +31,7 @@ INTERSECTIONS = ("raise", "split")
 
 
 def triangulate(vertices, segments=None, *, holes=None, regions=None, intersections: str = "raise",
-                keep_hull: bool = False, algorithm: str = "incremental",
+                keep_hull: bool = False, algorithm: str = "auto",
                 min_angle: float | None = None, max_area: float | None = None,
                 conforming_delaunay: bool = False, split_boundary: bool = True,
                 max_steiner: int | None = None) -> Triangulation:
@@ -65,7 +65,10 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
         may lie off the exact segments by a rounding error — and overlaps merged.
     keep_hull : bool
         Keep every triangle of the convex hull (Triangle's ``-c``).
-    algorithm : {"incremental", "flip"}
+    algorithm : {"auto", "divide", "incremental", "flip"}
+        How the Delaunay triangulation of the vertices is built before the
+        segments go in: ``"divide"`` (divide and conquer, the default that
+        ``"auto"`` stands for) or ``"incremental"`` (see :func:`delaunay`).
         ``"flip"``: lexicographic triangulation, segment insertion, then the
         modified flip algorithm (Sec. 2.10.3). Same result for generic input.
     min_angle : float, optional
@@ -107,8 +110,7 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
     t0 = time.perf_counter()
     if intersections not in INTERSECTIONS:
         raise CDTError(f"intersections must be one of {INTERSECTIONS}, got {intersections!r}")
-    if algorithm not in ("incremental", "flip"):
-        raise CDTError(f"algorithm must be 'incremental' or 'flip', got {algorithm!r}")
+    algorithm = resolve_algorithm(algorithm, False)
     refine = _refinement_options(min_angle, max_area, conforming_delaunay, max_steiner)
     plc = as_plc(vertices, segments, holes, regions)
     split = intersections == "split"
@@ -121,14 +123,15 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
     pts = plc.vertices
     n = len(pts)
     x, y = pts[:, 0].copy(), pts[:, 1].copy()
-    order = lexicographic_order(x, y) if algorithm == "flip" else brio_order(x, y)
+    order = brio_order(x, y) if algorithm == "incremental" else lexicographic_order(x, y)
     dup_of = np.full(n, -1, np.int64)
     submerged = np.zeros(n, np.int8)
     stats = {"algorithm": algorithm, "input_points": n, "input_segments": len(plc.segments)}
     k1, k2 = seed_triangle(x, y, order)
     if k2 < 0:
         return _collinear_result(plc, order, dup_of, submerged, stats, t0)
-    order = _reorder_seed_first(order, k1, k2)
+    if algorithm != "divide":
+        order = _reorder_seed_first(order, k1, k2)
     m = len(order)
     extra = 16 + len(plc.segments) // 2 if split else 0
     coords = []

@@ -15,6 +15,7 @@ import time
 import numpy as np
 from numba import njit
 
+from .divide import build_divide
 from .errors import CDTError
 from .flips import flip_to_delaunay
 from .insertion import OK, insert_vertices, redundant_vertices
@@ -25,7 +26,7 @@ from .ordering import brio_order, lexicographic_order
 from .triangulation import Triangulation
 from .validate import as_points, as_weights
 
-ALGORITHMS = ("incremental", "flip")
+ALGORITHMS = ("auto", "divide", "incremental", "flip")
 MAX_WEIGHTED_PASSES = 50
 
 
@@ -98,7 +99,17 @@ def _reorder_seed_first(order, k1, k2):
     return np.concatenate([order[[0, k1, k2]], order[rest]])
 
 
-def delaunay(points, weights=None, *, algorithm: str = "incremental", seed: int = 0) -> Triangulation:
+def resolve_algorithm(algorithm: str, weighted: bool) -> str:
+    """The route ``"auto"`` stands for: divide and conquer, or incremental
+    insertion for weighted points (which divide and conquer does not take)."""
+    if algorithm not in ALGORITHMS:
+        raise CDTError(f"algorithm must be one of {ALGORITHMS}, got {algorithm!r}")
+    if algorithm == "auto":
+        return "incremental" if weighted else "divide"
+    return algorithm
+
+
+def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) -> Triangulation:
     """Delaunay triangulation of a point set (weighted Delaunay with ``weights``).
 
     Parameters
@@ -109,10 +120,14 @@ def delaunay(points, weights=None, *, algorithm: str = "incremental", seed: int 
         Point weights for the weighted Delaunay triangulation (Sec. 2.8): point
         ``p`` is lifted to ``|p|^2 - w``. Submerged points appear in no triangle
         and have ``vertex_map == -1``.
-    algorithm : {"incremental", "flip"}
-        ``"incremental"`` (default): randomised incremental insertion. ``"flip"``:
-        the lexicographic triangulation followed by the flip algorithm; the
-        number of flips is ``stats["flips"]``. Both give the same triangles.
+    algorithm : {"auto", "divide", "incremental", "flip"}
+        ``"divide"``: divide and conquer with alternating cuts (Guibas-Stolfi,
+        Dwyer; Triangle's default), the fastest. ``"incremental"``: randomised
+        incremental insertion (BRIO order, walking location, Lawson flips).
+        ``"flip"``: the lexicographic triangulation followed by the flip
+        algorithm; the number of flips is ``stats["flips"]``. ``"auto"``
+        (default): ``"divide"``, or ``"incremental"`` for weighted points. All
+        give the same triangles; ``stats["algorithm"]`` names the route taken.
     seed : int
         Seed of the random insertion order (the output does not depend on it).
 
@@ -134,9 +149,13 @@ def delaunay(points, weights=None, *, algorithm: str = "incremental", seed: int 
     n = len(pts)
     w_in = as_weights(weights, n)
     weighted = w_in is not None
+    algorithm = resolve_algorithm(algorithm, weighted)
     if weighted and algorithm == "flip":
         raise CDTError("algorithm='flip' is for unweighted points: the flip algorithm can get "
                        "stuck on weighted points (Sec. 2.8); use algorithm='incremental'")
+    if weighted and algorithm == "divide":
+        raise CDTError("algorithm='divide' is for unweighted points; use algorithm='incremental' "
+                       "for weighted Delaunay")
     x = np.zeros(n + 1)
     y = np.zeros(n + 1)
     x[:n] = pts[:, 0]
@@ -149,7 +168,7 @@ def delaunay(points, weights=None, *, algorithm: str = "incremental", seed: int 
     active = _merge_weighted_duplicates(pts, w_in, dup_of, submerged) if weighted else None
     idx = np.flatnonzero(active) if active is not None else None
 
-    if algorithm == "flip":
+    if algorithm in ("flip", "divide"):
         order = lexicographic_order(x[:n], y[:n])
     elif idx is None:
         order = brio_order(x[:n], y[:n], seed)
@@ -160,7 +179,8 @@ def delaunay(points, weights=None, *, algorithm: str = "incremental", seed: int 
     if k2 < 0:
         return Triangulation.from_collinear(pts, order, w_in, dup_of, submerged, stats, t0)
 
-    order = _reorder_seed_first(order, k1, k2)
+    if algorithm != "divide":
+        order = _reorder_seed_first(order, k1, k2)
     for _ in range(MAX_WEIGHTED_PASSES):
         tri, twin, cons, ntri, counts = _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged)
         if not weighted:
@@ -202,8 +222,13 @@ def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, extr
     dup_int = np.full(m, -1, np.int64)
     sub_int = np.zeros(m, np.int8)
     counts = np.zeros(2, np.int64)
-    status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, inf, np.arange(m), algorithm == "flip",
-                                          dup_int, sub_int, counts, extra, with_cons)
+    if algorithm == "divide":
+        tri, twin, cons, ntri = build_divide(xi, yi, wi, m, inf, dup_int, max(4, 2 * (m + extra) + 2),
+                                             with_cons)
+        status = OK
+    else:
+        status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, inf, np.arange(m), algorithm == "flip",
+                                              dup_int, sub_int, counts, extra, with_cons)
     if status != OK:  # pragma: no cover - a located point always exists
         raise CDTError(f"internal error: point location failed (status {status})")
     if algorithm == "flip":

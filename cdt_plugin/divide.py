@@ -1,0 +1,423 @@
+"""Divide-and-conquer Delaunay triangulation (Guibas and Stolfi 1985).
+
+The points, sorted lexicographically, are split in halves by vertical cuts; each
+half is triangulated recursively and the two are merged by walking up the seam
+from their lower common tangent, deleting the edges of either half whose
+circumdisks the seam's new triangles violate. It needs no point location and no
+insertion order, which makes it the fastest route for large inputs (it is also
+Triangle's default).
+
+The in-circle decisions use the same exact, symbolically perturbed lifted test
+as the incremental route (``kernel.lifted_test``), so both give the same
+triangles on every input, cocircular or not.
+
+Edges live in a quad-edge store (Guibas and Stolfi): quad-edge ``q`` owns the
+four directed edges ``4q .. 4q+3`` (``4q`` and ``4q+2`` are the two primal
+directions, the odd ones their duals); ``onext[e]`` is the next edge
+counter-clockwise around the origin of ``e``; ``org[e]`` the origin vertex.
+The finished subdivision is converted to the half-edge triangle store of
+:mod:`mesh`, ghost triangles included.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .kernel import lifted_test, orient
+from .mesh import IDX
+from .ordering import lexicographic_order
+
+
+@njit(cache=True, inline='always')
+def rot(e):
+    return (e & ~3) | ((e + 1) & 3)
+
+
+@njit(cache=True, inline='always')
+def sym(e):
+    return e ^ 2
+
+
+@njit(cache=True, inline='always')
+def rot_inv(e):
+    return (e & ~3) | ((e + 3) & 3)
+
+
+@njit(cache=True, inline='always')
+def lnext(onext, e):
+    """The next edge counter-clockwise around the left face of ``e``."""
+    return rot(onext[rot_inv(e)])
+
+
+@njit(cache=True, inline='always')
+def oprev(onext, e):
+    """The next edge clockwise around the origin of ``e``."""
+    return rot(onext[rot(e)])
+
+
+@njit(cache=True, inline='always')
+def splice(onext, a, b):
+    """Guibas and Stolfi's splice: joins or separates the origin rings of
+    ``a`` and ``b`` (and, dually, their left faces)."""
+    alpha = rot(onext[a])
+    beta = rot(onext[b])
+    t = onext[a]
+    onext[a] = onext[b]
+    onext[b] = t
+    t = onext[alpha]
+    onext[alpha] = onext[beta]
+    onext[beta] = t
+
+
+@njit(cache=True, inline='always')
+def make_edge(onext, org, free, nfree, top, a, b):
+    """A new isolated edge ``a -> b``; returns ``(edge, nfree, top)``."""
+    if nfree > 0:
+        nfree -= 1
+        q = free[nfree]
+    else:
+        q = top
+        top += 1
+    e = 4 * q
+    onext[e] = e
+    onext[e + 1] = e + 3
+    onext[e + 2] = e + 2
+    onext[e + 3] = e + 1
+    org[e] = a
+    org[e + 2] = b
+    return e, nfree, top
+
+
+@njit(cache=True, inline='always')
+def delete_edge(onext, org, free, nfree, e):
+    """Disconnect ``e`` from the subdivision and recycle its quad-edge."""
+    splice(onext, e, oprev(onext, e))
+    s = e ^ 2
+    splice(onext, s, oprev(onext, s))
+    org[e & ~3] = -1               # marks a free quad-edge
+    free[nfree] = e >> 2
+    return nfree + 1
+
+
+@njit(cache=True, inline='always')
+def ccw(x, y, a, b, c):
+    return orient(x, y, a, b, c) > 0
+
+
+@njit(cache=True, inline='always')
+def in_circle(x, y, w, a, b, c, d):
+    """Whether ``d`` lies in the (perturbed) circumdisk of counter-clockwise
+    ``(a, b, c)``; a repeated vertex is never inside."""
+    if d == a or d == b or d == c:
+        return False
+    return lifted_test(x, y, w, False, a, b, c, d) > 0
+
+
+@njit(cache=True, _nrt=False)
+def select(a, b, lo, hi, k):
+    """Reorder slots ``lo..hi-1`` of ``a`` (and ``b`` along with it) so that the
+    values before slot ``k`` are smaller than those from ``k`` on (quickselect
+    with median-of-three pivots; the values are distinct)."""
+    hi -= 1
+    while hi - lo > 2:
+        mid = (lo + hi) // 2
+        # median of three to lo + 1, the smaller to lo, the larger to hi
+        if a[mid] < a[lo]:
+            a[mid], a[lo] = a[lo], a[mid]
+            b[mid], b[lo] = b[lo], b[mid]
+        if a[hi] < a[lo]:
+            a[hi], a[lo] = a[lo], a[hi]
+            b[hi], b[lo] = b[lo], b[hi]
+        if a[hi] < a[mid]:
+            a[hi], a[mid] = a[mid], a[hi]
+            b[hi], b[mid] = b[mid], b[hi]
+        a[mid], a[lo + 1] = a[lo + 1], a[mid]
+        b[mid], b[lo + 1] = b[lo + 1], b[mid]
+        pivot = a[lo + 1]
+        i = lo + 1
+        j = hi
+        while True:
+            i += 1
+            while a[i] < pivot:
+                i += 1
+            j -= 1
+            while pivot < a[j]:
+                j -= 1
+            if j < i:
+                break
+            a[i], a[j] = a[j], a[i]
+            b[i], b[j] = b[j], b[i]
+        a[lo + 1], a[j] = a[j], a[lo + 1]
+        b[lo + 1], b[j] = b[j], b[lo + 1]
+        if j >= k:
+            hi = j - 1
+        if j <= k:
+            lo = j + 1
+    # two or three slots left: sort them
+    for i in range(lo + 1, hi + 1):
+        j = i
+        while j > lo and a[j] < a[j - 1]:
+            a[j], a[j - 1] = a[j - 1], a[j]
+            b[j], b[j - 1] = b[j - 1], b[j]
+            j -= 1
+
+
+@njit(cache=True, inline='always')
+def vertex_less(x, y, a, b, axis):
+    if axis == 0:
+        return x[a] < x[b] or (x[a] == x[b] and y[a] < y[b])
+    return y[a] < y[b] or (y[a] == y[b] and x[a] > x[b])
+
+
+@njit(cache=True, _nrt=False)
+def hull_ends(onext, org, x, y, e, axis):
+    """The counter-clockwise hull edge out of the first vertex and the clockwise
+    hull edge out of the last vertex, in the frame of ``axis``, of the
+    triangulation that has ``e`` as a counter-clockwise hull edge."""
+    f0 = e ^ 2                       # the outer face is left of e's twin
+    fmin = f0
+    fmax = f0
+    f = lnext(onext, f0)
+    while f != f0:
+        v = org[f]
+        if vertex_less(x, y, v, org[fmin], axis):
+            fmin = f
+        if vertex_less(x, y, org[fmax], v, axis):
+            fmax = f
+        f = lnext(onext, f)
+    return onext[fmin], fmax
+
+
+@njit(cache=True, _nrt=False)
+def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results):
+    """Delaunay triangulation of the distinct vertices ``u`` (at least two, in
+    lexicographic order, which is also the order of their ids) by divide and
+    conquer with cuts alternately vertical and horizontal (Dwyer's variant, which
+    keeps the subproblems square). ``r[k]`` is the rank of vertex ``u[k]`` in the
+    order of the horizontal cuts, reordered along with ``u``. Returns
+    ``(e, number of quad-edges used)``,
+    ``e`` a counter-clockwise hull edge."""
+    nfree = 0
+    top = 0
+    rp = 0
+    stack[0] = 0
+    stack[1] = u.shape[0]
+    stack[2] = 0
+    stack[3] = 0
+    sp = 1
+    while sp > 0:
+        sp -= 1
+        lo = stack[4 * sp]
+        hi = stack[4 * sp + 1]
+        axis = stack[4 * sp + 2]
+        state = stack[4 * sp + 3]
+        size = hi - lo
+        if size <= 3:
+            if axis == 0:
+                select(u, r, lo, hi, lo)
+            else:
+                select(r, u, lo, hi, lo)
+        if size == 2:
+            a, nfree, top = make_edge(onext, org, free, nfree, top, u[lo], u[lo + 1])
+            results[2 * rp] = a
+            results[2 * rp + 1] = a ^ 2
+            rp += 1
+        elif size == 3:
+            s1 = u[lo]
+            s2 = u[lo + 1]
+            s3 = u[lo + 2]
+            a, nfree, top = make_edge(onext, org, free, nfree, top, s1, s2)
+            b, nfree, top = make_edge(onext, org, free, nfree, top, s2, s3)
+            splice(onext, a ^ 2, b)
+            if ccw(x, y, s1, s2, s3):
+                c, nfree, top = connect(onext, org, free, nfree, top, b, a)
+                results[2 * rp] = a
+                results[2 * rp + 1] = b ^ 2
+            elif ccw(x, y, s1, s3, s2):
+                c, nfree, top = connect(onext, org, free, nfree, top, b, a)
+                results[2 * rp] = c ^ 2
+                results[2 * rp + 1] = c
+            else:                              # collinear: a chain of two edges
+                results[2 * rp] = a
+                results[2 * rp + 1] = b ^ 2
+            rp += 1
+        elif state == 0:
+            mid = (lo + hi) // 2
+            if axis == 0:
+                select(u, r, lo, hi, mid)
+            else:
+                select(r, u, lo, hi, mid)
+            stack[4 * sp + 3] = 1             # revisit to merge
+            stack[4 * sp + 4] = mid
+            stack[4 * sp + 5] = hi
+            stack[4 * sp + 6] = 1 - axis
+            stack[4 * sp + 7] = 0
+            stack[4 * sp + 8] = lo
+            stack[4 * sp + 9] = mid
+            stack[4 * sp + 10] = 1 - axis
+            stack[4 * sp + 11] = 0
+            sp += 3
+        else:
+            rp -= 2
+            ldo, ldi = hull_ends(onext, org, x, y, results[2 * rp], axis)
+            rdi, rdo = hull_ends(onext, org, x, y, results[2 * rp + 2], axis)
+            ldo, rdo, nfree, top = merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo)
+            results[2 * rp] = ldo
+            results[2 * rp + 1] = rdo
+            rp += 1
+    return results[0], top
+
+
+@njit(cache=True, inline='always')
+def connect(onext, org, free, nfree, top, a, b):
+    """A new edge from the destination of ``a`` to the origin of ``b``, with
+    the left faces of ``a`` and ``b`` on its left."""
+    e, nfree, top = make_edge(onext, org, free, nfree, top, org[a ^ 2], org[b])
+    splice(onext, e, lnext(onext, a))
+    splice(onext, e ^ 2, b)
+    return e, nfree, top
+
+
+@njit(cache=True, _nrt=False)
+def merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo):
+    """Merge two adjacent triangulations along their seam (Guibas and Stolfi)."""
+    # the lower common tangent
+    while True:
+        if ccw(x, y, org[rdi], org[ldi], org[ldi ^ 2]):          # leftof(org rdi, ldi)
+            ldi = lnext(onext, ldi)
+        elif ccw(x, y, org[ldi], org[rdi ^ 2], org[rdi]):        # rightof(org ldi, rdi)
+            rdi = onext[rdi ^ 2]                                  # rprev
+        else:
+            break
+    basel, nfree, top = connect(onext, org, free, nfree, top, rdi ^ 2, ldi)
+    if org[ldi] == org[ldo]:
+        ldo = basel ^ 2
+    if org[rdi] == org[rdo]:
+        rdo = basel
+    while True:
+        bo = org[basel]
+        bd = org[basel ^ 2]
+        lcand = onext[basel ^ 2]
+        lvalid = ccw(x, y, org[lcand ^ 2], bd, bo)
+        if lvalid:
+            while True:
+                nxt = onext[lcand]
+                if not in_circle(x, y, w, bd, bo, org[lcand ^ 2], org[nxt ^ 2]):
+                    break
+                nfree = delete_edge(onext, org, free, nfree, lcand)
+                lcand = nxt
+        rcand = oprev(onext, basel)
+        rvalid = ccw(x, y, org[rcand ^ 2], bd, bo)
+        if rvalid:
+            while True:
+                nxt = oprev(onext, rcand)
+                if not in_circle(x, y, w, bd, bo, org[rcand ^ 2], org[nxt ^ 2]):
+                    break
+                nfree = delete_edge(onext, org, free, nfree, rcand)
+                rcand = nxt
+        if not lvalid and not rvalid:
+            break
+        if not lvalid or (rvalid and in_circle(x, y, w, org[lcand ^ 2], org[lcand],
+                                               org[rcand], org[rcand ^ 2])):
+            basel, nfree, top = connect(onext, org, free, nfree, top, rcand, basel ^ 2)
+        else:
+            basel, nfree, top = connect(onext, org, free, nfree, top, basel ^ 2, lcand ^ 2)
+    return ldo, rdo, nfree, top
+
+
+@njit(cache=True, _nrt=False)
+def to_triangles(onext, org, nquad, ldo, inf, tri, twin, half):
+    """Write the subdivision as triangles and ghost triangles (``mesh`` layout);
+    returns the number of triangles written. ``half`` (all -1, one slot per
+    primal directed edge ``e``, at ``e >> 1``) receives its half-edge."""
+    # the outer face, clockwise: it lies left of the reversed hull edges
+    outer = ldo ^ 2
+    ghosts = 0
+    e = outer
+    while True:
+        half[e >> 1] = -2
+        ghosts += 1
+        e = lnext(onext, e)
+        if e == outer:
+            break
+    ntri = 0
+    for q in range(nquad):
+        if org[4 * q] < 0:
+            continue
+        for e in (4 * q, 4 * q + 2):
+            if half[e >> 1] != -1:
+                continue
+            f = lnext(onext, e)
+            g = lnext(onext, f)
+            tri[3 * ntri] = org[e]
+            tri[3 * ntri + 1] = org[f]
+            tri[3 * ntri + 2] = org[g]
+            half[e >> 1] = 3 * ntri
+            half[f >> 1] = 3 * ntri + 1
+            half[g >> 1] = 3 * ntri + 2
+            ntri += 1
+    # ghost (v, u, inf) on the outer edge v -> u
+    first = ntri
+    e = outer
+    while True:
+        tri[3 * ntri] = org[e]
+        tri[3 * ntri + 1] = org[e ^ 2]
+        tri[3 * ntri + 2] = inf
+        half[e >> 1] = 3 * ntri
+        ntri += 1
+        e = lnext(onext, e)
+        if e == outer:
+            break
+    for q in range(nquad):
+        if org[4 * q] < 0:
+            continue
+        a = half[2 * q]
+        b = half[2 * q + 1]
+        twin[a] = b
+        twin[b] = a
+    # u -> inf of a ghost pairs with inf -> u of the next ghost along the hull
+    for k in range(ghosts):
+        g = first + k
+        h = first + (k + 1) % ghosts
+        twin[3 * g + 1] = 3 * h + 2
+        twin[3 * h + 2] = 3 * g + 1
+    return ntri
+
+
+@njit(cache=True)
+def mark_duplicates(x, y, m, dup):
+    """Distinct vertices of lexicographically sorted ``0..m-1``; ``dup[k]`` is set to
+    the first vertex equal to ``k`` when ``k`` repeats it."""
+    u = np.empty(m, np.int64)
+    nu = 0
+    for k in range(m):
+        if nu > 0 and x[k] == x[u[nu - 1]] and y[k] == y[u[nu - 1]]:
+            dup[k] = u[nu - 1]
+        else:
+            u[nu] = k
+            nu += 1
+    return u[:nu]
+
+
+def build_divide(x, y, w, m, inf, dup, cap, with_cons):
+    """Delaunay triangulation of the mesh vertices ``0..m-1`` (lexicographically
+    sorted, not all collinear) by divide and conquer, in the half-edge store with
+    room for ``cap`` triangles. Returns ``(tri, twin, cons, ntri)``."""
+    u = mark_duplicates(x, y, m, dup)
+    nu = len(u)
+    nquad = 3 * nu + 8
+    onext = np.empty(4 * nquad, IDX)
+    org = np.full(4 * nquad, -1, IDX)
+    free = np.empty(nquad, IDX)
+    depth = 8 + 2 * int(np.log2(nu + 1))
+    stack = np.empty(4 * 3 * depth, np.int64)
+    results = np.empty(2 * depth, np.int64)
+    # rank of each distinct vertex in the (y, -x) order of horizontal cuts
+    r = np.empty(nu, np.int64)
+    r[lexicographic_order(y[u], -x[u])] = np.arange(nu)
+    ldo, used = guibas_stolfi(x, y, w, u.copy(), r, onext, org, free, stack, results)
+    tri = np.full(3 * cap, -1, IDX)
+    twin = np.full(3 * cap, -1, IDX)
+    cons = np.zeros(3 * cap if with_cons else 0, IDX)
+    ntri = to_triangles(onext, org, used, ldo, inf, tri, twin, np.full(2 * used, -1, IDX))
+    return tri, twin, cons, ntri
