@@ -299,9 +299,12 @@ def test_two_routes_agree_on_generic_plcs(seed):
     except SegmentIntersectionError:
         return
     two = cdt_plugin.triangulate(v, s, keep_hull=True, algorithm="flip")
+    three = cdt_plugin.triangulate(v, s, keep_hull=True, algorithm="incremental")
     verify_cdt(v, s, one, domain="hull")
     verify_cdt(v, s, two, domain="hull")
+    verify_cdt(v, s, three, domain="hull")
     assert canonical_triangles(one.vertices, one.triangles) == canonical_triangles(two.vertices, two.triangles)
+    assert canonical_triangles(one.vertices, one.triangles) == canonical_triangles(three.vertices, three.triangles)
 
 
 def test_spiral_and_comb():

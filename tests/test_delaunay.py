@@ -15,12 +15,17 @@ rng = np.random.default_rng(20261122)
 
 
 def both_routes(points, **kw):
-    """Triangulate by both routes, verify both, check they agree; return one."""
+    """Triangulate by the default route (divide and conquer), incremental
+    insertion and the flip algorithm, verify all, check they agree; return the
+    default and the flip result."""
     a = cdt_plugin.delaunay(points, **kw)
     b = cdt_plugin.delaunay(points, algorithm="flip", **kw)
-    verify(points, a)
-    verify(points, b)
-    assert canonical_triangles(a.vertices, a.triangles) == canonical_triangles(b.vertices, b.triangles)
+    c = cdt_plugin.delaunay(points, algorithm="incremental", **kw)
+    for t in (a, b, c):
+        verify(points, t)
+    want = canonical_triangles(a.vertices, a.triangles)
+    assert want == canonical_triangles(b.vertices, b.triangles)
+    assert want == canonical_triangles(c.vertices, c.triangles)
     return a, b
 
 
@@ -165,6 +170,43 @@ def test_near_collinear_points():
     assert len(a.triangles) > 0
 
 
+# ------------------------------------------------------- divide and conquer
+def _degenerate_sets():
+    r = np.random.default_rng(7)
+    g = np.array([(i, j) for i in range(40) for j in range(30)], float)
+    ang = np.arange(720) * (2 * np.pi / 720)
+    yield "grid", g
+    yield "grid turned 45 degrees", np.c_[g[:, 0] - g[:, 1], g[:, 0] + g[:, 1]]
+    yield "grid with duplicates", np.r_[g, g[::7]]
+    yield "cocircular integer ring", np.array([(5, 0), (-5, 0), (0, 5), (0, -5), (3, 4), (4, 3), (-3, 4),
+                                               (-4, 3), (3, -4), (4, -3), (-3, -4), (-4, -3)], float)
+    yield "two crossing lines", np.r_[np.c_[np.arange(300.0), np.zeros(300)],
+                                      np.c_[np.full(300, 150.0), np.arange(-150.0, 150.0)]]
+    yield "vertical line and one point", np.r_[np.c_[np.zeros(500), np.arange(500.0)], [[1.0, 3.0]]]
+    yield "circle", np.c_[np.cos(ang), np.sin(ang)]
+    yield "snapped random, many ties", np.round(r.random((3000, 2)) * 32) / 32
+    yield "offset 1e9", r.random((2000, 2)) + 1e9
+    yield "clustered", np.r_[r.random((1000, 2)) * 1e-6, r.random((1000, 2)) * 1e6]
+
+
+@pytest.mark.parametrize("name,points", list(_degenerate_sets()), ids=[n for n, _ in _degenerate_sets()])
+def test_divide_and_conquer_matches_incremental(name, points):
+    dc = cdt_plugin.delaunay(points, algorithm="divide")
+    inc = cdt_plugin.delaunay(points, algorithm="incremental")
+    assert dc.stats["algorithm"] == "divide" and inc.stats["algorithm"] == "incremental"
+    verify(points, dc)
+    assert canonical_triangles(dc.vertices, dc.triangles) == canonical_triangles(inc.vertices, inc.triangles)
+    assert (dc.vertex_map == inc.vertex_map).all()
+
+
+def test_auto_route_is_divide_unweighted_and_incremental_weighted():
+    p = rng.random((50, 2))
+    assert cdt_plugin.delaunay(p).stats["algorithm"] == "divide"
+    assert cdt_plugin.delaunay(p, weights=np.zeros(50)).stats["algorithm"] == "incremental"
+    with pytest.raises(CDTError, match="divide"):
+        cdt_plugin.delaunay(p, weights=np.zeros(50), algorithm="divide")
+
+
 # -------------------------------------------------------------- property tests
 small_ints = st.integers(min_value=-4, max_value=4)
 
@@ -175,9 +217,10 @@ def test_hypothesis_integer_points(pts):
     p = np.array(pts, float)
     tri = cdt_plugin.delaunay(p)
     verify(p, tri)
-    flip = cdt_plugin.delaunay(p, algorithm="flip")
-    verify(p, flip)
-    assert canonical_triangles(tri.vertices, tri.triangles) == canonical_triangles(flip.vertices, flip.triangles)
+    for algorithm in ("flip", "incremental"):
+        other = cdt_plugin.delaunay(p, algorithm=algorithm)
+        verify(p, other)
+        assert canonical_triangles(tri.vertices, tri.triangles) == canonical_triangles(other.vertices, other.triangles)
     rev = cdt_plugin.delaunay(p[::-1])
     assert canonical_triangles(rev.vertices, rev.triangles) == canonical_triangles(tri.vertices, tri.triangles)
 
