@@ -8,7 +8,9 @@ time of an insertion in ``NRT_incref``/``NRT_decref``).
 
 :func:`unowned` returns a view of an array with a null memory-info pointer,
 on which numba's reference counting is a no-op. A compiled entry point
-rebinds its array arguments to such views before its loop; the caller's
+rebinds its array arguments to such views before its loop (segment insertion;
+the insertion and refinement loops allocate nothing and are compiled with
+``_nrt=False`` instead, which removes the reference counting altogether); the caller's
 arrays own the memory and outlive the call, so nothing is freed early. An
 unowned view must never be returned or stored beyond the call that made it,
 and only *arguments* may be rebound to views: numba frees a local array right

@@ -6,7 +6,6 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .borrow import unowned
 from .kernel import edge_is_illegal, lifted_test, orient
 from .locate import INSIDE, ON_VERTEX, locate
 from .mesh import DEAD, flip, nxt, prv, remove_degree3, split_edge, split_triangle
@@ -139,9 +138,15 @@ def insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
     """Insert ``order[first:]`` one by one. Exact duplicates are not inserted:
     ``dup_of[q]`` receives the vertex they coincide with. Returns
     ``(status, ntri)``."""
-    stack = np.empty(order.shape[0] + 8, np.int64)
-    tri, twin, cons, x, y, w = unowned(tri), unowned(twin), unowned(cons), unowned(x), unowned(y), unowned(w)
-    order, dup_of, submerged, counts = unowned(order), unowned(dup_of), unowned(submerged), unowned(counts)
+    return insert_vertices_loop(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
+                                hull_only, dup_of, submerged, counts,
+                                np.empty(order.shape[0] + 8, np.int64))
+
+
+@njit(cache=True, _nrt=False)   # allocates nothing: no reference counting either
+def insert_vertices_loop(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
+                         hull_only, dup_of, submerged, counts, stack):
+    """The loop of :func:`insert_vertices`, with its flip stack passed in."""
     last = 0
     for k in range(first, order.shape[0]):
         q = order[k]

@@ -35,10 +35,11 @@ triangles of a flip always share their label.
 """
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numpy as np
 from numba import njit
 
-from .borrow import unowned
 from .insertion import legalize
 from .kernel import edge_is_illegal, orient
 from .locate import INSIDE, ON_EDGE, ON_VERTEX, solid_step
@@ -51,6 +52,8 @@ OUT = -2            # label of a triangle outside the domain (ghosts too)
 FINISHED = 0
 NEED_ROOM = 1       # grow the arrays and call again
 LIMIT = 2           # the Steiner budget is spent
+HEAP_FULL = 3       # grow the bad-triangle heap and call again
+PIECES_FULL = 4     # grow the piece stack and call again
 
 # counters (``counts`` array)
 C_STEINER = 0       # vertices inserted
@@ -217,44 +220,29 @@ def _heap_swap(keys, items, i, j):
         items[j, s] = v
 
 
-@njit(cache=True)
-def _grow_heap(keys, items):
-    k2 = np.empty(2 * keys.shape[0], np.float64)
-    i2 = np.empty((2 * keys.shape[0], 4), np.int64)
-    k2[: keys.shape[0]] = keys
-    i2[: keys.shape[0]] = items
-    return k2, i2
-
-
-@njit(cache=True)
-def _grow_rows(rows):
-    r2 = np.empty((2 * rows.shape[0], rows.shape[1]), np.int64)
-    r2[: rows.shape[0]] = rows
-    return r2
-
-
 @njit(cache=True, inline="always")
 def queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c):
     """Put triangle ``t = (a, b, c)`` on the bad-triangle heap, behind every
-    earlier entry with the same bucket ``key``. Returns the (grown) heap, its
-    size and the push count."""
+    earlier entry with the same bucket ``key``. Returns the heap's size (-1:
+    the heap is full) and the push count."""
     if hn == hkeys.shape[0]:
-        hkeys, hitems = _grow_heap(hkeys, hitems)
+        return -1, pushes
     hn = heap_push(hkeys, hitems, hn, key + pushes * FIFO, t, a, b, c)
-    return hkeys, hitems, hn, pushes + 1
+    return hn, pushes + 1
 
 
 @njit(cache=True, inline="always")
 def queue_piece(tri, sq, sn, g, forced):
     """Put the segment piece of half-edge ``g`` on the split stack (``forced``:
-    split it even if no triangle vertex encroaches it by then)."""
+    split it even if no triangle vertex encroaches it by then). Returns the
+    stack's size (-1: the stack is full)."""
     if sn == sq.shape[0]:
-        sq = _grow_rows(sq)
+        return -1
     sq[sn, 0] = g
     sq[sn, 1] = tri[g]
     sq[sn, 2] = tri[nxt(g)]
     sq[sn, 3] = forced
-    return sq, sn + 1
+    return sn + 1
 
 
 # ------------------------------------------------------------------ tests
@@ -435,7 +423,8 @@ def shell_centre(tri, twin, cons, lab, e):
 
 
 @njit(cache=True, inline="always")
-def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0, stack, counts):
+def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0, stack, counts,
+                fc, no_sub):
     """Split the segment piece of half-edge ``e`` at new vertex ``q``, then
     restore the constrained Delaunay property by flips. A split that would
     invert a triangle (the piece is at the limit of floating point) freezes
@@ -474,20 +463,20 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
         stack[sp] = 3 * t2
         stack[sp + 1] = 3 * (ntri - 1)
         sp += 2
-    _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts)
+    _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub)
     counts[C_SEG_SPLITS] += 1
     return True, ntri
 
 
 @njit(cache=True, inline="always")
-def _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts):
-    fc = np.zeros(2, np.int64)
-    legalize(tri, twin, cons, x, y, x, False, inf, q, stack, sp, False, np.zeros(1, np.int8), fc)
+def _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub):
+    fc[0] = 0
+    legalize(tri, twin, cons, x, y, x, False, inf, q, stack, sp, False, no_sub, fc)
     counts[C_FLIPS] += fc[0]
 
 
 @njit(cache=True, inline="always")
-def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts):
+def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts, fc, no_sub):
     """Insert vertex ``q`` located at ``(code, h)`` (inside a triangle or on a
     non-segment edge) and flip. Returns ``(slot of a triangle at q, ntri)``."""
     t = h // 3
@@ -509,34 +498,32 @@ def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts
         stack[2] = 3 * (ntri - 2)
         stack[3] = 3 * (ntri - 1)
         sp = 4
-    _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts)
+    _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub)
     return t, ntri
 
 
 # ------------------------------------------------------------- main loop
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
-                offconstant, lens, area_of_label, conforming, max_new, counts):
+                offconstant, lens, area_of_label, conforming, max_new, counts, buffers):
     """Refine until no piece is encroached and no triangle is bad (or is
     excused: small input angle, frozen segments). Work queues are rebuilt from
     a scan on entry and whenever they run dry after progress, so nothing is
     lost when a flip moves a queued half-edge. Returns ``(status, ntri, nv)``:
-    FINISHED, NEED_ROOM (grow the arrays, call again) or LIMIT (``max_new``
-    vertices inserted)."""
-    tri, twin, cons, x, y, lab = unowned(tri), unowned(twin), unowned(cons), unowned(x), unowned(y), unowned(lab)
-    vseg, seg_ends, area_of_label, counts = unowned(vseg), unowned(seg_ends), unowned(area_of_label), unowned(counts)
+    FINISHED, NEED_ROOM (grow the arrays, call again), HEAP_FULL or
+    PIECES_FULL (grow that queue, call again) or LIMIT (``max_new`` vertices
+    inserted). ``buffers`` is a :class:`RefineBuffers`: the loop allocates
+    nothing, so it is compiled without reference counting (``_nrt=False``),
+    which is a fifth of its time otherwise."""
+    hkeys, hitems, sq, mark = buffers.hkeys, buffers.hitems, buffers.sq, buffers.mark
+    bstack, stack, enc, fc, no_sub = buffers.bstack, buffers.stack, buffers.enc, buffers.fc, buffers.no_sub
     cap_tri = tri.shape[0] // 3
-    hkeys = np.empty(1024, np.float64)
-    hitems = np.empty((1024, 4), np.int64)
     hn = 0
     pushes = 0
-    sq = np.empty((256, 4), np.int64)      # e, u, v, forced
     sn = 0
-    mark = np.zeros(cap_tri, np.int64)
     stamp = 0
-    bstack = np.empty(cap_tri + 8, np.int64)
-    stack = np.empty(inf + 16, np.int64)
-    enc = np.empty(64, np.int64)
+    for t in range(mark.shape[0]):
+        stamp = max(stamp, mark[t])
     walk_limit = 64 + 4 * ntri
     scanned_at = -1
     while True:
@@ -554,12 +541,15 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 c = tri[3 * t + 2]
                 angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_of_label[L + 1])
                 if angle_bad or area_bad:
-                    hkeys, hitems, hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key,
-                                                               t, a, b, c)
+                    hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c)
+                    if hn < 0:
+                        return HEAP_FULL, ntri, nv
             for e in range(3 * ntri):
                 if cons[e] > 0 and e < twin[e] and piece_needs_split(tri, twin, x, y, inf, lab,
                                                                      conforming, lens, e):
-                    sq, sn = queue_piece(tri, sq, sn, e, 0)
+                    sn = queue_piece(tri, sq, sn, e, 0)
+                    if sn < 0:
+                        return PIECES_FULL, ntri, nv
             continue
         if nv + 1 >= inf or ntri + 2 > cap_tri:
             return NEED_ROOM, ntri, nv
@@ -574,7 +564,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             if sq[sn, 3] == 0 and not piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, e):
                 continue
             done, ntri = split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg,
-                                     seg_ends, nv0, stack, counts)
+                                     seg_ends, nv0, stack, counts, fc, no_sub)
             if not done:
                 continue
             slot = e // 3
@@ -615,12 +605,15 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 for i in range(nenc):
                     g = enc[i]
                     if cons[g] > 0:
-                        sq, sn = queue_piece(tri, sq, sn, g, 1)
+                        sn = queue_piece(tri, sq, sn, g, 1)
+                        if sn < 0:
+                            return PIECES_FULL, ntri, nv
                         pushed += 1
                 if pushed > 0:   # try again after the pieces are split
                     counts[C_DEFERRED] += 1
-                    hkeys, hitems, hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key,
-                                                               t, a, b, c)
+                    hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c)
+                    if hn < 0:
+                        return HEAP_FULL, ntri, nv
                     continue
                 if code == WALK_BLOCKED or code == ON_EDGE:
                     # behind (or on) a frozen segment: a triangle that is too
@@ -637,7 +630,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                         continue
                 # only frozen pieces are encroached: insert anyway (Triangle's -Y)
             slot, ntri = insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack,
-                                     counts)
+                                     counts, fc, no_sub)
         nv += 1
         counts[C_STEINER] += 1
         # queue what the new vertex's star needs
@@ -654,12 +647,15 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 c = tri[3 * t + 2]
                 angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_of_label[L + 1])
                 if angle_bad or area_bad:
-                    hkeys, hitems, hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key,
-                                                               t, a, b, c)
+                    hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c)
+                    if hn < 0:
+                        return HEAP_FULL, ntri, nv
             for k in range(3):
                 g = 3 * t + k
                 if cons[g] > 0 and piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, g):
-                    sq, sn = queue_piece(tri, sq, sn, g, 0)
+                    sn = queue_piece(tri, sq, sn, g, 0)
+                    if sn < 0:
+                        return PIECES_FULL, ntri, nv
             e = twin[prv(e)]
             if e == e0:
                 break
@@ -717,17 +713,44 @@ def refine_mesh(mesh, lab, seg_ends, *, min_angle, max_area, area_of_label, conf
     lab = _grown(lab, len(mesh.tri) // 3, OUT)
     vseg = np.zeros(mesh.inf + 1, np.int64)
     counts = np.zeros(8, np.int64)
+    heap = max(1024, mesh.ntri)
+    buffers = _buffers(mesh, heap, 256)
     while True:
         status, mesh.ntri, mesh.nv = refine_loop(
             mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.inf, mesh.ntri, mesh.nv, nv0, lab,
-            vseg, seg_ends, sin2_bound, offconstant, lens, area_of_label, conforming, max_new, counts)
-        if status != NEED_ROOM:
+            vseg, seg_ends, sin2_bound, offconstant, lens, area_of_label, conforming, max_new, counts,
+            buffers)
+        if status == HEAP_FULL:
+            buffers = _buffers(mesh, 2 * len(buffers.hkeys), len(buffers.sq), buffers.mark)
+        elif status == PIECES_FULL:
+            buffers = _buffers(mesh, len(buffers.hkeys), 2 * len(buffers.sq), buffers.mark)
+        elif status == NEED_ROOM:
+            mesh.grow_vertices()
+            lab = _grown(lab, len(mesh.tri) // 3, OUT)
+            vseg = _grown(vseg, mesh.inf + 1, 0)
+            buffers = _buffers(mesh, len(buffers.hkeys), len(buffers.sq), buffers.mark)
+        else:
             break
-        mesh.grow_vertices()
-        lab = _grown(lab, len(mesh.tri) // 3, OUT)
-        vseg = _grown(vseg, mesh.inf + 1, 0)
     np.abs(mesh.cons, out=mesh.cons)
     return status, counts, lab, seg_ends
+
+
+RefineBuffers = namedtuple("RefineBuffers", "hkeys hitems sq mark bstack stack enc fc no_sub")
+
+
+def _buffers(mesh, heap, pieces, mark=None):
+    """The work arrays of :func:`refine_loop` for this mesh: a heap of ``heap``
+    bad triangles, a stack of ``pieces`` segment pieces, and triangle stamps
+    (``mark``, carried over when the mesh grows)."""
+    cap_tri = len(mesh.tri) // 3
+    marks = np.zeros(cap_tri, np.int64)
+    if mark is not None:
+        marks[: len(mark)] = mark
+    return RefineBuffers(
+        hkeys=np.empty(heap, np.float64), hitems=np.empty((heap, 4), np.int64),
+        sq=np.empty((pieces, 4), np.int64),        # e, u, v, forced
+        mark=marks, bstack=np.empty(cap_tri + 8, np.int64), stack=np.empty(mesh.inf + 16, np.int64),
+        enc=np.empty(64, np.int64), fc=np.zeros(2, np.int64), no_sub=np.zeros(1, np.int8))
 
 
 def _grown(a, n, fill):
