@@ -104,6 +104,12 @@ def resolve_algorithm(algorithm: str, weighted: bool) -> str:
     insertion for weighted points (which divide and conquer does not take)."""
     if algorithm not in ALGORITHMS:
         raise CDTError(f"algorithm must be one of {ALGORITHMS}, got {algorithm!r}")
+    if weighted and algorithm == "flip":
+        raise CDTError("algorithm='flip' is for unweighted points: the flip algorithm can get "
+                       "stuck on weighted points (Sec. 2.8); use algorithm='incremental'")
+    if weighted and algorithm == "divide":
+        raise CDTError("algorithm='divide' is for unweighted points; use algorithm='incremental' "
+                       "for weighted Delaunay")
     if algorithm == "auto":
         return "incremental" if weighted else "divide"
     return algorithm
@@ -143,19 +149,11 @@ def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) ->
     (2, [0, 1, 2, 3, 0], True)
     """
     t0 = time.perf_counter()
-    if algorithm not in ALGORITHMS:
-        raise CDTError(f"algorithm must be one of {ALGORITHMS}, got {algorithm!r}")
     pts = as_points(points)
     n = len(pts)
     w_in = as_weights(weights, n)
     weighted = w_in is not None
     algorithm = resolve_algorithm(algorithm, weighted)
-    if weighted and algorithm == "flip":
-        raise CDTError("algorithm='flip' is for unweighted points: the flip algorithm can get "
-                       "stuck on weighted points (Sec. 2.8); use algorithm='incremental'")
-    if weighted and algorithm == "divide":
-        raise CDTError("algorithm='divide' is for unweighted points; use algorithm='incremental' "
-                       "for weighted Delaunay")
     x = np.zeros(n + 1)
     y = np.zeros(n + 1)
     x[:n] = pts[:, 0]

@@ -232,6 +232,22 @@ def queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c):
 
 
 @njit(cache=True, inline="always")
+def queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, hkeys, hitems, hn, pushes, t):
+    """Queue triangle ``t`` if it is inside the domain and breaks a bound.
+    Returns the heap's size (-1: the heap is full) and the push count."""
+    L = lab[t]
+    if L == OUT:
+        return hn, pushes
+    a = tri[3 * t]
+    b = tri[3 * t + 1]
+    c = tri[3 * t + 2]
+    angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_of_label[L + 1])
+    if angle_bad or area_bad:
+        return queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c)
+    return hn, pushes
+
+
+@njit(cache=True, inline="always")
 def queue_piece(tri, sq, sn, g, forced):
     """Put the segment piece of half-edge ``g`` on the split stack (``forced``:
     split it even if no triangle vertex encroaches it by then). Returns the
@@ -533,17 +549,10 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             scanned_at = counts[C_STEINER]
             # scan everything: bad triangles and encroached pieces
             for t in range(ntri):
-                L = lab[t]
-                if L == OUT:
-                    continue
-                a = tri[3 * t]
-                b = tri[3 * t + 1]
-                c = tri[3 * t + 2]
-                angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_of_label[L + 1])
-                if angle_bad or area_bad:
-                    hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c)
-                    if hn < 0:
-                        return HEAP_FULL, ntri, nv
+                hn, pushes = queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, hkeys, hitems,
+                                          hn, pushes, t)
+                if hn < 0:
+                    return HEAP_FULL, ntri, nv
             for e in range(3 * ntri):
                 if cons[e] > 0 and e < twin[e] and piece_needs_split(tri, twin, x, y, inf, lab,
                                                                      conforming, lens, e):
@@ -640,16 +649,10 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
         e = e0
         while True:
             t = e // 3
-            L = lab[t]
-            if L != OUT:
-                a = tri[3 * t]
-                b = tri[3 * t + 1]
-                c = tri[3 * t + 2]
-                angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_of_label[L + 1])
-                if angle_bad or area_bad:
-                    hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c)
-                    if hn < 0:
-                        return HEAP_FULL, ntri, nv
+            hn, pushes = queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, hkeys, hitems,
+                                      hn, pushes, t)
+            if hn < 0:
+                return HEAP_FULL, ntri, nv
             for k in range(3):
                 g = 3 * t + k
                 if cons[g] > 0 and piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, g):
