@@ -762,6 +762,12 @@ def main(suite: Suite, argv: list[str] | None = None) -> int:
     out.write_text(f"# {suite.title}\n\n{md}")
     out.with_suffix(".json").write_text(json.dumps(results, indent=1) + "\n")
     _log(f"wrote {out} and {out.with_suffix('.json')}")
+    ours_failed = [w for w, cells in results["workloads"].items()
+                   if "ours" in cells and cells["ours"]["error"]]
+    if args.write_readme and ours_failed:
+        # a table of n/a rows for our own column is never what the README should show
+        _log(f"NOT updating {README}: cdt_plugin failed on {', '.join(ours_failed)}")
+        return 1
     if args.write_readme:
         README.write_text(replace_between_markers(README.read_text(), suite.name, md, suite.readme_after))
         _log(f"updated {README} between the bench:{suite.name} markers")
