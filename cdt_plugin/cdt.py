@@ -17,12 +17,11 @@ from .delaunay import _build_in_order, resolve_algorithm, _reorder_seed_first, s
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError)
 from .flips import flip_to_delaunay
-from .certify import locate_in_arrays
 from .mesh import IDX
 from .ordering import brio_order, lexicographic_order
 from .plc import as_plc
 from .refine import C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, FINISHED, OUT, count_below, refine_mesh
-from .regions import flood, segment_depths
+from .regions import flood_seeds, segment_depths
 from .segments import (ALL_DONE, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING, STOP_LIMIT,
                        STOP_OVERLAP, insert_segments, intersection_point, make_buffers)
 from .triangulation import Triangulation, solid_triangles
@@ -212,7 +211,7 @@ def _segment_tasks(segs, stats):
     kept segment indices and each kept segment's multiplicity (by 1-based id)."""
     zero = segs[:, 0] == segs[:, 1]
     stats["zero_length_segments"] = np.flatnonzero(zero).tolist()
-    lo, hi = segs.min(axis=1), segs.max(axis=1)
+    lo, hi = np.minimum(segs[:, 0], segs[:, 1]), np.maximum(segs[:, 0], segs[:, 1])
     key = lo * (int(segs.max(initial=0)) + 1) + hi   # one integer per undirected pair
     idx = np.flatnonzero(~zero)
     mult = np.zeros(len(segs) + 1, np.int64)
@@ -325,18 +324,15 @@ def _classify(plc, mesh, keep_hull, split, mult):
     vx, vy = mesh.x, mesh.y
     label = np.zeros(len(T), np.int64)
     if plc.holes is not None:
-        for hx, hy in plc.holes:
-            k = locate_in_arrays(vx, vy, T, N, hx, hy)
-            if k >= 0 and inside[k]:
-                flood(N, cflag, k, label, 1)
+        hx, hy = plc.holes[:, 0].copy(), plc.holes[:, 1].copy()
+        flood_seeds(vx, vy, T, N, cflag, hx, hy, inside, label, np.ones(len(hx), np.int64))
         inside &= label == 0
     attributes = None
     if plc.regions is not None and len(plc.regions):
         label[:] = -1
-        for r, (rx, ry, _, _) in enumerate(plc.regions):
-            k = locate_in_arrays(vx, vy, T, N, rx, ry)
-            if k >= 0:
-                flood(N, cflag, k, label, r)
+        rx, ry = plc.regions[:, 0].copy(), plc.regions[:, 1].copy()
+        flood_seeds(vx, vy, T, N, cflag, rx, ry, np.ones(len(T), np.bool_), label,
+                    np.arange(len(rx)))
         region = label
         attributes = plc.regions
     return (T, N, cflag, inside, region, attributes), tid

@@ -239,8 +239,8 @@ def _as_segments(segments, n) -> np.ndarray:
             raise SegmentIndexError(f"segment {int(bad[0])} has non-integer vertex indices "
                                     f"{arr[bad[0]].tolist()}")
     arr = arr.astype(np.int64)
-    bad = np.flatnonzero(((arr < 0) | (arr >= n)).any(axis=1))
-    if bad.size:
+    if arr.min() < 0 or arr.max() >= n:
+        bad = np.flatnonzero((arr[:, 0] < 0) | (arr[:, 0] >= n) | (arr[:, 1] < 0) | (arr[:, 1] >= n))
         i = int(bad[0])
         raise SegmentIndexError(
             f"segment {i} = {arr[i].tolist()} names a vertex outside 0..{n - 1}"

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .certify import locate_in_arrays
 from .mesh import DEAD, is_ghost
 
 
@@ -87,7 +88,12 @@ def flood(neighbors, cflag, start, label, value):
     """Paint ``label = value`` over the triangles reachable from ``start``
     without crossing a segment (``cflag[t, j] != 0``: the edge opposite vertex
     ``j`` of triangle ``t`` lies on one)."""
-    stack = np.empty(label.shape[0], np.int64)
+    flood_with(neighbors, cflag, start, label, value, np.empty(label.shape[0], np.int64))
+
+
+@njit(cache=True)
+def flood_with(neighbors, cflag, start, label, value, stack):
+    """:func:`flood` with a caller's stack (room for every triangle)."""
     label[start] = value
     stack[0] = start
     sp = 1
@@ -101,3 +107,21 @@ def flood(neighbors, cflag, start, label, value):
             label[m] = value
             stack[sp] = m
             sp += 1
+
+
+@njit(cache=True)
+def flood_seeds(vx, vy, triangles, neighbors, cflag, px, py, allowed, label, values):
+    """Flood from each seed point ``(px[i], py[i])`` in turn, painting
+    ``values[i]`` from the triangle that contains it, if that triangle is
+    ``allowed`` (seeds outside the triangulation are skipped; a later seed
+    repaints an earlier one's region). Each point location walks from the
+    previous seed's triangle, so seeds given in a coherent order walk little."""
+    stack = np.empty(label.shape[0], np.int64)
+    k0 = 0
+    for i in range(px.shape[0]):
+        k = locate_in_arrays(vx, vy, triangles, neighbors, px[i], py[i], k0)
+        if k < 0:
+            continue
+        k0 = k
+        if allowed[k]:
+            flood_with(neighbors, cflag, k, label, values[i], stack)

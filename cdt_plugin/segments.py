@@ -61,6 +61,12 @@ def first_crossing(tri, twin, x, y, inf, a, b, e0):
     ``w`` left of ``a -> b``.
     """
     e = e0
+    for _ in range(tri.shape[0]):  # most segments are edges already: a look without predicates
+        if tri[nxt(e)] == b:
+            return DONE, e
+        e = twin[prv(e)]
+        if e == e0:
+            break
     for _ in range(tri.shape[0]):
         u = tri[nxt(e)]
         w = tri[prv(e)]

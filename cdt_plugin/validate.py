@@ -23,8 +23,9 @@ def as_points(points, name: str = "points") -> np.ndarray:
         raise InputShapeError(f"{name} must have shape (n, 2), got {arr.shape}")
     if arr.shape[0] == 0:
         raise TooFewPointsError(f"{name} is empty: at least one point is needed")
-    bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
-    if bad.size:
+    # a whole-array check first: reductions along axis 1 of an (n, 2) array are slow
+    if not np.isfinite(arr).all():
+        bad = np.flatnonzero(~(np.isfinite(arr[:, 0]) & np.isfinite(arr[:, 1])))
         i = int(bad[0])
         raise NonFiniteCoordinateError(
             f"{name} has NaN or infinite coordinates at row(s) {_rows(bad)} "
