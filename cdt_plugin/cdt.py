@@ -27,6 +27,7 @@ from .segments import (ALL_DONE, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING
 from .triangulation import Triangulation, solid_triangles
 
 INTERSECTIONS = ("raise", "split")
+_NO_BUFFERS = tuple(np.empty(0, np.int64) for _ in range(5))   # segment walks' work arrays, unmade
 
 
 def triangulate(vertices, segments=None, *, holes=None, regions=None, intersections: str = "raise",
@@ -143,8 +144,8 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
     mesh_of[dups] = mesh_of[dup_of[dups]]
 
     segs = mesh_of[plc.segments]
-    tasks, kept, mult = _segment_tasks(segs, stats)
-    mesh = _Mesh(tri, twin, cons, ntri, xi, yi, wi, m + extra, m, tasks, len(kept))
+    tasks, ntask, mult = _segment_tasks(segs, m, stats)
+    mesh = _Mesh(tri, twin, cons, ntri, xi, yi, wi, m + extra, m, tasks, ntask)
     _insert_all_segments(mesh, segs, split, max_steiner, stats, plc)
     if algorithm == "flip":
         stats["flips"] = int(flip_to_delaunay(mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.w,
@@ -154,7 +155,8 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
     classes, tid = _classify(plc, mesh, keep_hull, split, mult)
     if refine is not None:
         classes = _refine(plc, mesh, segs, classes, tid, refine, split_boundary, stats)
-    out = Triangulation.from_cdt(plc, mesh, order, dup_of, submerged, *classes, stats, t0)
+    out = Triangulation.from_cdt(plc, mesh, order, dup_of, submerged, *classes, stats, t0,
+                                 ndup=len(dups))
     if refine is not None:
         _finish_refinement(out, plc, refine, stats)
     return out
@@ -184,10 +186,11 @@ class _Mesh:
         self.x, self.y, self.w, self.inf, self.nv = x, y, w, inf, nv
         self.tasks, self.ntask = tasks, ntask
 
-    def grow_vertices(self):
-        """Double the room for Steiner vertices (the infinite vertex moves)."""
+    def grow_vertices(self, at_least: int = 0):
+        """Double the room for Steiner vertices, or make room for ``at_least``
+        vertices if that is more (the infinite vertex moves)."""
         old_inf = self.inf
-        new_inf = 2 * old_inf + 16
+        new_inf = max(2 * old_inf + 16, at_least)
         for name in ("x", "y", "w"):
             a = np.zeros(new_inf + 1)
             a[: self.nv] = getattr(self, name)[: self.nv]
@@ -205,34 +208,65 @@ class _Mesh:
         self.tasks = tasks
 
 
-def _segment_tasks(segs, stats):
+def _segment_tasks(segs, nv, stats):
     """Drop zero-length segments, merge repeated ones; the rest become tasks
     (processed in input order: the queue is a stack). Returns the tasks, the
-    kept segment indices and each kept segment's multiplicity (by 1-based id)."""
-    zero = segs[:, 0] == segs[:, 1]
-    stats["zero_length_segments"] = np.flatnonzero(zero).tolist()
-    lo, hi = np.minimum(segs[:, 0], segs[:, 1]), np.maximum(segs[:, 0], segs[:, 1])
-    key = lo * (int(segs.max(initial=0)) + 1) + hi   # one integer per undirected pair
-    idx = np.flatnonzero(~zero)
-    mult = np.zeros(len(segs) + 1, np.int64)
-    if len(idx):
-        _, first, inverse = np.unique(key[idx], return_index=True, return_inverse=True)
-        mult[idx[first] + 1] = np.bincount(inverse.ravel(), minlength=len(first))
-        kept = idx[np.sort(first)]
-    else:
-        kept = idx
-    stats["duplicate_segments"] = int(len(idx) - len(kept))
-    tasks = np.empty((len(kept) + 16, 3), np.int64)
-    tasks[: len(kept), 0] = segs[kept[::-1], 0]
-    tasks[: len(kept), 1] = segs[kept[::-1], 1]
-    tasks[: len(kept), 2] = kept[::-1] + 1
-    return tasks, kept, mult
+    number of kept segments and each kept segment's multiplicity (by 1-based id)."""
+    tasks, ntask, mult, nzero = _dedup_tasks(segs, nv)
+    stats["zero_length_segments"] = (np.flatnonzero(segs[:, 0] == segs[:, 1]).tolist()
+                                     if nzero else [])
+    stats["duplicate_segments"] = int(len(segs) - nzero - ntask)
+    return tasks, ntask, mult
+
+
+@njit(cache=True)
+def _dedup_tasks(segs, nv):
+    """:func:`_segment_tasks` in one compiled pass: segments grouped by their
+    smaller end (a counting sort), the first of each endpoint pair kept and
+    counted. Returns ``(tasks, ntask, mult, zero-length count)``."""
+    m = segs.shape[0]
+    start = np.zeros(nv + 2, np.int64)
+    nzero = 0
+    for i in range(m):
+        if segs[i, 0] == segs[i, 1]:
+            nzero += 1
+        else:
+            start[min(segs[i, 0], segs[i, 1]) + 2] += 1
+    for v in range(nv):
+        start[v + 2] += start[v + 1]
+    begin = start.copy()                 # group a is group[begin[a + 1]:start[a + 1]] so far
+    group = np.empty(m, np.int64)
+    first = np.full(m, -1, np.int64)     # the kept segment each one repeats
+    mult = np.zeros(m + 1, np.int64)
+    for i in range(m):
+        a, b = min(segs[i, 0], segs[i, 1]), max(segs[i, 0], segs[i, 1])
+        if a == b:
+            continue
+        for k in range(begin[a + 1], start[a + 1]):
+            j = group[k]
+            if max(segs[j, 0], segs[j, 1]) == b:
+                first[i] = j
+                break
+        if first[i] < 0:
+            first[i] = i
+            group[start[a + 1]] = i
+            start[a + 1] += 1
+        mult[first[i] + 1] += 1
+    ntask = 0
+    tasks = np.empty((m - nzero + 16, 3), np.int64)
+    for i in range(m - 1, -1, -1):       # a stack: the first segment on top
+        if first[i] == i:
+            tasks[ntask, 0] = segs[i, 0]
+            tasks[ntask, 1] = segs[i, 1]
+            tasks[ntask, 2] = i + 1
+            ntask += 1
+    return tasks, ntask, mult, nzero
 
 
 def _insert_all_segments(mesh, segs, split, max_steiner, stats, plc):
     counts = np.zeros(3, np.int64)
     info = np.zeros(4, np.int64)
-    buf = make_buffers(mesh.ntri)
+    buf = _NO_BUFFERS   # made on the first segment that is not an edge yet (NEED_EDGE_ROOM)
     limit = max_steiner if max_steiner is not None else 10 * len(segs) + 1000
     while True:
         stack = np.empty(mesh.inf + 16, np.int64)
@@ -280,17 +314,37 @@ def _fmt(p):
 
 
 @njit(cache=True)
-def _edge_segment_ids(tri, cons, ntri, tid, k):
-    """Segment id (1-based, 0 none) of the edge opposite each vertex of each
-    real triangle, in the order of ``tid``."""
-    out = np.zeros((k, 3), np.int64)
+def _real_triangles(tri, twin, cons, ntri, inf):
+    """The real triangles ``T`` with their neighbours ``N``, the index in ``T``
+    of each mesh slot (``tid``, -1: ghost) and the segment id (1-based, 0 none)
+    of the edge opposite each vertex (``cflag``)."""
+    T, N, tid = solid_triangles(tri, twin, ntri, inf)
+    cflag = np.zeros((T.shape[0], 3), np.int64)
     for t in range(ntri):
         i = tid[t]
-        if i < 0:
-            continue
-        for j in range(3):
-            out[i, j] = cons[3 * t + (j + 1) % 3]
-    return out
+        if i >= 0:
+            for j in range(3):
+                cflag[i, j] = cons[3 * t + (j + 1) % 3]
+    return T, N, tid, cflag
+
+
+@njit(cache=True)
+def _depths(tri, twin, cons, ntri, inf, tid, k, mult):
+    """:func:`segment_depths` of the real triangles, in the order of ``tid``,
+    and whether any edge is a segment."""
+    depth_mesh, entry_mesh = segment_depths(tri, twin, cons, ntri, inf, mult)
+    depth = np.empty(k, np.int64)
+    entry = np.empty(k, np.int64)
+    for t in range(ntri):
+        if tid[t] >= 0:
+            depth[tid[t]] = depth_mesh[t]
+            entry[tid[t]] = entry_mesh[t]
+    has_segments = False
+    for e in range(3 * ntri):
+        if cons[e] != 0:
+            has_segments = True
+            break
+    return depth, entry, has_segments
 
 
 def _classify(plc, mesh, keep_hull, split, mult):
@@ -299,15 +353,8 @@ def _classify(plc, mesh, keep_hull, split, mult):
     triangles ``T`` of the mesh (in slot order), and ``tid``, the index in
     ``T`` of each mesh slot (-1: ghost)."""
     tri, twin, cons, ntri, inf = mesh.tri, mesh.twin, mesh.cons, mesh.ntri, mesh.inf
-    T, N, tid = solid_triangles(tri, twin, ntri, inf)
-    cflag = _edge_segment_ids(tri, cons, ntri, tid, len(T))
-    depth_mesh, entry_mesh = segment_depths(tri, twin, cons, ntri, inf, mult)
-    live = tid >= 0
-    depth = np.empty(len(T), np.int64)
-    entry = np.empty(len(T), np.int64)
-    depth[tid[live]] = depth_mesh[live]
-    entry[tid[live]] = entry_mesh[live]
-    has_segments = bool((cons[: 3 * ntri] != 0).any())
+    T, N, tid, cflag = _real_triangles(tri, twin, cons, ntri, inf)
+    depth, entry, has_segments = _depths(tri, twin, cons, ntri, inf, tid, len(T), mult)
     triangle_rule = plc.holes is not None or plc.regions is not None
     if keep_hull or not has_segments:
         inside = np.ones(len(T), bool)
@@ -315,15 +362,17 @@ def _classify(plc, mesh, keep_hull, split, mult):
         inside = depth > 0
     else:
         inside = depth % 2 == 1
-    region = np.full(len(T), -1, np.int64)
+    region = None
     if plc.has_rings:
         ring = np.where(entry > 0, plc.segment_ring[np.maximum(entry - 1, 0)], -1)
         region = np.where(ring >= 0, plc.ring_polygon[np.maximum(ring, 0)], -1)
         if not split and not keep_hull:
             _check_hole_sides(plc, inside, ring)
+    else:
+        region = np.full(len(T), -1, np.int64)
     vx, vy = mesh.x, mesh.y
     label = np.zeros(len(T), np.int64)
-    if plc.holes is not None:
+    if plc.holes is not None and len(plc.holes):
         hx, hy = plc.holes[:, 0].copy(), plc.holes[:, 1].copy()
         flood_seeds(vx, vy, T, N, cflag, hx, hy, inside, label, np.ones(len(hx), np.int64))
         inside &= label == 0
@@ -363,8 +412,7 @@ def _refine(plc, mesh, segs, classes, tid, opts, split_boundary, stats):
     stats["refinement_deferred"] = int(counts[C_DEFERRED])
     stats["refinement_complete"] = status == FINISHED
     stats["_limit"] = limit
-    T, N, tid = solid_triangles(mesh.tri, mesh.twin, mesh.ntri, mesh.inf)
-    cflag = _edge_segment_ids(mesh.tri, mesh.cons, mesh.ntri, tid, len(T))
+    T, N, tid, cflag = _real_triangles(mesh.tri, mesh.twin, mesh.cons, mesh.ntri, mesh.inf)
     kept_lab = lab[np.flatnonzero(tid >= 0)]
     inside = kept_lab != OUT
     return T, N, cflag, inside, np.where(inside, kept_lab, -1), attributes

@@ -204,6 +204,19 @@ def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) ->
     return Triangulation.from_mesh(pts, w_in, tri, twin, cons, ntri, order, dup_of, submerged, stats, t0)
 
 
+@njit(cache=True)
+def _gather_coords(x, y, w, order, extra):
+    """The coordinates of the points ``order``, then ``extra + 1`` zeros (room
+    for Steiner points and the infinite vertex)."""
+    n = order.shape[0] + extra + 1
+    xi, yi, wi = np.zeros(n), np.zeros(n), np.zeros(n)
+    for i in range(order.shape[0]):
+        xi[i] = x[order[i]]
+        yi[i] = y[order[i]]
+        wi[i] = w[order[i]]
+    return xi, yi, wi
+
+
 def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, extra=0,
                     with_cons=False, coords=None):
     """Triangulate the points ``order`` (seed triangle first) and record
@@ -214,7 +227,7 @@ def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, extr
     ``coords`` (a list) receives the mesh's ``(x, y, w)`` arrays."""
     m = len(order)
     inf = m + extra
-    xi, yi, wi = (np.concatenate([a[order], np.zeros(extra + 1)]) for a in (x, y, w))
+    xi, yi, wi = _gather_coords(x, y, w, order, extra)
     if coords is not None:
         coords.extend((xi, yi, wi))
     dup_int = np.full(m, -1, np.int64)

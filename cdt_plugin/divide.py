@@ -403,8 +403,28 @@ def build_divide(x, y, w, m, inf, dup, cap, with_cons):
     """Delaunay triangulation of the mesh vertices ``0..m-1`` (lexicographically
     sorted, not all collinear) by divide and conquer, in the half-edge store with
     room for ``cap`` triangles. Returns ``(tri, twin, cons, ntri)``."""
+    # the (y, -x) order of the horizontal cuts (numpy's sort is the fastest here)
+    horizontal = lexicographic_order(y[:m], -x[:m])
+    return _build_divide(x, y, w, m, inf, dup, cap, with_cons, horizontal)
+
+
+@njit(cache=True)
+def _build_divide(x, y, w, m, inf, dup, cap, with_cons, horizontal):
+    """:func:`build_divide` after the sort: duplicates marked, the work arrays
+    made, the subdivision built and converted."""
     u = mark_duplicates(x, y, m, dup)
-    nu = len(u)
+    nu = u.shape[0]
+    # rank of each distinct vertex in the order of horizontal cuts (a repeated
+    # point is adjacent to its first copy there too, so skipping it keeps the ranks)
+    slot = np.empty(m, np.int64)
+    for k in range(nu):
+        slot[u[k]] = k
+    r = np.empty(nu, np.int64)
+    rank = 0
+    for k in horizontal:
+        if dup[k] < 0:
+            r[slot[k]] = rank
+            rank += 1
     nquad = 3 * nu + 8
     onext = np.empty(4 * nquad, IDX)
     org = np.full(4 * nquad, -1, IDX)
@@ -412,10 +432,7 @@ def build_divide(x, y, w, m, inf, dup, cap, with_cons):
     depth = 8 + 2 * int(np.log2(nu + 1))
     stack = np.empty(4 * 3 * depth, np.int64)
     results = np.empty(2 * depth, np.int64)
-    # rank of each distinct vertex in the (y, -x) order of horizontal cuts
-    r = np.empty(nu, np.int64)
-    r[lexicographic_order(y[u], -x[u])] = np.arange(nu)
-    ldo, used = guibas_stolfi(x, y, w, u.copy(), r, onext, org, free, stack, results)
+    ldo, used = guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results)
     tri = np.full(3 * cap, -1, IDX)
     twin = np.full(3 * cap, -1, IDX)
     cons = np.zeros(3 * cap if with_cons else 0, IDX)

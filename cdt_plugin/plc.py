@@ -202,12 +202,14 @@ def _all_collinear(xy) -> bool:
 def as_plc(vertices, segments=None, holes=None, regions=None) -> PLC:
     """Validate user arrays (or a geometry, or a PLC) into a :class:`PLC`,
     raising precise errors that name the offending rows."""
+    checked = False
     if isinstance(vertices, PLC):
         plc = vertices
     elif hasattr(vertices, "__geo_interface__") or (isinstance(vertices, dict) and "type" in vertices):
         plc = PLC.from_geo_interface(vertices)
     else:
         plc = PLC(as_points(vertices, "vertices"))
+        checked = True
     if segments is not None:
         if isinstance(vertices, PLC) or plc.has_rings:
             raise CDTError("pass segments either inside the PLC/geometry or as an array, not both")
@@ -222,7 +224,8 @@ def as_plc(vertices, segments=None, holes=None, regions=None) -> PLC:
     if len(plc.vertices) == 0:
         from .errors import TooFewPointsError
         raise TooFewPointsError("the input has no vertices")
-    plc.vertices = as_points(plc.vertices, "vertices")
+    if not checked:
+        plc.vertices = as_points(plc.vertices, "vertices")
     return plc
 
 
@@ -238,7 +241,7 @@ def _as_segments(segments, n) -> np.ndarray:
         if bad.size:
             raise SegmentIndexError(f"segment {int(bad[0])} has non-integer vertex indices "
                                     f"{arr[bad[0]].tolist()}")
-    arr = arr.astype(np.int64)
+    arr = arr.astype(np.int64, copy=False)
     if arr.min() < 0 or arr.max() >= n:
         bad = np.flatnonzero((arr[:, 0] < 0) | (arr[:, 0] >= n) | (arr[:, 1] < 0) | (arr[:, 1] >= n))
         i = int(bad[0])

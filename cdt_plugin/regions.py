@@ -27,9 +27,13 @@ def segment_depths(tri, twin, cons, ntri, inf, mult):
     depth = np.full(ntri, -1, np.int64)
     entry = np.zeros(ntri, np.int64)
     cur = np.empty(ntri, np.int64)
-    pend = np.empty(3 * ntri + 1, np.int64)      # triangles behind a segment
-    pend_depth = np.empty(3 * ntri + 1, np.int64)
-    pend_sid = np.empty(3 * ntri + 1, np.int64)
+    ncons = 1                                    # each constrained half-edge waits once at most
+    for e in range(3 * ntri):
+        if cons[e] != 0:
+            ncons += 1
+    pend = np.empty(ncons, np.int64)             # triangles behind a segment
+    pend_depth = np.empty(ncons, np.int64)
+    pend_sid = np.empty(ncons, np.int64)
     npend = 0
     nc = 0
     for t in range(ntri):

@@ -24,7 +24,7 @@ from .kernel import orient
 from .insertion import insert_vertex
 from .locate import ON_VERTEX, locate
 from .flips import flip_from_stack
-from .mesh import flip, nxt, prv
+from .mesh import DEAD, flip, nxt, prv
 
 # outcome of one task
 DONE = 0          # the segment (or its first piece) is an edge now
@@ -49,6 +49,68 @@ def vertex_edge(tri, twin, x, y, inf, v, hint, ntri):
     if code != ON_VERTEX or tri[e] != v:
         return -1
     return e
+
+
+@njit(cache=True)
+def vertex_edges(tri, ntri, nv):
+    """A half-edge leaving each vertex ``0..nv-1`` (-1: none), from one pass
+    over the triangles: a start for the look around a segment's first end."""
+    vedge = np.full(nv, -1, np.int64)
+    for e in range(3 * ntri):
+        v = tri[e]
+        if 0 <= v < nv and tri[3 * (e // 3)] != DEAD:
+            vedge[v] = e
+    return vedge
+
+
+@njit(cache=True)
+def mark_present(tri, twin, cons, ntri, nv, tasks, ntask):
+    """Constrain at once every task ``a b`` that is an unconstrained edge
+    already (most segments of a fine boundary are Delaunay edges), by one pass
+    over the half-edges rather than a look around each segment's end; the
+    other tasks stay queued in their order. Returns their number."""
+    start = np.zeros(nv + 2, np.int64)            # tasks grouped by their smaller end
+    for i in range(ntask):
+        start[min(tasks[i, 0], tasks[i, 1]) + 2] += 1
+    for v in range(nv):
+        start[v + 2] += start[v + 1]
+    group = np.empty(ntask, np.int64)
+    for i in range(ntask):
+        a = min(tasks[i, 0], tasks[i, 1])
+        group[start[a + 1]] = i
+        start[a + 1] += 1
+    done = np.zeros(ntask, np.bool_)
+    for e in range(3 * ntri):
+        u = tri[e]
+        v = tri[nxt(e)]
+        if u < 0 or u >= v or v >= nv or cons[e] != 0 or tri[3 * (e // 3)] == DEAD:
+            continue
+        for k in range(start[u], start[u + 1]):
+            i = group[k]
+            if max(tasks[i, 0], tasks[i, 1]) == v:
+                cons[e] = tasks[i, 2]
+                cons[twin[e]] = tasks[i, 2]
+                done[i] = True
+                break
+    kept = 0
+    for i in range(ntask):
+        if not done[i]:
+            tasks[kept, 0] = tasks[i, 0]
+            tasks[kept, 1] = tasks[i, 1]
+            tasks[kept, 2] = tasks[i, 2]
+            kept += 1
+    return kept
+
+
+@njit(cache=True)
+def edge_from(tri, twin, x, y, inf, v, hint, ntri, vedge):
+    """A half-edge leaving ``v``: ``vedge[v]`` while it still does (flips and
+    splits reassign half-edges), else found by locating ``v``."""
+    if v < vedge.shape[0]:
+        e = vedge[v]
+        if e >= 0 and tri[e] == v and tri[3 * (e // 3)] != DEAD:
+            return e
+    return vertex_edge(tri, twin, x, y, inf, v, hint, ntri)
 
 
 @njit(cache=True)
@@ -180,7 +242,7 @@ def flip_in_segment(tri, twin, cons, x, y, inf, ntri, a, b, qu, qw, qh, k, hint)
 
 
 @njit(cache=True)
-def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf):
+def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge):
     """Make ``a -> b`` (or its first piece, up to a vertex on it) a constrained
     edge with id ``sid``, then restore the constrained Delaunay property around
     it with flips that never flip a segment (Lemma 2.14).
@@ -191,7 +253,7 @@ def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf):
     ``kind < 0`` on an internal failure, -2 if the buffers are too small.
     """
     qu, qw, qh, slots, stack = buf
-    e0 = vertex_edge(tri, twin, x, y, inf, a, hint, ntri)
+    e0 = edge_from(tri, twin, x, y, inf, a, hint, ntri, vedge)
     if e0 < 0:
         return -1, -1, hint
     kind, e = first_crossing(tri, twin, x, y, inf, a, b, e0)
@@ -289,6 +351,8 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
                                             unowned(info), unowned(stack))
     buf = (unowned(buf[0]), unowned(buf[1]), unowned(buf[2]), unowned(buf[3]), unowned(buf[4]))
     hint = 0
+    ntask = mark_present(tri, twin, cons, ntri, nv, tasks, ntask)
+    vedge = vertex_edges(tri, ntri, nv)
     flip_counts = np.zeros(2, np.int64)
     no_weights = np.zeros(1, np.int8)
     while ntask > 0:
@@ -296,7 +360,7 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
         a = tasks[ntask, 0]
         b = tasks[ntask, 1]
         sid = tasks[ntask, 2]
-        kind, res, hint = insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf)
+        kind, res, hint = insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge)
         if kind == -2:
             ntask += 1
             return NEED_EDGE_ROOM, ntri, nv, ntask

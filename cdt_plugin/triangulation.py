@@ -111,6 +111,25 @@ def _cdt_arrays(T, N, cflag, inside, remap):
 
 
 @njit(cache=True)
+def _cdt_vertices(P, kept, vertex_map, order, mx, my, m, nv):
+    """Output vertices (the kept input points, then the Steiner points ``m..nv-1``
+    of the mesh) and the output id of every mesh vertex."""
+    nk = kept.shape[0]
+    vertices = np.empty((nk + nv - m, 2))
+    for i in range(nk):
+        vertices[i, 0] = P[kept[i], 0]
+        vertices[i, 1] = P[kept[i], 1]
+    remap = np.empty(nv, np.int64)
+    for i in range(m):
+        remap[i] = vertex_map[order[i]]
+    for i in range(m, nv):
+        vertices[nk + i - m, 0] = mx[i]
+        vertices[nk + i - m, 1] = my[i]
+        remap[i] = nk + i - m
+    return vertices, remap
+
+
+@njit(cache=True)
 def first_defect(tri, twin, ntri, x, y, inf, check_hull):
     """First live triangle that stops the mesh from being a triangulation of a
     convex region after its vertices moved: a real triangle that is not strictly
@@ -133,6 +152,16 @@ def first_defect(tri, twin, ntri, x, y, inf, check_hull):
                 if edge_is_illegal(x, y, x, False, inf, a, b, tri[prv(e + k)], tri[prv(f)]):
                     return t
     return -1
+
+
+def _frozen_empty(shape):
+    a = np.empty(shape, np.int64)
+    a.flags.writeable = False
+    return a
+
+
+_NO_SEGMENTS = _frozen_empty((0, 2))   # shared defaults: empty and read-only
+_NO_IDS = _frozen_empty(0)
 
 
 class Triangulation:
@@ -169,13 +198,13 @@ class Triangulation:
     """
 
     def __init__(self, vertices, triangles, neighbors, vertex_map, stats,
-                 weights=None, edges=None, mesh=None):
-        self.constrained = np.zeros(triangles.shape, bool)
-        self.segments = np.empty((0, 2), np.int64)
-        self.segment_ids = np.empty(0, np.int64)
-        self.regions = np.full(len(triangles), -1, np.int64)
+                 weights=None, edges=None, mesh=None, constrained=None, regions=None):
+        self.constrained = np.zeros(triangles.shape, bool) if constrained is None else constrained
+        self.segments = _NO_SEGMENTS
+        self.segment_ids = _NO_IDS
+        self.regions = np.full(len(triangles), -1, np.int64) if regions is None else regions
         self.region_attributes = None
-        self.steiner = np.empty(0, np.int64)
+        self.steiner = _NO_IDS
         self.vertices = vertices
         self.triangles = triangles
         self.neighbors = neighbors
@@ -229,29 +258,31 @@ class Triangulation:
 
     @classmethod
     def from_cdt(cls, plc, mesh, order, dup_of, submerged, T, N, cflag, inside, region,
-                 attributes, stats, t0):
+                 attributes, stats, t0, ndup=None):
         """Output arrays of a constrained triangulation: the triangles marked
-        ``inside``, input vertices (distinct, in input order) then Steiner ones."""
+        ``inside``, input vertices (distinct, in input order) then Steiner ones.
+        ``ndup`` (the number of merged duplicates, when known) lets the common
+        case skip the vertex-map pass."""
         n = len(plc.vertices)
-        vertex_map, kept = _vertex_map(n, dup_of, submerged)
+        if ndup == 0:
+            vertex_map = kept = np.arange(n)
+        else:
+            vertex_map, kept = _vertex_map(n, dup_of, submerged)
+            ndup = int((dup_of >= 0).sum())
         m = len(order)
-        nst = mesh.nv - m
-        remap = np.full(mesh.inf + 1, -1, np.int64)
-        remap[:m] = vertex_map[order]
-        remap[m:mesh.nv] = len(kept) + np.arange(nst)
-        vertices = np.vstack([plc.vertices[kept], np.column_stack([mesh.x[m:mesh.nv], mesh.y[m:mesh.nv]])])
+        vertices, remap = _cdt_vertices(plc.vertices, kept, vertex_map, order, mesh.x, mesh.y,
+                                        m, mesh.nv)
         triangles, neighbors, constrained, segments, segment_ids, keep = _cdt_arrays(
             T, N, cflag, inside, remap)
-        out = cls(vertices, triangles, neighbors, vertex_map, stats)
-        out.constrained = constrained
+        out = cls(vertices, triangles, neighbors, vertex_map, stats, constrained=constrained,
+                  regions=region[keep])
         out.segments = segments
         out.segment_ids = segment_ids
-        out.regions = region[keep]
         out.region_attributes = attributes
-        out.steiner = len(kept) + np.arange(nst)
-        _finish_stats(stats, n, vertex_map, dup_of, submerged, len(keep), t0)
-        stats["steiner"] = int(nst)
-        stats["vertices"] = len(vertices)
+        nst = mesh.nv - m
+        out.steiner = np.arange(len(kept), len(kept) + nst)
+        stats.update(duplicates=ndup, submerged=0, vertices=len(vertices), triangles=len(keep),
+                     steiner=int(nst), seconds=time.perf_counter() - t0)
         return out
 
     # ------------------------------------------------------------------ views
