@@ -20,7 +20,8 @@ from .flips import flip_to_delaunay
 from .mesh import IDX
 from .ordering import brio_order, lexicographic_order
 from .plc import as_plc
-from .refine import C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, FINISHED, OUT, count_below, refine_mesh
+from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, FINISHED, OUT,
+                     STEINER_ROOM, count_below, refine_mesh)
 from .regions import flood_seeds, segment_depths
 from .segments import (ALL_DONE, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING, STOP_LIMIT,
                        STOP_OVERLAP, insert_segments, intersection_point, make_buffers)
@@ -134,6 +135,8 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
         order = _reorder_seed_first(order, k1, k2)
     m = len(order)
     extra = 16 + len(plc.segments) // 2 if split else 0
+    if refine is not None:   # the room refinement starts with, made now rather than by a copy
+        extra = max(extra, STEINER_ROOM * m + 64 - m)
     coords = []
     tri, twin, cons, ntri, counts = _build_in_order(x, y, np.zeros(n), False, order, algorithm,
                                                      dup_of, submerged, extra, True, coords)

@@ -231,7 +231,7 @@ def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, extr
     if coords is not None:
         coords.extend((xi, yi, wi))
     dup_int = np.full(m, -1, np.int64)
-    sub_int = np.zeros(m, np.int8)
+    sub_int = np.zeros(m, np.int8)     # (unweighted divide and conquer submerges nothing)
     counts = np.zeros(2, np.int64)
     if algorithm == "divide":
         tri, twin, cons, ntri = build_divide(xi, yi, wi, m, inf, dup_int, max(4, 2 * (m + extra) + 2),
@@ -244,7 +244,16 @@ def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, extr
         raise CDTError(f"internal error: point location failed (status {status})")
     if algorithm == "flip":
         counts[0] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, inf, ntri)
-    is_dup = dup_int >= 0
-    dup_of[order[is_dup]] = order[dup_int[is_dup]]
-    submerged[order[sub_int > 0]] = 1
+    _to_input_ids(order, dup_int, sub_int, dup_of, submerged)
     return tri, twin, cons, ntri, counts
+
+
+@njit(cache=True)
+def _to_input_ids(order, dup_int, sub_int, dup_of, submerged):
+    """Record the duplicates and submerged points found among the mesh
+    vertices ``0..m-1`` (point ``order[i]`` is vertex ``i``) by input id."""
+    for i in range(order.shape[0]):
+        if dup_int[i] >= 0:
+            dup_of[order[i]] = order[dup_int[i]]
+        if sub_int[i] > 0:
+            submerged[order[i]] = 1

@@ -711,8 +711,8 @@ def refine_mesh(mesh, lab, seg_ends, *, min_angle, max_area, area_of_label, conf
         sin2_bound, offconstant = 0.0, 0.0
     # diametral lenses for quality meshing, circles for conforming Delaunay
     lens = 0.0 if conforming else float(np.cos(2 * np.radians(min_angle))) ** 2
-    if mesh.inf < 4 * nv0 + 64:         # room for the usual few Steiner points per vertex
-        mesh.grow_vertices(4 * nv0 + 64)
+    if mesh.inf < STEINER_ROOM * nv0 + 64:   # room for the usual few Steiner points per vertex
+        mesh.grow_vertices(STEINER_ROOM * nv0 + 64)
     lab = _grown(lab, len(mesh.tri) // 3, OUT)
     vseg = np.zeros(mesh.inf + 1, np.int64)
     counts = np.zeros(8, np.int64)
@@ -737,6 +737,8 @@ def refine_mesh(mesh, lab, seg_ends, *, min_angle, max_area, area_of_label, conf
     np.abs(mesh.cons, out=mesh.cons)
     return status, counts, lab, seg_ends
 
+
+STEINER_ROOM = 4   # vertex room refinement starts with, per input vertex
 
 RefineBuffers = namedtuple("RefineBuffers", "hkeys hitems sq mark bstack stack enc fc no_sub")
 
