@@ -8,6 +8,7 @@ segments.
 """
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -28,6 +29,7 @@ from .segments import (ALL_DONE, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING
 from .triangulation import Triangulation, solid_triangles
 
 INTERSECTIONS = ("raise", "split")
+_NO_AREA_BOUNDS = np.zeros(1)   # read as "no area bound" for every label (see refine's ``area_bound``)
 _NO_BUFFERS = tuple(np.empty(0, np.int64) for _ in range(5))   # segment walks' work arrays, unmade
 
 
@@ -393,20 +395,21 @@ def _classify(plc, mesh, keep_hull, split, mult):
 def _refine(plc, mesh, segs, classes, tid, opts, split_boundary, stats):
     """Delaunay refinement of the classified mesh; returns the new classes."""
     T, N, cflag, inside, region, attributes = classes
-    slots = np.flatnonzero(tid >= 0)          # the mesh slot of each real triangle
-    lab = np.full(len(mesh.tri) // 3, OUT, np.int64)
-    lab[slots] = np.where(inside, region, OUT)
-    area_of_label = _area_bounds(plc, opts["max_area"], int(lab.max(initial=-1)))
+    lab = _slot_labels(tid, inside, region, len(mesh.tri) // 3)
+    area_of_label = _area_bounds(plc, opts["max_area"], lab)
     limit = opts["max_steiner"]
     if limit is None:
         limit = 100 * mesh.nv + 100_000
         if opts["max_area"]:
             limit += int(min(8 * _domain_area(mesh, T, inside) / opts["max_area"], 1e9))
     budget = max(limit - int(stats.get("intersection_points", 0)), 0)
+    room = STEINER_ROOM * mesh.nv + 64
+    if area_of_label is not _NO_AREA_BOUNDS:
+        room += _area_steiner(mesh, T, inside, region, area_of_label)
     status, counts, lab, _ = refine_mesh(
         mesh, lab, segs, min_angle=opts["min_angle"], max_area=opts["max_area"],
         area_of_label=area_of_label, conforming=opts["conforming"],
-        split_boundary=split_boundary, max_new=budget)
+        split_boundary=split_boundary, max_new=budget, room=room)
     stats["refinement_steiner"] = int(counts[C_STEINER])
     stats["refinement_segment_splits"] = int(counts[C_SEG_SPLITS])
     stats["refinement_flips"] = int(counts[C_FLIPS])
@@ -416,15 +419,57 @@ def _refine(plc, mesh, segs, classes, tid, opts, split_boundary, stats):
     stats["refinement_complete"] = status == FINISHED
     stats["_limit"] = limit
     T, N, tid, cflag = _real_triangles(mesh.tri, mesh.twin, mesh.cons, mesh.ntri, mesh.inf)
-    kept_lab = lab[np.flatnonzero(tid >= 0)]
-    inside = kept_lab != OUT
-    return T, N, cflag, inside, np.where(inside, kept_lab, -1), attributes
+    inside, region = _triangle_labels(tid, lab, len(T))
+    return T, N, cflag, inside, region, attributes
 
 
-def _area_bounds(plc, max_area, top):
-    """Area bound per triangle label (label + 1 indexes it; 0: none)."""
+@njit(cache=True)
+def _slot_labels(tid, inside, region, cap):
+    """Refinement's label of every mesh slot: the region of an inside real
+    triangle, else OUT."""
+    lab = np.full(cap, OUT, np.int64)
+    for t in range(tid.shape[0]):
+        i = tid[t]
+        if i >= 0 and inside[i]:
+            lab[t] = region[i]
+    return lab
+
+
+@njit(cache=True)
+def _triangle_labels(tid, lab, k):
+    """Back from slot labels: ``inside`` and ``region`` (-1 outside) of the
+    ``k`` real triangles."""
+    inside = np.zeros(k, np.bool_)
+    region = np.full(k, -1, np.int64)
+    for t in range(tid.shape[0]):
+        i = tid[t]
+        if i >= 0 and lab[t] != OUT:
+            inside[i] = True
+            region[i] = lab[t]
+    return inside, region
+
+
+def _area_steiner(mesh, T, inside, region, area_of_label, cap=2_000_000):
+    """About how many Steiner points the area bounds alone will add (the mesh
+    is made that large at once instead of growing by doubling); at most ``cap``."""
+    bound = area_of_label[np.where(inside, region, -1) + 1]
+    use = inside & (bound > 0)
+    x, y = mesh.x, mesh.y
+    a, b, c = T[use, 0], T[use, 1], T[use, 2]
+    area = np.abs((x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a])) / 2
+    # a refined mesh has about 1.6 triangles, so 0.8 vertices, per max_area of domain
+    return int(min(0.8 * float(np.sum(area / bound[use])), cap))
+
+
+def _area_bounds(plc, max_area, lab):
+    """Area bound per triangle label (label + 1 indexes it; 0: none), or
+    :data:`_NO_AREA_BOUNDS` when there is none at all."""
+    with_regions = plc.regions is not None and len(plc.regions) > 0
+    if max_area is None and not (with_regions and (plc.regions[:, 3] > 0).any()):
+        return _NO_AREA_BOUNDS
+    top = int(lab.max(initial=-1))
     bounds = np.full(top + 2, float(max_area or 0.0))
-    if plc.regions is not None and len(plc.regions):
+    if with_regions:
         ra = plc.regions[:, 3]
         ok = np.isfinite(ra) & (ra > 0)
         k = min(len(ra), top + 1)
@@ -445,9 +490,7 @@ def _finish_refinement(out, plc, opts, stats):
     ids[ids >= len(plc.segments)] = -1
     below = np.empty(0, np.int64)
     if opts["min_angle"]:
-        V = out.vertices
-        below = count_below(V[:, 0].copy(), V[:, 1].copy(), out.triangles,
-                            np.sin(np.radians(opts["min_angle"])) ** 2)
+        below = count_below(out.vertices, out.triangles, math.sin(math.radians(opts["min_angle"])) ** 2)
     stats["below_min_angle"] = int(len(below))
     out.below_min_angle = below
     limit = stats.pop("_limit")

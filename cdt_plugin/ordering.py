@@ -98,10 +98,24 @@ def brio_sort(x, y, perm):
     return out
 
 
+SMALL_SORT = 2048   # below this many points one compiled call beats numpy's faster sort
+
+
 def lexicographic_order(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Indices of the points sorted by x, then y (Sec. 2.1); equal points keep
     their input order. (The same as ``np.lexsort((y, x))``, about four times
     faster: one sort by x, then the runs of equal x sorted by y.)"""
+    if len(x) < SMALL_SORT:
+        return _lexicographic_order(x, y)
+    order = np.argsort(x).astype(np.int64)
+    sort_ties(x, y, order)
+    return order
+
+
+@njit(cache=True)
+def _lexicographic_order(x, y):
+    """:func:`lexicographic_order` in one compiled call (the ties make the
+    result the same whatever sort the first pass uses)."""
     order = np.argsort(x).astype(np.int64)
     sort_ties(x, y, order)
     return order

@@ -241,14 +241,14 @@ def _as_segments(segments, n) -> np.ndarray:
         if bad.size:
             raise SegmentIndexError(f"segment {int(bad[0])} has non-integer vertex indices "
                                     f"{arr[bad[0]].tolist()}")
-    arr = arr.astype(np.int64, copy=False)
+    arr = np.ascontiguousarray(arr, dtype=np.int64)
     if arr.min() < 0 or arr.max() >= n:
         bad = np.flatnonzero((arr[:, 0] < 0) | (arr[:, 0] >= n) | (arr[:, 1] < 0) | (arr[:, 1] >= n))
         i = int(bad[0])
         raise SegmentIndexError(
             f"segment {i} = {arr[i].tolist()} names a vertex outside 0..{n - 1}"
             + (f" ({bad.size} such segments)" if bad.size > 1 else ""))
-    return np.ascontiguousarray(arr)
+    return arr
 
 
 def _as_xy(points, name) -> np.ndarray:

@@ -35,6 +35,7 @@ triangles of a flip always share their label.
 """
 from __future__ import annotations
 
+import math
 from collections import namedtuple
 
 import numpy as np
@@ -90,6 +91,14 @@ def sin2_min_angle(x, y, a, b, c):
     if den <= 0.0:
         return 0.0, d
     return d * d / den, d
+
+
+@njit(cache=True, inline="always")
+def area_bound(area_of_label, label):
+    """The area bound of triangles labelled ``label`` (``area_of_label[label + 1]``;
+    0, none, past its end)."""
+    i = label + 1
+    return area_of_label[i] if i < area_of_label.shape[0] else 0.0
 
 
 @njit(cache=True, inline="always")
@@ -170,81 +179,102 @@ def steiner_point(x, y, a, b, c, offconstant):
 
 
 # ------------------------------------------------------------ priority queue
-FIFO = 2.0 ** -40   # per push: order inside a bucket (< 1 for 2^30 pushes)
-@njit(cache=True, inline="always")
-def heap_push(keys, items, n, key, t, a, b, c):
-    """Push ``(key; t, a, b, c)`` on the binary min-heap ``keys[:n]``; the heap
-    must have room. Returns the new size."""
-    i = n
-    keys[i] = key
-    items[i, 0] = t
-    items[i, 1] = a
-    items[i, 2] = b
-    items[i, 3] = c
-    while i > 0:
-        j = (i - 1) // 2
-        if keys[j] <= keys[i]:
-            break
-        _heap_swap(keys, items, i, j)
-        i = j
-    return n + 1
+# Bad triangles wait in bucket queues, as in Triangle: one FIFO list per bucket
+# of the shortest edge's length (``is_bad``'s key: 2^(1/4) steps), the smallest
+# bucket served first. Push and pop are O(1). ``Q`` is the tuple of arrays
+# ``(items, next, free, head, tail)``: entry ``s`` is ``items[s] = (t, a, b, c)``
+# and links to ``next[s]``; ``head``/``tail`` of each bucket (-1: empty); freed
+# entries are stacked in ``free``. ``qs`` holds ``[top, nfree, lowest bucket
+# that may be non-empty, entries queued]``.
+NBUCKETS = 4400    # keys floor(2 log2(edge^2)) of finite doubles lie in -2148..2047
+BUCKET0 = 2200     # the bucket of key 0
 
 
 @njit(cache=True, inline="always")
-def heap_pop(keys, items, n):
-    """Remove the smallest entry; it is left at index ``n - 1``. Returns ``n - 1``."""
-    n -= 1
-    _heap_swap(keys, items, 0, n)
-    i = 0
-    while True:
-        l = 2 * i + 1
-        if l >= n:
-            break
-        r = l + 1
-        m = r if r < n and keys[r] < keys[l] else l
-        if keys[i] <= keys[m]:
-            break
-        _heap_swap(keys, items, i, m)
-        i = m
-    return n
+def bucket_of(key):
+    if not key > -BUCKET0:          # -inf (a zero-length edge) and NaN first
+        return 0
+    if key >= NBUCKETS - 1 - BUCKET0:
+        return NBUCKETS - 1
+    return int(key) + BUCKET0
 
 
 @njit(cache=True, inline="always")
-def _heap_swap(keys, items, i, j):
-    k = keys[i]
-    keys[i] = keys[j]
-    keys[j] = k
-    for s in range(4):
-        v = items[i, s]
-        items[i, s] = items[j, s]
-        items[j, s] = v
+def queue_reset(Q, qs):
+    """Empty the queue."""
+    head, tail = Q[3], Q[4]
+    for b in range(head.shape[0]):
+        head[b] = -1
+        tail[b] = -1
+    qs[0] = 0
+    qs[1] = 0
+    qs[2] = NBUCKETS
+    qs[3] = 0
 
 
 @njit(cache=True, inline="always")
-def queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c):
-    """Put triangle ``t = (a, b, c)`` on the bad-triangle heap, behind every
-    earlier entry with the same bucket ``key``. Returns the heap's size (-1:
-    the heap is full) and the push count."""
-    if hn == hkeys.shape[0]:
-        return -1, pushes
-    hn = heap_push(hkeys, hitems, hn, key + pushes * FIFO, t, a, b, c)
-    return hn, pushes + 1
+def queue_triangle(Q, qs, key, t, a, b, c):
+    """Put triangle ``t = (a, b, c)`` at the back of bucket ``key``. Returns
+    False when the queue is full (nothing queued)."""
+    items, nxt_, free, head, tail = Q
+    if qs[1] > 0:
+        qs[1] -= 1
+        s = free[qs[1]]
+    elif qs[0] < items.shape[0]:
+        s = qs[0]
+        qs[0] += 1
+    else:
+        return False
+    items[s, 0] = t
+    items[s, 1] = a
+    items[s, 2] = b
+    items[s, 3] = c
+    nxt_[s] = -1
+    k = bucket_of(key)
+    if tail[k] < 0:
+        head[k] = s
+    else:
+        nxt_[tail[k]] = s
+    tail[k] = s
+    if k < qs[2]:
+        qs[2] = k
+    qs[3] += 1
+    return True
 
 
 @njit(cache=True, inline="always")
-def queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, hkeys, hitems, hn, pushes, t):
+def queue_pop(Q, qs):
+    """Take the oldest entry of the smallest non-empty bucket (the queue must
+    not be empty); returns its index in ``Q[0]``, valid until the next push."""
+    items, nxt_, free, head, tail = Q
+    k = qs[2]
+    while head[k] < 0:
+        k += 1
+    qs[2] = k
+    s = head[k]
+    head[k] = nxt_[s]
+    if head[k] < 0:
+        tail[k] = -1
+    free[qs[1]] = s
+    qs[1] += 1
+    qs[3] -= 1
+    return s
+
+
+@njit(cache=True, inline="always")
+def queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
     """Queue triangle ``t`` if it is inside the domain and breaks a bound.
-    Returns the heap's size (-1: the heap is full) and the push count."""
+    Returns False when the queue is full."""
     L = lab[t]
     if L == OUT:
-        return hn, pushes
+        return True
     a = tri[3 * t]
     b = tri[3 * t + 1]
     c = tri[3 * t + 2]
-    angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_of_label[L + 1])
+    angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_bound(area_of_label, L))
     if angle_bad or area_bad:
-        return queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c)
-    return hn, pushes
+        return queue_triangle(Q, qs, key, t, a, b, c)
+    return True
 
 
 @njit(cache=True, inline="always")
@@ -531,11 +561,13 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
     inserted). ``buffers`` is a :class:`RefineBuffers`: the loop allocates
     nothing, so it is compiled without reference counting (``_nrt=False``),
     which is a fifth of its time otherwise."""
-    hkeys, hitems, sq, mark = buffers.hkeys, buffers.hitems, buffers.sq, buffers.mark
+    sq, mark = buffers.sq, buffers.mark
+    Q = (buffers.hitems, buffers.hnext, buffers.hfree, buffers.qhead, buffers.qtail)
+    qs = buffers.qstate
+    hitems = buffers.hitems
+    queue_reset(Q, qs)
     bstack, stack, enc, fc, no_sub = buffers.bstack, buffers.stack, buffers.enc, buffers.fc, buffers.no_sub
     cap_tri = tri.shape[0] // 3
-    hn = 0
-    pushes = 0
     sn = 0
     stamp = 0
     for t in range(mark.shape[0]):
@@ -543,15 +575,13 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
     walk_limit = 64 + 4 * ntri
     scanned_at = -1
     while True:
-        if sn == 0 and hn == 0:
+        if sn == 0 and qs[3] == 0:
             if scanned_at == counts[C_STEINER]:
                 return FINISHED, ntri, nv
             scanned_at = counts[C_STEINER]
             # scan everything: bad triangles and encroached pieces
             for t in range(ntri):
-                hn, pushes = queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, hkeys, hitems,
-                                          hn, pushes, t)
-                if hn < 0:
+                if not queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
                     return HEAP_FULL, ntri, nv
             for e in range(3 * ntri):
                 if cons[e] > 0 and e < twin[e] and piece_needs_split(tri, twin, x, y, inf, lab,
@@ -578,15 +608,15 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 continue
             slot = e // 3
         else:
-            hn = heap_pop(hkeys, hitems, hn)
-            t = hitems[hn, 0]
-            a = hitems[hn, 1]
-            b = hitems[hn, 2]
-            c = hitems[hn, 3]
+            s = queue_pop(Q, qs)
+            t = hitems[s, 0]
+            a = hitems[s, 1]
+            b = hitems[s, 2]
+            c = hitems[s, 3]
             if tri[3 * t] != a or tri[3 * t + 1] != b or tri[3 * t + 2] != c or lab[t] == OUT:
                 continue  # stale
             angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound,
-                                              area_of_label[lab[t] + 1])
+                                              area_bound(area_of_label, lab[t]))
             counts[C_ATTEMPTS] += 1
             if not area_bad and at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
                 counts[C_SKIPPED] += 1
@@ -620,8 +650,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                         pushed += 1
                 if pushed > 0:   # try again after the pieces are split
                     counts[C_DEFERRED] += 1
-                    hn, pushes = queue_triangle(hkeys, hitems, hn, pushes, key, t, a, b, c)
-                    if hn < 0:
+                    if not queue_triangle(Q, qs, key, t, a, b, c):
                         return HEAP_FULL, ntri, nv
                     continue
                 if code == WALK_BLOCKED or code == ON_EDGE:
@@ -649,9 +678,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
         e = e0
         while True:
             t = e // 3
-            hn, pushes = queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, hkeys, hitems,
-                                      hn, pushes, t)
-            if hn < 0:
+            if not queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
                 return HEAP_FULL, ntri, nv
             for k in range(3):
                 g = 3 * t + k
@@ -694,68 +721,84 @@ def freeze_boundary(tri, twin, cons, lab, ntri):
 
 
 def refine_mesh(mesh, lab, seg_ends, *, min_angle, max_area, area_of_label, conforming,
-                split_boundary, max_new):
+                split_boundary, max_new, room=0):
     """Run the refinement on a :class:`cdt._Mesh` whose triangle labels are
-    ``lab``. Returns ``(status, counts, lab, seg_ends)``; ``seg_ends`` gains the
-    hull edges made segments. Frozen pieces are unfrozen on return."""
+    ``lab``, with room for at least ``room`` vertices from the start (more
+    is made by doubling). Returns ``(status, counts, lab, seg_ends)``;
+    ``seg_ends`` gains the hull edges made segments. Frozen pieces are
+    unfrozen on return."""
     nv0 = mesh.nv
-    hull = hull_pieces(mesh.tri, mesh.twin, mesh.cons, lab, mesh.ntri, mesh.inf, len(seg_ends) + 1)
-    seg_ends = np.vstack([seg_ends.reshape(-1, 2), hull]).astype(np.int64)
+    seg_ends = with_hull_pieces(mesh.tri, mesh.twin, mesh.cons, lab, mesh.ntri, mesh.inf,
+                                seg_ends.reshape(-1, 2).astype(np.int64, copy=False))
     if not split_boundary:
         freeze_boundary(mesh.tri, mesh.twin, mesh.cons, lab, mesh.ntri)
     if min_angle:
-        theta = np.radians(min_angle)
-        sin2_bound = np.sin(theta) ** 2
-        offconstant = 0.475 * np.sqrt((1.0 + np.cos(theta)) / (1.0 - np.cos(theta)))
+        theta = math.radians(min_angle)
+        sin2_bound = math.sin(theta) ** 2
+        offconstant = 0.475 * math.sqrt((1.0 + math.cos(theta)) / (1.0 - math.cos(theta)))
     else:
         sin2_bound, offconstant = 0.0, 0.0
     # diametral lenses for quality meshing, circles for conforming Delaunay
-    lens = 0.0 if conforming else float(np.cos(2 * np.radians(min_angle))) ** 2
-    if mesh.inf < STEINER_ROOM * nv0 + 64:   # room for the usual few Steiner points per vertex
-        mesh.grow_vertices(STEINER_ROOM * nv0 + 64)
-    lab = _grown(lab, len(mesh.tri) // 3, OUT)
+    lens = 0.0 if conforming else math.cos(2 * math.radians(min_angle)) ** 2
+    room = max(room, STEINER_ROOM * nv0 + 64)   # at least the usual few Steiner points per vertex
+    if mesh.inf < room:
+        mesh.grow_vertices(room)
+    if len(lab) < len(mesh.tri) // 3:
+        lab = _grown(lab, len(mesh.tri) // 3, OUT)
     vseg = np.zeros(mesh.inf + 1, np.int64)
     counts = np.zeros(8, np.int64)
-    heap = max(1024, mesh.ntri)
-    buffers = _buffers(mesh, heap, 256)
+    heap, pieces = max(1024, mesh.ntri), 256
     while True:
-        status, mesh.ntri, mesh.nv = refine_loop(
+        status, mesh.ntri, mesh.nv, heap, pieces = refine_run(
             mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.inf, mesh.ntri, mesh.nv, nv0, lab,
             vseg, seg_ends, sin2_bound, offconstant, lens, area_of_label, conforming, max_new, counts,
-            buffers)
-        if status == HEAP_FULL:
-            buffers = _buffers(mesh, 2 * len(buffers.hkeys), len(buffers.sq), buffers.mark)
-        elif status == PIECES_FULL:
-            buffers = _buffers(mesh, len(buffers.hkeys), 2 * len(buffers.sq), buffers.mark)
-        elif status == NEED_ROOM:
-            mesh.grow_vertices()
-            lab = _grown(lab, len(mesh.tri) // 3, OUT)
-            vseg = _grown(vseg, mesh.inf + 1, 0)
-            buffers = _buffers(mesh, len(buffers.hkeys), len(buffers.sq), buffers.mark)
-        else:
+            heap, pieces)
+        if status != NEED_ROOM:
             break
+        mesh.grow_vertices()
+        lab = _grown(lab, len(mesh.tri) // 3, OUT)
+        vseg = _grown(vseg, mesh.inf + 1, 0)
     np.abs(mesh.cons, out=mesh.cons)
     return status, counts, lab, seg_ends
 
 
+@njit(cache=True)
+def with_hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends):
+    """``seg_ends`` followed by the hull edges that :func:`hull_pieces` makes segments."""
+    hull = hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends.shape[0] + 1)
+    return np.concatenate((seg_ends, hull))
+
+
 STEINER_ROOM = 4   # vertex room refinement starts with, per input vertex
 
-RefineBuffers = namedtuple("RefineBuffers", "hkeys hitems sq mark bstack stack enc fc no_sub")
+RefineBuffers = namedtuple("RefineBuffers",
+                           "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub")
 
 
-def _buffers(mesh, heap, pieces, mark=None):
-    """The work arrays of :func:`refine_loop` for this mesh: a heap of ``heap``
-    bad triangles, a stack of ``pieces`` segment pieces, and triangle stamps
-    (``mark``, carried over when the mesh grows)."""
-    cap_tri = len(mesh.tri) // 3
-    marks = np.zeros(cap_tri, np.int64)
-    if mark is not None:
-        marks[: len(mark)] = mark
-    return RefineBuffers(
-        hkeys=np.empty(heap, np.float64), hitems=np.empty((heap, 4), np.int64),
-        sq=np.empty((pieces, 4), np.int64),        # e, u, v, forced
-        mark=marks, bstack=np.empty(cap_tri + 8, np.int64), stack=np.empty(mesh.inf + 16, np.int64),
-        enc=np.empty(64, np.int64), fc=np.zeros(2, np.int64), no_sub=np.zeros(1, np.int8))
+@njit(cache=True)
+def refine_run(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
+               offconstant, lens, area_of_label, conforming, max_new, counts, heap, pieces):
+    """:func:`refine_loop` with its work arrays: a queue of ``heap`` bad
+    triangles and a stack of ``pieces`` segment pieces, doubled (and the loop
+    called again) when one runs full. Returns ``(status, ntri, nv, heap,
+    pieces)``; NEED_ROOM asks the caller to grow the mesh and call again."""
+    cap_tri = tri.shape[0] // 3
+    while True:
+        buffers = RefineBuffers(
+            np.empty((heap, 4), np.int64), np.empty(heap, np.int64), np.empty(heap, np.int64),
+            np.empty(NBUCKETS, np.int64), np.empty(NBUCKETS, np.int64), np.zeros(4, np.int64),
+            np.empty((pieces, 4), np.int64),        # e, u, v, forced
+            np.zeros(cap_tri, np.int64), np.empty(cap_tri + 8, np.int64), np.empty(inf + 16, np.int64),
+            np.empty(64, np.int64), np.zeros(2, np.int64), np.zeros(1, np.int8))
+        status, ntri, nv = refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg,
+                                       seg_ends, sin2_bound, offconstant, lens, area_of_label,
+                                       conforming, max_new, counts, buffers)
+        if status == HEAP_FULL:
+            heap *= 2
+        elif status == PIECES_FULL:
+            pieces *= 2
+        else:
+            return status, ntri, nv, heap, pieces
 
 
 def _grown(a, n, fill):
@@ -765,9 +808,10 @@ def _grown(a, n, fill):
 
 
 @njit(cache=True)
-def count_below(x, y, triangles, sin2_bound):
+def count_below(vertices, triangles, sin2_bound):
     """Indices of the triangles whose smallest angle is below the bound, by
     the test the refinement itself uses."""
+    x, y = vertices[:, 0].copy(), vertices[:, 1].copy()
     out = np.empty(triangles.shape[0], np.int64)
     n = 0
     for t in range(triangles.shape[0]):
