@@ -318,3 +318,59 @@ def test_spiral_and_comb():
     tri = cdt_plugin.triangulate(comb, s)
     verify_cdt(comb, s, tri)
     assert len(tri.triangles) == len(comb) - 2
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 7), st.integers(0, 7)), min_size=1, max_size=40))
+def test_repeated_segments_any_direction_are_merged_once(pairs):
+    """Repeats (either direction) and zero-length segments among many: the
+    kept segments are the first of each endpoint pair, the counts are those
+    of a plain set, and the result is the CDT of the distinct segments."""
+    V = [[0, 0], [1, 3], [3, 5], [6, 6], [9, 5], [11, 3], [12, 0], [5, 2]]
+    kept = {}
+    for i, (a, b) in enumerate(pairs):
+        if a != b:
+            kept.setdefault(frozenset((a, b)), i)
+    try:
+        tri = cdt_plugin.triangulate(V, pairs, keep_hull=True)
+    except (SegmentIntersectionError, OverlappingSegmentsError):
+        return  # random pairs may cross; the error path is tested elsewhere
+    verify_cdt(V, pairs, tri, domain="hull")
+    assert tri.stats["zero_length_segments"] == [i for i, (a, b) in enumerate(pairs) if a == b]
+    assert tri.stats["duplicate_segments"] == sum(a != b for a, b in pairs) - len(kept)
+    # each distinct segment is one piece (no three of V are collinear) carrying
+    # the index of its first occurrence
+    got = {frozenset(p): int(i) for p, i in zip(tri.segments.tolist(), tri.segment_ids)}
+    assert got == kept
+
+
+def test_no_three_collinear_in_the_repeat_fixture():
+    import itertools
+    V = [[0, 0], [1, 3], [3, 5], [6, 6], [9, 5], [11, 3], [12, 0], [5, 2]]
+    for a, b, c in itertools.combinations(V, 3):
+        assert (b[0] - a[0]) * (c[1] - a[1]) != (b[1] - a[1]) * (c[0] - a[0])
+
+
+def test_ring_of_parity_with_segments_given_three_times():
+    """The multiplicity of a merged segment counts in the even-odd rule: a ring
+    given three times encloses its inside like a ring given once."""
+    v = SQUARE
+    s = ring(SQUARE) * 3
+    tri = cdt_plugin.triangulate(v, s)
+    assert len(tri.triangles) == 2 and tri.stats["duplicate_segments"] == 8
+
+
+def test_segments_that_are_edges_and_segments_that_are_not():
+    """A fine ring whose edges are all Delaunay edges already (found in one
+    pass) and long chords that are not (walked and flipped in): the same CDT
+    as the flip route, checked exactly."""
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    V = np.column_stack([np.cos(t), np.sin(t)])
+    S = [[i, (i + 1) % 400] for i in range(400)] + [[0, 200], [100, 300]]
+    with pytest.raises(SegmentIntersectionError, match="segments 40[01] .* and 40[01] "):
+        cdt_plugin.triangulate(V, S)
+    S = [[i, (i + 1) % 400] for i in range(400)] + [[0, 200], [10, 150], [220, 390]]
+    tri = cdt_plugin.triangulate(V, S)
+    verify_cdt(V, S, tri)
+    flip = cdt_plugin.triangulate(V, S, algorithm="flip")
+    assert canonical_triangles(tri.vertices, tri.triangles) == canonical_triangles(flip.vertices, flip.triangles)

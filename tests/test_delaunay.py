@@ -369,3 +369,15 @@ def corpus_point_sets():
 def test_corpus_point_sets(plc):
     tri = cdt_plugin.delaunay(plc.vertices)
     verify(plc.vertices, tri)
+
+
+@pytest.mark.parametrize("n", [1, 7, 300, 2047, 2048, 5000])
+def test_lexicographic_order_equals_lexsort(n):
+    """Both paths of the lexicographic order (compiled below 2048 points, numpy's
+    sort above) give np.lexsort's order: by x, then y, then input index."""
+    from cdt_plugin.ordering import lexicographic_order
+    r = np.random.default_rng(n)
+    for x, y in ((r.integers(0, 6, n).astype(float), r.integers(0, 6, n).astype(float)),
+                 (r.uniform(-1, 1, n), r.uniform(-1, 1, n)),
+                 (np.zeros(n), r.integers(0, 3, n).astype(float))):
+        assert np.array_equal(lexicographic_order(x, y), np.lexsort((np.arange(n), y, x)))
