@@ -41,11 +41,12 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from .flips import flip_to_delaunay
 from .insertion import legalize
 from .kernel import edge_is_illegal, orient
 from .locate import INSIDE, ON_EDGE, ON_VERTEX, solid_step
 from .predicates import incircle, orient2d
-from .mesh import nxt, prv, split_edge, split_triangle
+from .mesh import flip, nxt, prv, split_edge, split_triangle
 
 OUT = -2            # label of a triangle outside the domain (ghosts too)
 
@@ -64,6 +65,7 @@ C_FROZEN = 3        # pieces found too short to split in floating point
 C_FLIPS = 4
 C_ATTEMPTS = 5      # bad triangles taken from the queue (live ones)
 C_DEFERRED = 6      # of which waited for encroached segments to be split
+C_UNREPAIRED = 7    # segment splits whose flip repair ran out of stack (a final pass flips)
 
 
 # ---------------------------------------------------------------- geometry
@@ -491,7 +493,7 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
         cons[e] = -sid
         cons[f] = -sid
         counts[C_FROZEN] += 1
-        return False, ntri
+        return False, ntri, -1
     t1 = e // 3
     t2 = f // 3
     ntri = split_edge(tri, twin, cons, e, q, ntri)
@@ -510,8 +512,64 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
         stack[sp + 1] = 3 * (ntri - 1)
         sp += 2
     _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub)
+    # q lies on the piece only up to rounding: Lawson's argument (the new
+    # edges at q are locally Delaunay) holds for a point exactly on the edge,
+    # so q's edges to c and d are tested, and flipped with whatever follows
+    ok, slot = flip_edges_at(tri, twin, cons, x, y, inf, q, t1, c, d, stack, counts)
+    if not ok:
+        counts[C_UNREPAIRED] += 1
     counts[C_SEG_SPLITS] += 1
-    return True, ntri
+    return True, ntri, slot
+
+
+@njit(cache=True)
+def flip_edges_at(tri, twin, cons, x, y, inf, q, slot, c, d, stack, counts):
+    """Flip the edges from ``q`` (in triangle ``slot``) to ``c`` and ``d``
+    if they are not locally Delaunay, and then every edge around a flip that
+    is not, until none is left (ghost triangles are left alone). Returns
+    ``(done, slot of a triangle at q)``; not done if ``stack`` ran out (the
+    repair stopped short)."""
+    e = 3 * slot
+    while tri[e] != q:
+        e += 1
+    sp = 0
+    e0 = e
+    while True:                      # the half-edges out of q
+        v = tri[nxt(e)]
+        if (v == c or v == d) and v != inf:
+            stack[sp] = e
+            sp += 1
+        e = twin[prv(e)]
+        if e == e0 or sp == 2:
+            break
+    while sp > 0:
+        sp -= 1
+        e = stack[sp]
+        f = twin[e]
+        if cons[e] != 0:
+            continue
+        a = tri[e]
+        b = tri[f]
+        p = tri[prv(e)]
+        g = tri[prv(f)]
+        if a == inf or b == inf or p == inf or g == inf:
+            continue
+        if not edge_is_illegal(x, y, x, False, inf, a, b, p, g):
+            continue
+        flip(tri, twin, cons, e)   # (p, a, g) stays in e's slot, (p, g, b) in f's
+        counts[C_FLIPS] += 1
+        if slot == e // 3 or slot == f // 3:
+            slot = f // 3 if q == b else e // 3
+        if sp + 4 > stack.shape[0]:
+            return False, slot
+        t1 = 3 * (e // 3)
+        t2 = 3 * (f // 3)
+        stack[sp] = t1
+        stack[sp + 1] = t1 + 1
+        stack[sp + 2] = t2 + 1
+        stack[sp + 3] = t2 + 2
+        sp += 4
+    return True, slot
 
 
 @njit(cache=True, inline="always")
@@ -602,11 +660,10 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 continue  # stale (the scan will find it again) or frozen
             if sq[sn, 3] == 0 and not piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, e):
                 continue
-            done, ntri = split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg,
-                                     seg_ends, nv0, stack, counts, fc, no_sub)
+            done, ntri, slot = split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg,
+                                           seg_ends, nv0, stack, counts, fc, no_sub)
             if not done:
                 continue
-            slot = e // 3
         else:
             s = queue_pop(Q, qs)
             t = hitems[s, 0]
@@ -759,6 +816,9 @@ def refine_mesh(mesh, lab, seg_ends, *, min_angle, max_area, area_of_label, conf
         lab = _grown(lab, len(mesh.tri) // 3, OUT)
         vseg = _grown(vseg, mesh.inf + 1, 0)
     np.abs(mesh.cons, out=mesh.cons)
+    if counts[C_UNREPAIRED]:   # (never seen: a repair needs a stack as deep as the mesh)
+        counts[C_FLIPS] += flip_to_delaunay(mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.x,
+                                            False, mesh.inf, mesh.ntri)
     return status, counts, lab, seg_ends
 
 

@@ -291,12 +291,33 @@ def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge)
 
 
 @njit(cache=True)
+def crosses(x, y, p0, p1, q0, q1):
+    """Whether segments ``p0 p1`` and ``q0 q1`` cross at a point inside both."""
+    return (orient(x, y, q0, q1, p0) * orient(x, y, q0, q1, p1) < 0
+            and orient(x, y, p0, p1, q0) * orient(x, y, p0, p1, q1) < 0)
+
+
+@njit(cache=True)
+def crossing_point(x, y, a, b, u, v, s0, s1, t0, t1):
+    """Where piece ``a b`` of segment ``s0 s1`` crosses piece ``u v`` of segment
+    ``t0 t1`` (the pieces cross inside both). Computed on the input segments
+    when they cross too, so that the point does not drift as pieces are split;
+    on the pieces when rounding of earlier points has made the pieces cross
+    where the input segments do not (or are collinear)."""
+    if crosses(x, y, s0, s1, t0, t1):
+        return intersection_point(x, y, s0, s1, t0, t1)
+    return intersection_point(x, y, a, b, u, v)
+
+
+@njit(cache=True)
 def intersection_point(x, y, p0, p1, q0, q1):
     """The crossing point of segments ``p0 p1`` and ``q0 q1`` (known to cross),
     as accurately as double precision allows: parametrised along the segment
     whose endpoints are closer to the crossing, and clamped to both boxes."""
     d0 = orient(x, y, q0, q1, p0)
     d1 = orient(x, y, q0, q1, p1)
+    if d0 == d1:       # not a crossing (parallel): no point on both; the callers avoid this
+        return 0.5 * (x[p0] + x[p1]), 0.5 * (y[p0] + y[p1])
     t = d0 / (d0 - d1)
     if t <= 0.5:
         px = x[p0] + t * (x[p1] - x[p0])
@@ -311,6 +332,17 @@ def intersection_point(x, y, p0, p1, q0, q1):
     hi = min(max(y[p0], y[p1]), max(y[q0], y[q1]))
     py = min(max(py, lo), hi)
     return px, py
+
+
+@njit(cache=True, inline="always")
+def push_task(tasks, ntask, a, b, sid):
+    """Queue segment piece ``a b`` of segment ``sid`` (nothing if ``a == b``)."""
+    if a == b:
+        return ntask
+    tasks[ntask, 0] = a
+    tasks[ntask, 1] = b
+    tasks[ntask, 2] = sid
+    return ntask + 1
 
 
 # status of the whole task loop
@@ -353,6 +385,7 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
     hint = 0
     ntask = mark_present(tri, twin, cons, ntri, nv, tasks, ntask)
     vedge = vertex_edges(tri, ntri, nv)
+    crossings = 0
     flip_counts = np.zeros(2, np.int64)
     no_weights = np.zeros(1, np.int8)
     while ntask > 0:
@@ -400,15 +433,18 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
             info[2] = u
             info[3] = v2
             return STOP_CROSSING, ntri, nv, ntask
-        if counts[2] >= max_steiner:
+        crossings += 1
+        if counts[2] >= max_steiner or crossings > 4 * max_steiner + 64:
+            # (the second bound: crossings whose points round onto existing
+            # vertices add no vertex; it makes a livelock impossible)
             info[0] = sid
             info[1] = other
             return STOP_LIMIT, ntri, nv, ntask
         if nv >= inf or ntri + 2 > tri.shape[0] // 3 or ntask + 4 > tasks.shape[0]:
             ntask += 1
             return NEED_VERTEX_ROOM, ntri, nv, ntask
-        px, py = intersection_point(x, y, seg_ends[sid - 1, 0], seg_ends[sid - 1, 1],
-                                    seg_ends[other - 1, 0], seg_ends[other - 1, 1])
+        px, py = crossing_point(x, y, a, b, u, v2, seg_ends[sid - 1, 0], seg_ends[sid - 1, 1],
+                                seg_ends[other - 1, 0], seg_ends[other - 1, 1])
         x[nv] = px
         y[nv] = py
         code, p, ntri, hint = insert_vertex(tri, twin, cons, x, y, w, False, inf, nv, hint,
@@ -427,18 +463,10 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
             fstack = buf[4]
             fstack[0] = e  # no longer a segment: it may need a flip now
             flip_from_stack(tri, twin, cons, x, y, w, False, inf, fstack, 1, -1)
-            tasks[ntask, 0] = u
-            tasks[ntask, 1] = p
-            tasks[ntask, 2] = other
-            tasks[ntask + 1, 0] = p
-            tasks[ntask + 1, 1] = v2
-            tasks[ntask + 1, 2] = other
-            ntask += 2
-        tasks[ntask, 0] = p
-        tasks[ntask, 1] = b
-        tasks[ntask, 2] = sid
-        tasks[ntask + 1, 0] = a
-        tasks[ntask + 1, 1] = p
-        tasks[ntask + 1, 2] = sid
-        ntask += 2
+            ntask = push_task(tasks, ntask, u, p, other)
+            ntask = push_task(tasks, ntask, p, v2, other)
+        # (p may be a or b itself when the crossing rounds onto an end: then
+        # only the other segment was rerouted, and a b is tried again)
+        ntask = push_task(tasks, ntask, p, b, sid)
+        ntask = push_task(tasks, ntask, a, p, sid)
     return ALL_DONE, ntri, nv, ntask

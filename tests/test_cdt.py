@@ -374,3 +374,34 @@ def test_segments_that_are_edges_and_segments_that_are_not():
     verify_cdt(V, S, tri)
     flip = cdt_plugin.triangulate(V, S, algorithm="flip")
     assert canonical_triangles(tri.vertices, tri.triangles) == canonical_triangles(flip.vertices, flip.triangles)
+
+
+def test_crossing_pieces_of_segments_that_do_not_cross():
+    """Regression: after earlier crossings are rounded, pieces of two segments
+    can cross where the input segments do not; the crossing point then comes
+    from the pieces (it used to divide by zero)."""
+    V = [[1.0, 1.0], [0.0, 5.0], [3.0, 2.0], [0.0, 4.0], [5.0, 0.0], [0.0, 2.0], [2.0, 4.0],
+         [2.0, 3.0], [2.0, 2.0]]
+    S = [[8, 1], [6, 5], [7, 0], [3, 2], [4, 3]]
+    tri = cdt_plugin.triangulate(V, S, intersections="split", keep_hull=True)
+    verify_cdt(V, S, tri, domain="hull", split=True)
+    assert tri.stats["intersection_points"] == 7
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(3, 14).flatmap(lambda n: st.tuples(
+    st.lists(st.tuples(st.integers(0, 5), st.integers(0, 5)), min_size=n, max_size=n),
+    st.lists(st.tuples(st.integers(0, n - 1), st.integers(0, n - 1)), min_size=1, max_size=3 * n))))
+def test_fuzz_segment_soups_on_a_small_grid_split(data):
+    """Many crossings, collinear overlaps and vertices on segments among few grid
+    points, split: a valid CDT of the pieces (or a precise error), and never a
+    crash, a division by zero or a hang."""
+    pts, segs = data
+    try:
+        tri = cdt_plugin.triangulate(np.array(pts, float), segs, intersections="split", keep_hull=True)
+    except CDTError:
+        return
+    if tri.stats.get("collinear"):   # all points on a line: edges, no triangles (Sec. 2.1)
+        assert len(tri.triangles) == 0
+        return
+    verify_cdt(pts, segs, tri, domain="hull", split=True)
