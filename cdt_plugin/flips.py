@@ -60,11 +60,18 @@ def flip_from_stack(tri, twin, cons, x, y, w, weighted, inf, stack, sp, max_flip
             bigger = np.empty(2 * stack.shape[0] + 8, np.int64)
             bigger[:sp] = stack[:sp]
             stack = bigger
-        t1 = 3 * (e // 3)
-        t2 = 3 * (f // 3)
-        stack[sp] = t1
-        stack[sp + 1] = t1 + 1
-        stack[sp + 2] = t2 + 1
-        stack[sp + 3] = t2 + 2
-        sp += 4
+        sp = push_outer_edges(stack, sp, e, f)
     return flips
+
+
+@njit(cache=True, inline="always")
+def push_outer_edges(stack, sp, e, f):
+    """After ``flip(e)`` (``f`` its old twin): push the four outer edges of the
+    quadrilateral (the stack must have room). Returns the new stack size."""
+    t1 = 3 * (e // 3)
+    t2 = 3 * (f // 3)
+    stack[sp] = t1
+    stack[sp + 1] = t1 + 1
+    stack[sp + 2] = t2 + 1
+    stack[sp + 3] = t2 + 2
+    return sp + 4

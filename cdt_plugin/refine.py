@@ -41,7 +41,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from .flips import flip_to_delaunay
+from .flips import flip_to_delaunay, push_outer_edges
 from .insertion import legalize
 from .kernel import edge_is_illegal, orient
 from .locate import INSIDE, ON_EDGE, ON_VERTEX, solid_step
@@ -562,13 +562,7 @@ def flip_edges_at(tri, twin, cons, x, y, inf, q, slot, c, d, stack, counts):
             slot = f // 3 if q == b else e // 3
         if sp + 4 > stack.shape[0]:
             return False, slot
-        t1 = 3 * (e // 3)
-        t2 = 3 * (f // 3)
-        stack[sp] = t1
-        stack[sp + 1] = t1 + 1
-        stack[sp + 2] = t2 + 1
-        stack[sp + 3] = t2 + 2
-        sp += 4
+        sp = push_outer_edges(stack, sp, e, f)
     return True, slot
 
 
