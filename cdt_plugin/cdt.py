@@ -87,6 +87,10 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
     conforming_delaunay : bool
         Split segments until each is a union of Delaunay edges: every triangle
         is then Delaunay, not merely constrained Delaunay (Triangle's ``-D``).
+        A piece too short to split in double precision (counted in
+        ``stats["frozen_segment_pieces"]``: needles, crossings rounded together)
+        stays as it is, and the triangles at it may then be only constrained
+        Delaunay.
     split_boundary : bool
         With ``False`` no Steiner point goes on the domain boundary (Triangle's
         ``-Y``); the triangles there may then miss the bounds.
