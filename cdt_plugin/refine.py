@@ -314,6 +314,21 @@ def piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, h):
     return False
 
 
+PRECISION_FLOOR = 2.0 ** -44   # an edge shorter than this times its coordinates is at the limit
+
+
+@njit(cache=True, inline="always")
+def below_precision(x, y, u, v):
+    """Whether edge ``u v`` is shorter than :data:`PRECISION_FLOOR` times its
+    largest coordinate: splitting it, or refining a triangle with it, only adds
+    points that rounding puts next to each other, and near zero coordinates
+    (where doubles are dense) such splits go on until the exact predicates
+    underflow. Refinement leaves such edges alone, as Triangle does at the
+    limit of precision."""
+    m = max(abs(x[u]), abs(y[u]), abs(x[v]), abs(y[v])) * PRECISION_FLOOR
+    return (x[u] - x[v]) ** 2 + (y[u] - y[v]) ** 2 < m * m
+
+
 @njit(cache=True, inline="always")
 def at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
     """Shewchuk's rule (as in Triangle): leave a skinny triangle alone when its
@@ -475,8 +490,9 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
                 fc, no_sub):
     """Split the segment piece of half-edge ``e`` at new vertex ``q``, then
     restore the constrained Delaunay property by flips. A split that would
-    invert a triangle (the piece is at the limit of floating point) freezes
-    the piece instead. Returns ``(done, ntri)``."""
+    invert a triangle, or of a piece below :func:`below_precision` (the piece
+    is at the limit of floating point), freezes the piece instead. Returns
+    ``(done, ntri, slot of a triangle at q)``."""
     sid = cons[e]
     u = tri[e]
     v = tri[nxt(e)]
@@ -484,8 +500,8 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
     c = tri[prv(e)]
     d = tri[prv(f)]
     place_on_piece(x, y, seg_ends, sid, u, v, shell_centre(tri, twin, cons, lab, e), q)
-    ok = True
-    if c != inf:
+    ok = not below_precision(x, y, u, v)
+    if ok and c != inf:
         ok = orient(x, y, c, u, q) > 0 and orient(x, y, v, c, q) > 0
     if ok and d != inf:
         ok = orient(x, y, d, v, q) > 0 and orient(x, y, u, d, q) > 0
@@ -555,6 +571,10 @@ def flip_edges_at(tri, twin, cons, x, y, inf, q, slot, c, d, stack, counts):
         if a == inf or b == inf or p == inf or g == inf:
             continue
         if not edge_is_illegal(x, y, x, False, inf, a, b, p, g):
+            continue
+        # at the limit of precision the quadrilateral may be degenerate: flip
+        # only into two strictly counter-clockwise triangles
+        if orient(x, y, p, a, g) <= 0 or orient(x, y, p, g, b) <= 0:
             continue
         flip(tri, twin, cons, e)   # (p, a, g) stays in e's slot, (p, g, b) in f's
         counts[C_FLIPS] += 1
@@ -670,6 +690,9 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                                               area_bound(area_of_label, lab[t]))
             counts[C_ATTEMPTS] += 1
             if not area_bad and at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
+                counts[C_SKIPPED] += 1
+                continue
+            if below_precision(x, y, a, b) or below_precision(x, y, b, c) or below_precision(x, y, c, a):
                 counts[C_SKIPPED] += 1
                 continue
             px, py = steiner_point(x, y, a, b, c, offconstant)

@@ -373,3 +373,21 @@ def test_fuzz_crossing_segments_split_then_refined(data):
     except CDTError:
         return   # e.g. all points collinear with no domain
     check_split_refined(tri)
+
+
+def test_refinement_stops_at_the_limit_of_precision_near_zero():
+    """Regression (found by fuzzing): crossings on a small integer grid left a piece
+    along x = 4 - 2 ulp down to y = 0, where doubles are dense; refinement halved it
+    down to 1e-103, the predicates underflowed and the partial mesh at the Steiner
+    cap had triangles that repeat a vertex. Edges shorter than 2^-44 of their
+    coordinates are now left alone: the mesh completes and checks exactly."""
+    V = [[1, 6], [6, 0], [5, 2], [2, 6], [6, 0], [6, 5], [0, 1], [2, 3], [0, 0], [0, 3], [6, 4],
+         [6, 5], [4, 0], [4, 1], [4, 0], [4, 3], [4, 1], [2, 2], [2, 6], [0, 4], [1, 3], [1, 3],
+         [4, 1]]
+    S = [[22, 18], [12, 11], [4, 14], [3, 0], [14, 2], [13, 19], [1, 10], [10, 11], [6, 8],
+         [5, 16], [19, 5], [6, 12], [7, 11], [7, 10], [7, 6], [0, 4], [20, 3], [0, 19], [8, 1],
+         [5, 5], [11, 8], [22, 0], [19, 18], [19, 10], [7, 7], [19, 7], [12, 12], [12, 10],
+         [22, 3], [18, 10], [7, 6], [14, 14], [2, 15], [13, 2], [12, 0], [11, 6], [22, 20]]
+    tri = cdt_plugin.triangulate(np.array(V, float), S, intersections="split", min_angle=28)
+    check_split_refined(tri)
+    assert tri.stats["refinement_complete"] and len(tri.triangles) < 10_000
