@@ -292,9 +292,15 @@ def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge)
 
 @njit(cache=True)
 def crosses(x, y, p0, p1, q0, q1):
-    """Whether segments ``p0 p1`` and ``q0 q1`` cross at a point inside both."""
-    return (orient(x, y, q0, q1, p0) * orient(x, y, q0, q1, p1) < 0
-            and orient(x, y, p0, p1, q0) * orient(x, y, p0, p1, q1) < 0)
+    """Whether segments ``p0 p1`` and ``q0 q1`` cross at a point inside both
+    (signs compared, not multiplied: a product of tiny values underflows)."""
+    return (opposite(orient(x, y, q0, q1, p0), orient(x, y, q0, q1, p1))
+            and opposite(orient(x, y, p0, p1, q0), orient(x, y, p0, p1, q1)))
+
+
+@njit(cache=True, inline="always")
+def opposite(a, b):
+    return (a > 0 and b < 0) or (a < 0 and b > 0)
 
 
 @njit(cache=True)
