@@ -419,6 +419,9 @@ class Triangulation:
             self._mesh = (tri, twin, cons, ntri, inf)
             self.triangles, self.neighbors, _ = solid_triangles(tri, twin, ntri, inf)
             rotate_min_first(self.triangles, self.neighbors)
+            # hull flips can change the number of triangles: the per-triangle arrays follow
+            self.constrained = np.zeros(self.triangles.shape, bool)
+            self.regions = np.full(len(self.triangles), -1, np.int64)
             self.vertices = new
             self._edges = None
             self.stats.update(move_flips=flips, rebuilt=False)

@@ -381,3 +381,17 @@ def test_lexicographic_order_equals_lexsort(n):
                  (r.uniform(-1, 1, n), r.uniform(-1, 1, n)),
                  (np.zeros(n), r.integers(0, 3, n).astype(float))):
         assert np.array_equal(lexicographic_order(x, y), np.lexsort((np.arange(n), y, x)))
+
+
+def test_move_vertices_that_change_the_hull_keeps_per_triangle_arrays_in_step():
+    """Regression (found by fuzzing): a move that makes a hull vertex interior is
+    repaired by flips and adds a triangle; the per-triangle arrays (constrained
+    flags, regions) must follow, or is_delaunay() indexed past their end."""
+    tri = cdt_plugin.delaunay([[0, 0], [1, -0.1], [2, 0], [1, 2]])
+    assert len(tri.triangles) == 2
+    new = [[0, -0.4], [1, -0.1], [2, 0], [1, 2]]
+    assert tri.move_vertices(new) >= 1 and not tri.stats["rebuilt"]
+    assert len(tri.triangles) == 3
+    assert tri.constrained.shape == tri.triangles.shape and len(tri.regions) == 3
+    assert tri.is_delaunay()
+    verify(new, tri)
