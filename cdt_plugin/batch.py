@@ -18,12 +18,12 @@ import numpy as np
 from numba import njit
 
 from .cdt import triangulate
-from .delaunay import build, seed_triangle
+from .delaunay import seed_triangle
+from .divide import _build_divide
 from .errors import CDTError
-from .insertion import OK
 from .lift import lift_z
 from .mesh import DEAD, is_ghost
-from .ordering import brio_sort
+from .ordering import _lexicographic_order
 from .plc import PLC
 from .regions import segment_depths
 from .triangulation import min_first
@@ -34,7 +34,7 @@ CHUNK = 4096               # geometries per compiled call (progress granularity)
 # options the compiled path handles; anything else (refinement, seeds) goes one by one
 _KERNEL_DEFAULTS = {"keep_hull": False, "holes": None, "regions": None,
                     "min_angle": None, "max_area": None, "conforming_delaunay": False}
-# routes to the same triangles; the kernel builds by incremental insertion,
+# routes to the same triangles; the kernel builds by divide and conquer,
 # which is the fastest for the small polygons of a batch
 _KERNEL_ALGORITHMS = ("auto", "divide", "incremental")
 _KERNEL_FREE = ("intersections", "split_boundary", "max_steiner")
@@ -260,7 +260,7 @@ def _assemble(xy, z, parts, steiner_xy, steiner_z, ng, failed, t0):
 @njit(cache=True)
 def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1):
     """CDT of geometries ``g0:g1`` in one compiled loop: the same route as
-    :func:`cdt_plugin.triangulate` (BRIO order, incremental Delaunay, segment
+    :func:`cdt_plugin.triangulate` (divide-and-conquer Delaunay, segment
     insertion, even-odd depth), without per-call Python work.
 
     Returns ``(triangles, geometry, region, fallback)``: triangles in global
@@ -300,20 +300,10 @@ def _mesh_one(x, y, ring_start, ring_polygon, ring_is_hole, r0, r1, g, T, G, R, 
         return -1
     lx = x[v0:v0 + n]
     ly = y[v0:v0 + n]
-    order = brio_sort(lx, ly, np.random.permutation(n).astype(np.int64))
-    k1, k2 = seed_triangle(lx, ly, order)
+    ids = _lexicographic_order(lx, ly)     # mesh vertex i is local point ids[i]
+    k1, k2 = seed_triangle(lx, ly, ids)
     if k2 < 0:
         return -1
-    # seed triangle first, then the rest in BRIO order
-    ids = np.empty(n, np.int64)
-    ids[0] = order[0]
-    ids[1] = order[k1]
-    ids[2] = order[k2]
-    m = 3
-    for i in range(1, n):
-        if i != k1 and i != k2:
-            ids[m] = order[i]
-            m += 1
     xi = np.zeros(n + 1)
     yi = np.zeros(n + 1)
     mesh_of = np.empty(n, np.int64)
@@ -323,12 +313,9 @@ def _mesh_one(x, y, ring_start, ring_polygon, ring_is_hole, r0, r1, g, T, G, R, 
         mesh_of[ids[i]] = i
     wi = np.zeros(n + 1)
     dup = np.full(n, -1, np.int64)
-    sub = np.zeros(n, np.int8)
-    counts = np.zeros(2, np.int64)
-    status, tri, twin, cons, ntri = build(xi, yi, wi, False, n, np.arange(n), False, dup, sub,
-                                          counts, 0, True)
-    if status != OK:
-        return -1
+    # divide and conquer, as cdt_plugin.triangulate builds (the fastest route on rings too)
+    tri, twin, cons, ntri = _build_divide(xi, yi, wi, n, n, dup, max(4, 2 * n + 2), True,
+                                          _lexicographic_order(yi[:n], -xi[:n]))
     for i in range(n):
         if dup[i] >= 0:
             return -1
