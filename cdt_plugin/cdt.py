@@ -25,7 +25,8 @@ from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_
                      STEINER_ROOM, count_below, refine_mesh)
 from .regions import flood_seeds, segment_depths
 from .segments import (ALL_DONE, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING, STOP_LIMIT,
-                       STOP_OVERLAP, insert_segments, intersection_point, make_buffers)
+                       STOP_OVERLAP, by_smaller_end, insert_segments, intersection_point,
+                       make_buffers)
 from .triangulation import Triangulation, solid_triangles
 
 INTERSECTIONS = ("raise", "split")
@@ -230,37 +231,25 @@ def _segment_tasks(segs, nv, stats):
 
 @njit(cache=True)
 def _dedup_tasks(segs, nv):
-    """:func:`_segment_tasks` in one compiled pass: segments grouped by their
-    smaller end (a counting sort), the first of each endpoint pair kept and
+    """:func:`_segment_tasks` compiled: segments grouped by their smaller end
+    (:func:`segments.by_smaller_end`), the first of each endpoint pair kept and
     counted. Returns ``(tasks, ntask, mult, zero-length count)``."""
     m = segs.shape[0]
-    start = np.zeros(nv + 2, np.int64)
-    nzero = 0
-    for i in range(m):
-        if segs[i, 0] == segs[i, 1]:
-            nzero += 1
-        else:
-            start[min(segs[i, 0], segs[i, 1]) + 2] += 1
-    for v in range(nv):
-        start[v + 2] += start[v + 1]
-    begin = start.copy()                 # group a is group[begin[a + 1]:start[a + 1]] so far
-    group = np.empty(m, np.int64)
+    start, group = by_smaller_end(segs, m, nv)
     first = np.full(m, -1, np.int64)     # the kept segment each one repeats
     mult = np.zeros(m + 1, np.int64)
-    for i in range(m):
-        a, b = min(segs[i, 0], segs[i, 1]), max(segs[i, 0], segs[i, 1])
-        if a == b:
-            continue
-        for k in range(begin[a + 1], start[a + 1]):
-            j = group[k]
-            if max(segs[j, 0], segs[j, 1]) == b:
-                first[i] = j
-                break
-        if first[i] < 0:
+    for a in range(nv):
+        for k in range(start[a], start[a + 1]):
+            i = group[k]
             first[i] = i
-            group[start[a + 1]] = i
-            start[a + 1] += 1
-        mult[first[i] + 1] += 1
+            b = max(segs[i, 0], segs[i, 1])
+            for kk in range(start[a], k):          # an earlier segment with the same ends
+                j = group[kk]
+                if first[j] == j and max(segs[j, 0], segs[j, 1]) == b:
+                    first[i] = j
+                    break
+            mult[first[i] + 1] += 1
+    nzero = m - start[nv]
     ntask = 0
     tasks = np.empty((m - nzero + 16, 3), np.int64)
     for i in range(m - 1, -1, -1):       # a stack: the first segment on top
@@ -371,7 +360,6 @@ def _classify(plc, mesh, keep_hull, split, mult):
         inside = depth > 0
     else:
         inside = depth % 2 == 1
-    region = None
     if plc.has_rings:
         ring = np.where(entry > 0, plc.segment_ring[np.maximum(entry - 1, 0)], -1)
         region = np.where(ring >= 0, plc.ring_polygon[np.maximum(ring, 0)], -1)

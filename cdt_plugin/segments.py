@@ -64,21 +64,32 @@ def vertex_edges(tri, ntri, nv):
 
 
 @njit(cache=True)
+def by_smaller_end(pairs, m, nv):
+    """Rows ``0..m-1`` of the vertex pairs ``pairs`` grouped by their smaller
+    vertex (a counting sort; rows in order inside a group): those of vertex
+    ``a`` are ``group[start[a]:start[a + 1]]``. Pairs of one vertex are left out."""
+    start = np.zeros(nv + 2, np.int64)
+    for i in range(m):
+        if pairs[i, 0] != pairs[i, 1]:
+            start[min(pairs[i, 0], pairs[i, 1]) + 2] += 1
+    for v in range(nv):
+        start[v + 2] += start[v + 1]
+    group = np.empty(m, np.int64)
+    for i in range(m):
+        if pairs[i, 0] != pairs[i, 1]:
+            a = min(pairs[i, 0], pairs[i, 1])
+            group[start[a + 1]] = i
+            start[a + 1] += 1
+    return start, group
+
+
+@njit(cache=True)
 def mark_present(tri, twin, cons, ntri, nv, tasks, ntask):
     """Constrain at once every task ``a b`` that is an unconstrained edge
     already (most segments of a fine boundary are Delaunay edges), by one pass
     over the half-edges rather than a look around each segment's end; the
     other tasks stay queued in their order. Returns their number."""
-    start = np.zeros(nv + 2, np.int64)            # tasks grouped by their smaller end
-    for i in range(ntask):
-        start[min(tasks[i, 0], tasks[i, 1]) + 2] += 1
-    for v in range(nv):
-        start[v + 2] += start[v + 1]
-    group = np.empty(ntask, np.int64)
-    for i in range(ntask):
-        a = min(tasks[i, 0], tasks[i, 1])
-        group[start[a + 1]] = i
-        start[a + 1] += 1
+    start, group = by_smaller_end(tasks, ntask, nv)
     done = np.zeros(ntask, np.bool_)
     for e in range(3 * ntri):
         u = tri[e]
@@ -123,12 +134,6 @@ def first_crossing(tri, twin, x, y, inf, a, b, e0):
     ``w`` left of ``a -> b``.
     """
     e = e0
-    for _ in range(tri.shape[0]):  # most segments are edges already: a look without predicates
-        if tri[nxt(e)] == b:
-            return DONE, e
-        e = twin[prv(e)]
-        if e == e0:
-            break
     for _ in range(tri.shape[0]):
         u = tri[nxt(e)]
         w = tri[prv(e)]
