@@ -1,0 +1,134 @@
+"""One small real call per extra, run inside a fresh virtual environment that has only
+``cdt-plugin[EXTRA]`` installed (``.ci/check-extras``). Each check asserts on its result,
+so a missing dependency or a broken adapter fails here."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+
+def core():
+    import importlib.util
+
+    import cdt_plugin
+    for name in ("shapely", "trimesh", "open3d", "geo"):      # packaged, importable with the extra
+        assert importlib.util.find_spec(f"cdt_plugin.adapters.{name}") is not None, name
+    tri = cdt_plugin.triangulate([[0, 0], [2, 0], [2, 2], [0, 2]], [[0, 1], [1, 2], [2, 3], [3, 0]])
+    assert len(tri.triangles) == 2 and tri.is_delaunay()
+
+
+def shapely_():
+    import shapely
+    from cdt_plugin.adapters.shapely import constrained_delaunay_triangles
+    out = constrained_delaunay_triangles(shapely.box(0, 0, 2, 2).difference(shapely.box(0.5, 0.5, 1, 1)))
+    assert abs(shapely.area(out) - 3.75) < 1e-12, shapely.area(out)
+
+
+def trimesh_():
+    import shapely
+    import trimesh
+    from cdt_plugin.adapters import trimesh as adapter
+    path = trimesh.load_path(shapely.box(0, 0, 2, 2).difference(shapely.box(0.5, 0.5, 1, 1)))
+    plc = adapter.from_path2d(path)                       # Path2D needs networkx
+    assert len(plc.segments) == 8, len(plc.segments)
+    solids = adapter.extrude_path(path, 1.0)
+    assert len(solids) == 1 and solids[0].is_watertight and abs(solids[0].volume - 3.75) < 1e-12
+
+
+def open3d_():
+    import open3d
+    from cdt_plugin import triangulate
+    from cdt_plugin.adapters.open3d import from_lineset, to_open3d
+    ls = open3d.geometry.LineSet(open3d.utility.Vector3dVector([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]),
+                                 open3d.utility.Vector2iVector([[0, 1], [1, 2], [2, 3], [3, 0]]))
+    mesh = to_open3d(triangulate(from_lineset(ls)))
+    assert len(mesh.triangles) == 2 and abs(mesh.get_surface_area() - 1.0) < 1e-12
+
+
+def gis():
+    import geopandas
+    import shapely
+    from cdt_plugin.adapters import geo
+    frame = geopandas.GeoDataFrame({"name": ["a", "b"]},
+                                   geometry=[shapely.box(0, 0, 1, 1), shapely.box(2, 0, 3, 2)],
+                                   crs="EPSG:3857")
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "layer.geojson")
+        frame.to_file(path)                                   # pyogrio
+        tris = geo.triangulate(path, min_angle=20)
+    assert abs(tris.area.sum() - 3.0) < 1e-9 and set(tris["name"]) == {"a", "b"}
+    projected = geo.triangulate(frame.to_crs("EPSG:4326"), project="utm")   # pyproj
+    assert len(projected) >= 4
+
+
+def dask():
+    import dask_geopandas
+    import geopandas
+    import shapely
+    from cdt_plugin.adapters import geo
+    frame = geopandas.GeoDataFrame(geometry=[shapely.box(i, 0, i + 1, 1) for i in range(4)],
+                                   crs="EPSG:3857")
+    lazy = geo.triangulate_dask(dask_geopandas.from_geopandas(frame, npartitions=2))
+    tris = lazy.compute(scheduler="threads")
+    assert len(tris) == 8 and abs(tris.area.sum() - 4.0) < 1e-12
+
+
+def plot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import cdt_plugin
+    tri = cdt_plugin.delaunay(np.random.default_rng(0).uniform(size=(50, 2)))
+    ax = tri.plot()
+    with tempfile.TemporaryDirectory() as d:
+        out = os.path.join(d, "mesh.png")
+        ax.figure.savefig(out)
+        assert os.path.getsize(out) > 1000
+
+
+def cli():
+    poly = {"type": "Polygon", "coordinates": [[[0, 0], [4, 0], [4, 4], [0, 4], [0, 0]]]}
+    with tempfile.TemporaryDirectory() as d:
+        src, out = os.path.join(d, "square.geojson"), os.path.join(d, "square.ply")
+        with open(src, "w") as f:
+            json.dump(poly, f)
+        subprocess.run(["cdt-plugin", "mesh", src, "-o", out, "--min-angle", "25"], check=True)
+        import trimesh
+        mesh = trimesh.load(out)
+        assert abs(mesh.area - 16.0) < 1e-9, mesh.area
+
+
+def bench():
+    import manifold3d  # noqa: F401  (trimesh's engine, a peer)
+    import mapbox_earcut
+    import PyCDT  # noqa: F401  (pythoncdt)
+    import scipy.spatial
+    import shapely
+    import triangle
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1.0]])
+    assert len(triangle.triangulate({"vertices": square}, "Q")["triangles"]) == 2
+    assert len(scipy.spatial.Delaunay(square).simplices) == 2
+    assert len(mapbox_earcut.triangulate_float64(square, np.array([4], np.uint32))) == 6
+    assert shapely.get_num_geometries(shapely.delaunay_triangles(shapely.multipoints(square))) == 2
+
+
+def test():
+    import hypothesis  # noqa: F401
+    import pytest  # noqa: F401
+    for check in (shapely_, trimesh_, open3d_, gis, dask, plot):
+        check()
+
+
+CHECKS = {"core": core, "shapely": shapely_, "trimesh": trimesh_, "open3d": open3d_, "gis": gis,
+          "dask": dask, "plot": plot, "cli": cli, "bench": bench, "test": test,
+          "all": lambda: [c() for c in (shapely_, trimesh_, gis, dask, plot, cli)]}
+
+if __name__ == "__main__":
+    extra = sys.argv[1]
+    core()
+    CHECKS[extra]()
+    print(f"extra [{extra}]: ok")
