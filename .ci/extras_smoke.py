@@ -105,7 +105,7 @@ def cli():
 def bench():
     import manifold3d  # noqa: F401  (trimesh's engine, a peer)
     import mapbox_earcut
-    import PyCDT  # noqa: F401  (pythoncdt)
+    import pythoncdt  # noqa: F401  (artem-ogre/CDT)
     import scipy.spatial
     import shapely
     import triangle

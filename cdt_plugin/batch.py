@@ -15,29 +15,20 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
-from .cdt import triangulate
-from .delaunay import seed_triangle
-from .divide import _build_divide
+from ._core.construct import ALGORITHM_CODES
+from ._core.pipeline import mesh_geometries
+from .cdt import check_options, triangulate_plc
 from .errors import CDTError
 from .lift import lift_z
-from .mesh import DEAD, is_ghost
-from .ordering import _lexicographic_order
-from .plc import PLC
-from .regions import segment_depths
-from .triangulation import min_first
-from .segments import ALL_DONE, NEED_EDGE_ROOM, insert_segments, make_buffers
+from .plc import PLC, as_plc
 
 ERRORS = ("raise", "skip")
 CHUNK = 4096               # geometries per compiled call (progress granularity)
-# options the compiled path handles; anything else (refinement, seeds) goes one by one
-_KERNEL_DEFAULTS = {"keep_hull": False, "holes": None, "regions": None,
-                    "min_angle": None, "max_area": None, "conforming_delaunay": False}
-# routes to the same triangles; the kernel builds by divide and conquer,
-# which is the fastest for the small polygons of a batch
-_KERNEL_ALGORITHMS = ("auto", "divide", "incremental")
-_KERNEL_FREE = ("intersections", "split_boundary", "max_steiner")
+# options of cdt_plugin.triangulate that are the same for every geometry of a batch
+_ROUTE_OPTIONS = ("intersections", "algorithm", "min_angle", "max_area", "conforming_delaunay",
+                  "split_boundary", "max_steiner")
+_SEED_OPTIONS = ("keep_hull", "holes", "regions")     # these go one by one
 
 
 @dataclass
@@ -148,27 +139,41 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     t0 = time.perf_counter()
     if errors not in ERRORS:
         raise CDTError(f"errors must be one of {ERRORS}, got {errors!r}")
+    unknown = set(options) - set(_ROUTE_OPTIONS) - set(_SEED_OPTIONS)
+    if unknown:
+        raise CDTError(f"unknown option {sorted(unknown)[0]!r}")
+    route = check_options(**{k: v for k, v in options.items() if k in _ROUTE_OPTIONS})
+    seeds = {k: v for k, v in options.items() if k in _SEED_OPTIONS}
     xy = np.ascontiguousarray(xy, dtype=np.float64).reshape(-1, 2)
     ring_start = np.asarray(ring_start, np.int64)
     geom_ring_start = np.asarray(geom_ring_start, np.int64)
     ng = len(geom_ring_start) - 1
     ring_polygon = np.asarray(ring_polygon, np.int64)
     ring_is_hole = np.asarray(ring_is_hole, np.bool_)
-    parts = []          # (geometry, triangles (global ids), region)
-    if _kernel_can_do(options):
-        todo = []
-        for g0 in range(0, ng, CHUNK):
-            g1 = min(ng, g0 + CHUNK)
-            T, G, R, fallback = mesh_geometries(xy[:, 0].copy(), xy[:, 1].copy(), ring_start,
-                                                geom_ring_start, ring_polygon, ring_is_hole, g0, g1)
-            parts.append((G, T, R))
-            todo.extend((g0 + np.flatnonzero(fallback)).tolist())
-            if progress is not None:
-                progress(g1 - g0 - int(fallback.sum()))
-    else:
-        todo = range(ng)
+    parts = []          # (geometry, triangles (batch ids), region)
     steiner_xy, steiner_z = [], []
     nsteiner = 0
+    # one by one: seed options, or Steiner points whose Z must be interpolated
+    compiled = not any(v not in (None, False) for v in seeds.values()) and not (
+        z is not None and (route["split"] or route["refinement"] is not None))
+    if compiled:
+        todo = []
+        x, y = xy[:, 0].copy(), xy[:, 1].copy()
+        for g0 in range(0, ng, CHUNK):
+            g1 = min(ng, g0 + CHUNK)
+            T, G, R, S, failed = mesh_geometries(
+                x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1,
+                route["split"], route["max_steiner"], ALGORITHM_CODES[route["algorithm"]],
+                route["refinement"], len(xy) + nsteiner)
+            parts.append((G, T, R))
+            if len(S):
+                steiner_xy.append(S)
+                nsteiner += len(S)
+            todo.extend((g0 + np.flatnonzero(failed)).tolist())
+            if progress is not None:
+                progress(g1 - g0 - int(failed.sum()))
+    else:
+        todo = range(ng)
     failed = {}
     for g in todo:
         if geom_ring_start[g] == geom_ring_start[g + 1]:     # empty geometry: no triangles
@@ -178,7 +183,8 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
         plc = geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, z, g)
         v0 = ring_start[geom_ring_start[g]]
         try:
-            tri = triangulate(plc, **options)
+            plc = as_plc(plc, holes=seeds.get("holes"), regions=seeds.get("regions"))
+            tri = triangulate_plc(plc, keep_hull=bool(seeds.get("keep_hull")), **route)
         except CDTError as e:
             if errors == "raise":
                 e.args = (f"geometry {g}: {e.args[0] if e.args else ''}",) + tuple(e.args[1:])
@@ -201,23 +207,6 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     out = _assemble(xy, z, parts, steiner_xy, steiner_z, ng, failed, t0)
     out.stats["fallback"] = len(todo)
     return out
-
-
-def _kernel_can_do(options) -> bool:
-    """Whether the compiled path handles these options (plain CDT)."""
-    for key, value in options.items():
-        if key in _KERNEL_FREE:
-            continue
-        if key == "algorithm":
-            if value not in _KERNEL_ALGORITHMS:
-                return False
-            continue
-        if key not in _KERNEL_DEFAULTS:
-            raise CDTError(f"unknown option {key!r}")
-        default = _KERNEL_DEFAULTS[key]
-        if value is not default and value != default:
-            return False
-    return True
 
 
 def _global_ids(tri, v0, steiner0):
@@ -254,115 +243,3 @@ def _assemble(xy, z, parts, steiner_xy, steiner_z, ng, failed, t0):
     stats = {"geometries": ng, "triangles": len(triangles), "steiner": len(vertices) - len(xy),
              "failed": len(failed), "seconds": time.perf_counter() - t0}
     return MeshBatch(vertices, zz, triangles, geometry, region, offsets, failed, stats)
-
-
-# ------------------------------------------------------------------ compiled path
-@njit(cache=True)
-def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1):
-    """CDT of geometries ``g0:g1`` in one compiled loop: the same route as
-    :func:`cdt_plugin.triangulate` (divide-and-conquer Delaunay, segment
-    insertion, even-odd depth), without per-call Python work.
-
-    Returns ``(triangles, geometry, region, fallback)``: triangles in global
-    vertex ids, grouped by geometry; ``fallback[g - g0]`` marks geometries this
-    path leaves to :func:`cdt_plugin.triangulate` (duplicate vertices,
-    crossing or overlapping segments, a hole outside its shell, all points
-    collinear), which then meshes them, repairs them or raises the precise error.
-    """
-    np.random.seed(12345)
-    nv = ring_start[geom_ring_start[g1]] - ring_start[geom_ring_start[g0]]
-    cap = 2 * nv + 2
-    T = np.empty((cap, 3), np.int64)
-    G = np.empty(cap, np.int64)
-    R = np.empty(cap, np.int64)
-    fallback = np.zeros(g1 - g0, np.bool_)
-    k = 0
-    for g in range(g0, g1):
-        r0 = geom_ring_start[g]
-        r1 = geom_ring_start[g + 1]
-        if r0 == r1:
-            continue
-        k_new = _mesh_one(x, y, ring_start, ring_polygon, ring_is_hole, r0, r1, g, T, G, R, k)
-        if k_new < 0:
-            fallback[g - g0] = True
-        else:
-            k = k_new
-    return T[:k], G[:k], R[:k], fallback
-
-
-@njit(cache=True)
-def _mesh_one(x, y, ring_start, ring_polygon, ring_is_hole, r0, r1, g, T, G, R, k):
-    """Mesh the rings ``r0:r1`` into ``T, G, R`` from row ``k``; returns the new
-    row count, or -1 when the geometry needs the general route."""
-    v0 = ring_start[r0]
-    n = ring_start[r1] - v0
-    if n < 3:
-        return -1
-    lx = x[v0:v0 + n]
-    ly = y[v0:v0 + n]
-    ids = _lexicographic_order(lx, ly)     # mesh vertex i is local point ids[i]
-    k1, k2 = seed_triangle(lx, ly, ids)
-    if k2 < 0:
-        return -1
-    xi = np.zeros(n + 1)
-    yi = np.zeros(n + 1)
-    mesh_of = np.empty(n, np.int64)
-    for i in range(n):
-        xi[i] = lx[ids[i]]
-        yi[i] = ly[ids[i]]
-        mesh_of[ids[i]] = i
-    wi = np.zeros(n + 1)
-    dup = np.full(n, -1, np.int64)
-    # divide and conquer, as cdt_plugin.triangulate builds (the fastest route on rings too)
-    tri, twin, cons, ntri = _build_divide(xi, yi, wi, n, n, dup, max(4, 2 * n + 2), True,
-                                          _lexicographic_order(yi[:n], -xi[:n]))
-    for i in range(n):
-        if dup[i] >= 0:
-            return -1
-    # segments: local vertex p to the next vertex of its ring; segment id p + 1
-    segs = np.empty((n, 2), np.int64)
-    ring_of = np.empty(n, np.int64)
-    for r in range(r0, r1):
-        a = ring_start[r] - v0
-        b = ring_start[r + 1] - v0
-        for p in range(a, b):
-            q = p + 1 if p + 1 < b else a
-            segs[p, 0] = mesh_of[p]
-            segs[p, 1] = mesh_of[q]
-            ring_of[p] = r
-    tasks = np.empty((n + 16, 3), np.int64)
-    for i in range(n):          # a stack: the first segment is inserted first
-        tasks[i, 0] = segs[n - 1 - i, 0]
-        tasks[i, 1] = segs[n - 1 - i, 1]
-        tasks[i, 2] = n - i
-    ntask = n
-    seg_counts = np.zeros(3, np.int64)
-    info = np.zeros(4, np.int64)
-    stack = np.empty(n + 16, np.int64)
-    buf = make_buffers(ntri)
-    while True:
-        status, ntri, _, ntask = insert_segments(tri, twin, cons, xi, yi, wi, n, ntri, n, tasks,
-                                                 ntask, segs, False, 0, seg_counts, info, stack, buf)
-        if status == NEED_EDGE_ROOM:
-            buf = make_buffers(2 * ntri)
-            continue
-        break
-    if status != ALL_DONE:
-        return -1
-    depth, entry = segment_depths(tri, twin, cons, ntri, n, np.ones(n + 1, np.int64))
-    for t in range(ntri):
-        if tri[3 * t] == DEAD or is_ghost(tri, t, n) or depth[t] % 2 == 0:
-            continue
-        ring = ring_of[entry[t] - 1]
-        if ring_is_hole[ring]:
-            return -1       # a hole outside its shell (or overlapping rings)
-        a = ids[tri[3 * t]]
-        b = ids[tri[3 * t + 1]]
-        c = ids[tri[3 * t + 2]]
-        r = min_first(a, b, c)      # as cdt_plugin.triangulate lists them
-        for j, v in enumerate((a, b, c)):
-            T[k, (j - r) % 3] = v0 + v
-        G[k] = g
-        R[k] = ring_polygon[ring]
-        k += 1
-    return k

@@ -1,37 +1,37 @@
-"""Constrained Delaunay triangulation of a PLC (Sec. 2.10).
+"""Constrained Delaunay triangulation of a PLC (Sec. 2.10): the Python front.
 
-Route: Delaunay triangulation of the vertices (or the lexicographic
-triangulation with ``algorithm="flip"``), segments inserted by cavity
-retriangulation (Sec. 2.10.1), optionally the modified flip algorithm
-(Sec. 2.10.3), then the domain classified by a flood fill that stops at
-segments.
+:func:`triangulate` validates every option, reads the input into a
+:class:`PLC`, makes one call of the compiled route
+(:func:`cdt_plugin._core.pipeline.cdt_route`: Delaunay triangulation, segment
+insertion, domain classification, optional refinement, output arrays) and
+wraps the result, or raises the precise error for the route's stop.
 """
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
-from numba import njit
 
-from .delaunay import _build_in_order, resolve_algorithm, _reorder_seed_first, seed_triangle
+from ._core.construct import ALGORITHM_CODES
+from ._core.ordering import SMALL_SORT, brio_order, lexicographic_order
+from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUPLICATES, K_FLIPS,
+                             K_FROZEN, K_INTERSECTIONS, K_MERGED_OVERLAPS, K_ON_SEGMENTS,
+                             K_REF_COMPLETE, K_REF_FLIPS, K_REF_LIMIT, K_REF_SPLITS, K_REF_STEINER,
+                             K_ZERO_SEGMENTS, cdt_route)
+from ._core.segments import intersection_point
+from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
+                           ROUTE_OVERLAP, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT)
+from .delaunay import resolve_algorithm
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError)
-from .flips import flip_to_delaunay
-from .mesh import IDX
-from .ordering import brio_order, lexicographic_order
-from .plc import as_plc
-from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, FINISHED, OUT,
-                     STEINER_ROOM, count_below, refine_mesh)
-from .regions import flood_seeds, segment_depths
-from .segments import (ALL_DONE, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, STOP_CROSSING, STOP_LIMIT,
-                       STOP_OVERLAP, by_smaller_end, insert_segments, intersection_point,
-                       make_buffers)
-from .triangulation import Triangulation, solid_triangles
+from .plc import PLC, as_plc
+from .triangulation import Triangulation
 
 INTERSECTIONS = ("raise", "split")
-_NO_AREA_BOUNDS = np.zeros(1)   # read as "no area bound" for every label (see refine's ``area_bound``)
-_NO_BUFFERS = tuple(np.empty(0, np.int64) for _ in range(5))   # segment walks' work arrays, unmade
+_NO_IDS = np.empty(0, np.int64)
+_NO_RINGS = np.empty(0, np.bool_)
+_NO_SEEDS = np.empty((0, 2))
+_NO_REGIONS = np.empty((0, 4))
 
 
 def triangulate(vertices, segments=None, *, holes=None, regions=None, intersections: str = "raise",
@@ -116,12 +116,41 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
     (8, True)
     """
     t0 = time.perf_counter()
+    options = check_options(intersections=intersections, algorithm=algorithm, min_angle=min_angle,
+                            max_area=max_area, conforming_delaunay=conforming_delaunay,
+                            split_boundary=split_boundary, max_steiner=max_steiner)
+    plc = as_plc(vertices, segments, holes, regions)
+    return triangulate_plc(plc, keep_hull=keep_hull, t0=t0, **options)
+
+
+def check_options(*, intersections="raise", algorithm="auto", min_angle=None, max_area=None,
+                  conforming_delaunay=False, split_boundary=True, max_steiner=None) -> dict:
+    """Validate :func:`triangulate`'s options before any work starts; returns
+    them in the form :func:`triangulate_plc` takes (``refinement`` is None or
+    the tuple the compiled route takes)."""
     if intersections not in INTERSECTIONS:
         raise CDTError(f"intersections must be one of {INTERSECTIONS}, got {intersections!r}")
     algorithm = resolve_algorithm(algorithm, False)
-    refine = _refinement_options(min_angle, max_area, conforming_delaunay, max_steiner)
-    plc = as_plc(vertices, segments, holes, regions)
-    split = intersections == "split"
+    if min_angle is not None and not (np.isfinite(min_angle) and 0 <= min_angle < 60):
+        raise CDTError(f"min_angle must be in [0, 60) degrees, got {min_angle!r}")
+    if max_area is not None and not (np.isfinite(max_area) and max_area > 0):
+        raise CDTError(f"max_area must be a positive number, got {max_area!r}")
+    if max_steiner is not None and not (np.isfinite(max_steiner) and max_steiner >= 0
+                                        and max_steiner == int(max_steiner)):
+        raise CDTError(f"max_steiner must be a whole number >= 0, got {max_steiner!r}")
+    refinement = None
+    if min_angle or max_area is not None or conforming_delaunay:
+        refinement = (float(min_angle or 0.0), float(max_area or 0.0), bool(conforming_delaunay),
+                      bool(split_boundary), -1 if max_steiner is None else int(max_steiner))
+    return {"split": intersections == "split", "algorithm": algorithm, "refinement": refinement,
+            "max_steiner": -1 if max_steiner is None else int(max_steiner)}
+
+
+def triangulate_plc(plc: PLC, *, keep_hull=False, split=False, algorithm="divide", refinement=None,
+                    max_steiner=-1, t0=None) -> Triangulation:
+    """:func:`triangulate` of a checked PLC with checked options: one call of
+    the compiled route, then the result wrapped (or the route's stop raised)."""
+    t0 = time.perf_counter() if t0 is None else t0
     if plc.degenerate_rings and not split:
         p, r = plc.degenerate_rings[0]
         raise InvalidGeometryError(
@@ -131,162 +160,75 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
     pts = plc.vertices
     n = len(pts)
     x, y = pts[:, 0].copy(), pts[:, 1].copy()
-    order = brio_order(x, y) if algorithm == "incremental" else lexicographic_order(x, y)
-    dup_of = np.full(n, -1, np.int64)
-    submerged = np.zeros(n, np.int8)
-    stats = {"algorithm": algorithm, "input_points": n, "input_segments": len(plc.segments)}
-    k1, k2 = seed_triangle(x, y, order)
-    if k2 < 0:
-        return _collinear_result(plc, order, dup_of, submerged, stats, t0)
-    if algorithm != "divide":
-        order = _reorder_seed_first(order, k1, k2)
-    m = len(order)
-    extra = 16 + len(plc.segments) // 2 if split else 0
-    if refine is not None:   # the room refinement starts with, made now rather than by a copy
-        extra = max(extra, STEINER_ROOM * m + 64 - m)
-    coords = []
-    tri, twin, cons, ntri, counts = _build_in_order(x, y, np.zeros(n), False, order, algorithm,
-                                                     dup_of, submerged, extra, True, coords)
-    xi, yi, wi = coords
-    mesh_of = np.empty(n, np.int64)
-    mesh_of[order] = np.arange(m)
-    dups = np.flatnonzero(dup_of >= 0)
-    mesh_of[dups] = mesh_of[dup_of[dups]]
-
-    segs = mesh_of[plc.segments]
-    tasks, ntask, mult = _segment_tasks(segs, m, stats)
-    mesh = _Mesh(tri, twin, cons, ntri, xi, yi, wi, m + extra, m, tasks, ntask)
-    _insert_all_segments(mesh, segs, split, max_steiner, stats, plc)
-    if algorithm == "flip":
-        stats["flips"] = int(flip_to_delaunay(mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.w,
-                                              False, mesh.inf, mesh.ntri))
-    else:
-        stats["flips"] = int(counts[0])
-    classes, tid = _classify(plc, mesh, keep_hull, split, mult)
-    if refine is not None:
-        classes = _refine(plc, mesh, segs, classes, tid, refine, split_boundary, stats)
-    out = Triangulation.from_cdt(plc, mesh, order, dup_of, submerged, *classes, stats, t0,
-                                 ndup=len(dups))
-    if refine is not None:
-        _finish_refinement(out, plc, refine, stats)
-    return out
+    order = horizontal = _NO_IDS
+    if algorithm == "incremental":
+        order = brio_order(x, y)
+    elif n >= SMALL_SORT:        # numpy's sorts beat the compiled one on many points
+        order = lexicographic_order(x, y)
+        if algorithm == "divide":
+            horizontal = lexicographic_order(y, -x)
+    rings = plc.has_rings
+    use_seeds = plc.holes is not None or plc.regions is not None
+    holes = plc.holes if plc.holes is not None and len(plc.holes) else _NO_SEEDS
+    regions = plc.regions if plc.regions is not None and len(plc.regions) else _NO_REGIONS
+    status, info, counts, out = cdt_route(
+        x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
+        plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
+        holes, regions, use_seeds, ALGORITHM_CODES[algorithm], order, horizontal, split,
+        bool(keep_hull), max_steiner, refinement)
+    if status == ROUTE_COLLINEAR:
+        return _collinear_result(plc, algorithm, t0)
+    if status not in (ROUTE_OK, ROUTE_REFINE_LIMIT):
+        _raise_stop(status, info, plc)
+    tri = Triangulation.from_route(out, plc, _stats(plc, algorithm, counts, out, refinement), t0)
+    if status == ROUTE_REFINE_LIMIT:
+        raise RefinementLimitError(
+            f"refinement stopped at max_steiner={int(counts[K_REF_LIMIT])} Steiner points with "
+            "triangles still breaking the bounds; raise max_steiner (or relax min_angle/max_area); "
+            "the partial mesh is in this error's .triangulation", triangulation=tri)
+    return tri
 
 
-def _refinement_options(min_angle, max_area, conforming, max_steiner):
-    """Check the quality options; None when no refinement is asked for."""
-    if min_angle is not None:
-        if not (np.isfinite(min_angle) and 0 <= min_angle < 60):
-            raise CDTError(f"min_angle must be in [0, 60) degrees, got {min_angle!r}")
-    if max_area is not None:
-        if not (np.isfinite(max_area) and max_area > 0):
-            raise CDTError(f"max_area must be a positive number, got {max_area!r}")
-    if max_steiner is not None and max_steiner < 0:
-        raise CDTError(f"max_steiner must be >= 0, got {max_steiner!r}")
-    if not min_angle and max_area is None and not conforming:
-        return None
-    return {"min_angle": float(min_angle or 0.0), "max_area": max_area,
-            "conforming": bool(conforming), "max_steiner": max_steiner}
+def _stats(plc, algorithm, counts, out, refinement) -> dict:
+    """The route's counts by name."""
+    vertex_map = out[7]
+    segs = plc.segments
+    zero = []
+    if counts[K_ZERO_SEGMENTS]:
+        zero = np.flatnonzero(vertex_map[segs[:, 0]] == vertex_map[segs[:, 1]]).tolist()
+    stats = {"algorithm": algorithm, "input_points": len(plc.vertices), "input_segments": len(segs),
+             "zero_length_segments": zero, "duplicate_segments": int(counts[K_DUPLICATE_SEGMENTS]),
+             "vertices_on_segments": int(counts[K_ON_SEGMENTS]),
+             "merged_overlaps": int(counts[K_MERGED_OVERLAPS]),
+             "intersection_points": int(counts[K_INTERSECTIONS]), "flips": int(counts[K_FLIPS]),
+             "duplicates": int(counts[K_DUPLICATES]), "submerged": 0, "vertices": len(out[0]),
+             "triangles": len(out[1]), "steiner": len(out[0]) - len(out[8])}
+    if refinement is not None:
+        stats.update(refinement_steiner=int(counts[K_REF_STEINER]),
+                     refinement_segment_splits=int(counts[K_REF_SPLITS]),
+                     refinement_flips=int(counts[K_REF_FLIPS]),
+                     frozen_segment_pieces=int(counts[K_FROZEN]),
+                     refinement_attempts=int(counts[K_ATTEMPTS]),
+                     refinement_deferred=int(counts[K_DEFERRED]),
+                     refinement_complete=bool(counts[K_REF_COMPLETE]),
+                     below_min_angle=len(out[9]))
+    return stats
 
 
-class _Mesh:
-    """The growing half-edge store plus its coordinate arrays and task queue."""
-
-    def __init__(self, tri, twin, cons, ntri, x, y, w, inf, nv, tasks, ntask):
-        self.tri, self.twin, self.cons, self.ntri = tri, twin, cons, ntri
-        self.x, self.y, self.w, self.inf, self.nv = x, y, w, inf, nv
-        self.tasks, self.ntask = tasks, ntask
-
-    def grow_vertices(self, at_least: int = 0):
-        """Double the room for Steiner vertices, or make room for ``at_least``
-        vertices if that is more (the infinite vertex moves)."""
-        old_inf = self.inf
-        new_inf = max(2 * old_inf + 16, at_least)
-        for name in ("x", "y", "w"):
-            a = np.zeros(new_inf + 1)
-            a[: self.nv] = getattr(self, name)[: self.nv]
-            setattr(self, name, a)
-        self.tri[self.tri == old_inf] = new_inf
-        self.inf = new_inf
-        cap = 2 * new_inf + 2
-        for name in ("tri", "twin", "cons"):
-            old = getattr(self, name)
-            a = np.full(3 * cap, -1 if name != "cons" else 0, IDX)
-            a[: len(old)] = old
-            setattr(self, name, a)
-        tasks = np.empty((2 * len(self.tasks) + 16, 3), np.int64)
-        tasks[: self.ntask] = self.tasks[: self.ntask]
-        self.tasks = tasks
-
-
-def _segment_tasks(segs, nv, stats):
-    """Drop zero-length segments, merge repeated ones; the rest become tasks
-    (processed in input order: the queue is a stack). Returns the tasks, the
-    number of kept segments and each kept segment's multiplicity (by 1-based id)."""
-    tasks, ntask, mult, nzero = _dedup_tasks(segs, nv)
-    stats["zero_length_segments"] = (np.flatnonzero(segs[:, 0] == segs[:, 1]).tolist()
-                                     if nzero else [])
-    stats["duplicate_segments"] = int(len(segs) - nzero - ntask)
-    return tasks, ntask, mult
-
-
-@njit(cache=True)
-def _dedup_tasks(segs, nv):
-    """:func:`_segment_tasks` compiled: segments grouped by their smaller end
-    (:func:`segments.by_smaller_end`), the first of each endpoint pair kept and
-    counted. Returns ``(tasks, ntask, mult, zero-length count)``."""
-    m = segs.shape[0]
-    start, group = by_smaller_end(segs, m, nv)
-    first = np.full(m, -1, np.int64)     # the kept segment each one repeats
-    mult = np.zeros(m + 1, np.int64)
-    for a in range(nv):
-        for k in range(start[a], start[a + 1]):
-            i = group[k]
-            first[i] = i
-            b = max(segs[i, 0], segs[i, 1])
-            for kk in range(start[a], k):          # an earlier segment with the same ends
-                j = group[kk]
-                if first[j] == j and max(segs[j, 0], segs[j, 1]) == b:
-                    first[i] = j
-                    break
-            mult[first[i] + 1] += 1
-    nzero = m - start[nv]
-    ntask = 0
-    tasks = np.empty((m - nzero + 16, 3), np.int64)
-    for i in range(m - 1, -1, -1):       # a stack: the first segment on top
-        if first[i] == i:
-            tasks[ntask, 0] = segs[i, 0]
-            tasks[ntask, 1] = segs[i, 1]
-            tasks[ntask, 2] = i + 1
-            ntask += 1
-    return tasks, ntask, mult, nzero
-
-
-def _insert_all_segments(mesh, segs, split, max_steiner, stats, plc):
-    counts = np.zeros(3, np.int64)
-    info = np.zeros(4, np.int64)
-    buf = _NO_BUFFERS   # made on the first segment that is not an edge yet (NEED_EDGE_ROOM)
-    limit = max_steiner if max_steiner is not None else 10 * len(segs) + 1000
-    while True:
-        stack = np.empty(mesh.inf + 16, np.int64)
-        status, mesh.ntri, mesh.nv, mesh.ntask = insert_segments(
-            mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.w, mesh.inf, mesh.ntri, mesh.nv,
-            mesh.tasks, mesh.ntask, segs, split, limit, counts, info, stack, buf)
-        if status == ALL_DONE:
-            break
-        if status == NEED_VERTEX_ROOM:
-            mesh.grow_vertices()
-        elif status == NEED_EDGE_ROOM:
-            buf = make_buffers(2 * mesh.ntri)
-        elif status in (STOP_CROSSING, STOP_OVERLAP):
-            _raise_intersection(status, info, plc)
-        elif status == STOP_LIMIT:
-            raise CDTError(f"max_steiner={limit} intersection points inserted and segments "
-                           f"{info[0] - 1} and {info[1] - 1} still cross; raise max_steiner")
-        else:  # pragma: no cover
-            raise CDTError(f"internal error while inserting segment {info[0] - 1} (status {status})")
-    stats["vertices_on_segments"] = int(counts[0])
-    stats["merged_overlaps"] = int(counts[1])
-    stats["intersection_points"] = int(counts[2])
+def _raise_stop(status, info, plc):
+    """The precise error for a route that stopped."""
+    if status in (ROUTE_CROSSING, ROUTE_OVERLAP):
+        _raise_intersection(status, info, plc)
+    if status == ROUTE_STEINER_LIMIT:
+        raise CDTError(f"max_steiner={int(info[2])} intersection points inserted and segments "
+                       f"{info[0] - 1} and {info[1] - 1} still cross; raise max_steiner")
+    if status == ROUTE_HOLE_OUTSIDE:
+        r = int(info[0])
+        p = int(plc.ring_polygon[r])
+        raise InvalidGeometryError(
+            f"a hole of polygon {p} (ring {r}) lies outside its shell or overlaps another ring; "
+            "use intersections='split' to mesh by even-odd depth instead")
+    raise CDTError(f"internal error (status {status}, {info.tolist()}); please report this input")
 
 
 def _raise_intersection(status, info, plc):
@@ -294,7 +236,7 @@ def _raise_intersection(status, info, plc):
     P = plc.vertices
     a, b = plc.segments[s]
     c, d = plc.segments[t]
-    if status == STOP_CROSSING:
+    if status == ROUTE_CROSSING:
         xy = np.array([P[a], P[b], P[c], P[d]])
         px, py = intersection_point(xy[:, 0].copy(), xy[:, 1].copy(), 0, 1, 2, 3)
         raise SegmentIntersectionError(
@@ -311,202 +253,14 @@ def _fmt(p):
     return f"({float(p[0])!r}, {float(p[1])!r})"
 
 
-@njit(cache=True)
-def _real_triangles(tri, twin, cons, ntri, inf):
-    """The real triangles ``T`` with their neighbours ``N``, the index in ``T``
-    of each mesh slot (``tid``, -1: ghost) and the segment id (1-based, 0 none)
-    of the edge opposite each vertex (``cflag``)."""
-    T, N, tid = solid_triangles(tri, twin, ntri, inf)
-    cflag = np.zeros((T.shape[0], 3), np.int64)
-    for t in range(ntri):
-        i = tid[t]
-        if i >= 0:
-            for j in range(3):
-                cflag[i, j] = cons[3 * t + (j + 1) % 3]
-    return T, N, tid, cflag
-
-
-@njit(cache=True)
-def _depths(tri, twin, cons, ntri, inf, tid, k, mult):
-    """:func:`segment_depths` of the real triangles, in the order of ``tid``,
-    and whether any edge is a segment."""
-    depth_mesh, entry_mesh = segment_depths(tri, twin, cons, ntri, inf, mult)
-    depth = np.empty(k, np.int64)
-    entry = np.empty(k, np.int64)
-    for t in range(ntri):
-        if tid[t] >= 0:
-            depth[tid[t]] = depth_mesh[t]
-            entry[tid[t]] = entry_mesh[t]
-    has_segments = False
-    for e in range(3 * ntri):
-        if cons[e] != 0:
-            has_segments = True
-            break
-    return depth, entry, has_segments
-
-
-def _classify(plc, mesh, keep_hull, split, mult):
-    """Which real triangles are inside the domain, and their regions.
-    Returns ``(T, N, cflag, inside, region, attributes)`` over the real
-    triangles ``T`` of the mesh (in slot order), and ``tid``, the index in
-    ``T`` of each mesh slot (-1: ghost)."""
-    tri, twin, cons, ntri, inf = mesh.tri, mesh.twin, mesh.cons, mesh.ntri, mesh.inf
-    T, N, tid, cflag = _real_triangles(tri, twin, cons, ntri, inf)
-    depth, entry, has_segments = _depths(tri, twin, cons, ntri, inf, tid, len(T), mult)
-    triangle_rule = plc.holes is not None or plc.regions is not None
-    if keep_hull or not has_segments:
-        inside = np.ones(len(T), bool)
-    elif triangle_rule:
-        inside = depth > 0
-    else:
-        inside = depth % 2 == 1
-    if plc.has_rings:
-        ring = np.where(entry > 0, plc.segment_ring[np.maximum(entry - 1, 0)], -1)
-        region = np.where(ring >= 0, plc.ring_polygon[np.maximum(ring, 0)], -1)
-        if not split and not keep_hull:
-            _check_hole_sides(plc, inside, ring)
-    else:
-        region = np.full(len(T), -1, np.int64)
-    vx, vy = mesh.x, mesh.y
-    label = np.zeros(len(T), np.int64)
-    if plc.holes is not None and len(plc.holes):
-        hx, hy = plc.holes[:, 0].copy(), plc.holes[:, 1].copy()
-        flood_seeds(vx, vy, T, N, cflag, hx, hy, inside, label, np.ones(len(hx), np.int64))
-        inside &= label == 0
-    attributes = None
-    if plc.regions is not None and len(plc.regions):
-        label[:] = -1
-        rx, ry = plc.regions[:, 0].copy(), plc.regions[:, 1].copy()
-        flood_seeds(vx, vy, T, N, cflag, rx, ry, np.ones(len(T), np.bool_), label,
-                    np.arange(len(rx)))
-        region = label
-        attributes = plc.regions
-    return (T, N, cflag, inside, region, attributes), tid
-
-
-def _refine(plc, mesh, segs, classes, tid, opts, split_boundary, stats):
-    """Delaunay refinement of the classified mesh; returns the new classes."""
-    T, N, cflag, inside, region, attributes = classes
-    lab = _slot_labels(tid, inside, region, len(mesh.tri) // 3)
-    area_of_label = _area_bounds(plc, opts["max_area"], lab)
-    limit = opts["max_steiner"]
-    if limit is None:
-        limit = 100 * mesh.nv + 100_000
-        if opts["max_area"]:
-            limit += int(min(8 * _domain_area(mesh, T, inside) / opts["max_area"], 1e9))
-    budget = max(limit - int(stats.get("intersection_points", 0)), 0)
-    room = STEINER_ROOM * mesh.nv + 64
-    if area_of_label is not _NO_AREA_BOUNDS:
-        room += _area_steiner(mesh, T, inside, region, area_of_label)
-    status, counts, lab, _ = refine_mesh(
-        mesh, lab, segs, min_angle=opts["min_angle"], max_area=opts["max_area"],
-        area_of_label=area_of_label, conforming=opts["conforming"],
-        split_boundary=split_boundary, max_new=budget, room=room)
-    stats["refinement_steiner"] = int(counts[C_STEINER])
-    stats["refinement_segment_splits"] = int(counts[C_SEG_SPLITS])
-    stats["refinement_flips"] = int(counts[C_FLIPS])
-    stats["frozen_segment_pieces"] = int(counts[C_FROZEN])
-    stats["refinement_attempts"] = int(counts[C_ATTEMPTS])
-    stats["refinement_deferred"] = int(counts[C_DEFERRED])
-    stats["refinement_complete"] = status == FINISHED
-    stats["_limit"] = limit
-    T, N, tid, cflag = _real_triangles(mesh.tri, mesh.twin, mesh.cons, mesh.ntri, mesh.inf)
-    inside, region = _triangle_labels(tid, lab, len(T))
-    return T, N, cflag, inside, region, attributes
-
-
-@njit(cache=True)
-def _slot_labels(tid, inside, region, cap):
-    """Refinement's label of every mesh slot: the region of an inside real
-    triangle, else OUT."""
-    lab = np.full(cap, OUT, np.int64)
-    for t in range(tid.shape[0]):
-        i = tid[t]
-        if i >= 0 and inside[i]:
-            lab[t] = region[i]
-    return lab
-
-
-@njit(cache=True)
-def _triangle_labels(tid, lab, k):
-    """Back from slot labels: ``inside`` and ``region`` (-1 outside) of the
-    ``k`` real triangles."""
-    inside = np.zeros(k, np.bool_)
-    region = np.full(k, -1, np.int64)
-    for t in range(tid.shape[0]):
-        i = tid[t]
-        if i >= 0 and lab[t] != OUT:
-            inside[i] = True
-            region[i] = lab[t]
-    return inside, region
-
-
-def _area_steiner(mesh, T, inside, region, area_of_label, cap=2_000_000):
-    """About how many Steiner points the area bounds alone will add (the mesh
-    is made that large at once instead of growing by doubling); at most ``cap``."""
-    bound = area_of_label[np.where(inside, region, -1) + 1]
-    use = inside & (bound > 0)
-    x, y = mesh.x, mesh.y
-    a, b, c = T[use, 0], T[use, 1], T[use, 2]
-    area = np.abs((x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a])) / 2
-    # a refined mesh has about 1.6 triangles, so 0.8 vertices, per max_area of domain
-    return int(min(0.8 * float(np.sum(area / bound[use])), cap))
-
-
-def _area_bounds(plc, max_area, lab):
-    """Area bound per triangle label (label + 1 indexes it; 0: none), or
-    :data:`_NO_AREA_BOUNDS` when there is none at all."""
-    with_regions = plc.regions is not None and len(plc.regions) > 0
-    if max_area is None and not (with_regions and (plc.regions[:, 3] > 0).any()):
-        return _NO_AREA_BOUNDS
-    top = int(lab.max(initial=-1))
-    bounds = np.full(top + 2, float(max_area or 0.0))
-    if with_regions:
-        ra = plc.regions[:, 3]
-        ok = np.isfinite(ra) & (ra > 0)
-        k = min(len(ra), top + 1)
-        bounds[1: k + 1] = np.where(ok[:k], ra[:k], bounds[1: k + 1])
-    return bounds
-
-
-def _domain_area(mesh, T, inside):
-    x, y = mesh.x, mesh.y
-    a, b, c = T[inside, 0], T[inside, 1], T[inside, 2]
-    return float(np.sum(np.abs((x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a]))) / 2)
-
-
-def _finish_refinement(out, plc, opts, stats):
-    """Segment ids of hull pieces to -1; count what misses the bounds; raise
-    when the Steiner budget ran out."""
-    ids = out.segment_ids
-    ids[ids >= len(plc.segments)] = -1
-    below = np.empty(0, np.int64)
-    if opts["min_angle"]:
-        below = count_below(out.vertices, out.triangles, math.sin(math.radians(opts["min_angle"])) ** 2)
-    stats["below_min_angle"] = int(len(below))
-    out.below_min_angle = below
-    limit = stats.pop("_limit")
-    if not stats["refinement_complete"]:
-        raise RefinementLimitError(
-            f"refinement stopped at max_steiner={limit} Steiner points with triangles still "
-            "breaking the bounds; raise max_steiner (or relax min_angle/max_area); the partial "
-            "mesh is in this error's .triangulation", triangulation=out)
-
-
-def _check_hole_sides(plc, inside, ring):
-    """A hole ring is entered from its shell's inside: a region inside the
-    domain entered through a hole ring means the hole lies outside its shell."""
-    bad = inside & (ring >= 0) & plc.ring_is_hole[np.maximum(ring, 0)]
-    if bad.any():
-        r = int(ring[np.flatnonzero(bad)[0]])
-        p = int(plc.ring_polygon[r])
-        raise InvalidGeometryError(
-            f"a hole of polygon {p} (ring {r}) lies outside its shell or overlaps another ring; "
-            "use intersections='split' to mesh by even-odd depth instead")
-
-
-def _collinear_result(plc, order, dup_of, submerged, stats, t0):
-    tri = Triangulation.from_collinear(plc.vertices, order, None, dup_of, submerged, stats, t0)
+def _collinear_result(plc, algorithm, t0):
+    """All vertices on one line (Sec. 2.1): the chain of edges, no triangles."""
+    n = len(plc.vertices)
+    x, y = plc.vertices[:, 0].copy(), plc.vertices[:, 1].copy()
+    order = brio_order(x, y) if algorithm == "incremental" else lexicographic_order(x, y)
+    stats = {"algorithm": algorithm, "input_points": n, "input_segments": len(plc.segments)}
+    tri = Triangulation.from_collinear(plc.vertices, order, None, np.full(n, -1, np.int64),
+                                       np.zeros(n, np.int8), stats, t0)
     tri.segments = np.empty((0, 2), np.int64)
     tri.segment_ids = np.empty(0, np.int64)
     return tri

@@ -1,10 +1,13 @@
 """Delaunay and weighted Delaunay triangulations of point sets.
 
-Two routes to the same triangulation (unique thanks to the symbolic
-perturbation of Sec. 2.9):
+Three routes to the same triangulation (unique thanks to the symbolic
+perturbation of Sec. 2.9), built in :mod:`cdt_plugin._core.construct`:
 
+* ``"divide"`` (the default): divide and conquer with alternating cuts
+  (Guibas-Stolfi, Dwyer);
 * ``"incremental"``: BRIO/Hilbert insertion order, walking point location,
-  Lawson flips (Sec. 2.5), ghost triangles for the hull;
+  Lawson flips (Sec. 2.5), ghost triangles for the hull; the route for
+  weighted points (Sec. 2.8);
 * ``"flip"``: the lexicographic triangulation (Sec. 2.1) followed by the flip
   algorithm (Sec. 2.5).
 """
@@ -13,64 +16,19 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from numba import njit
 
-from .divide import build_divide
+from ._core.construct import (ALGORITHM_CODES, build_mesh, gather_coords, seed_first, seed_triangle,
+                              to_input_ids)
+from ._core.insertion import redundant_vertices
+from ._core.ordering import brio_order, lexicographic_order
+from ._core.status import OK
 from .errors import CDTError
-from .flips import flip_to_delaunay
-from .insertion import OK, insert_vertices, redundant_vertices
-from .kernel import orient
-from .locate import same_point
-from .mesh import IDX, make_first_triangle
-from .ordering import brio_order, lexicographic_order
 from .triangulation import Triangulation
 from .validate import as_points, as_weights
 
 ALGORITHMS = ("auto", "divide", "incremental", "flip")
+_NO_IDS = np.empty(0, np.int64)
 MAX_WEIGHTED_PASSES = 50
-
-
-@njit(cache=True)
-def seed_triangle(x, y, order):
-    """Positions in ``order`` of the 2nd and 3rd vertex of a first, non-degenerate
-    triangle (the 1st is ``order[0]``); -1 where none exists (all points equal,
-    or all collinear)."""
-    n = order.shape[0]
-    p0 = order[0]
-    k1 = -1
-    for k in range(1, n):
-        if not same_point(x, y, p0, order[k]):
-            k1 = k
-            break
-    if k1 < 0:
-        return -1, -1
-    p1 = order[k1]
-    for k in range(k1 + 1, n):
-        if orient(x, y, p0, p1, order[k]) != 0:
-            return k1, k
-    return k1, -1
-
-
-@njit(cache=True)
-def build(x, y, w, weighted, inf, order, hull_only, dup_of, submerged, counts, extra, with_cons):
-    """Triangulate ``order[0:3]`` (a non-degenerate triangle), then insert the rest.
-    ``extra`` reserves room for that many more vertices (Steiner points);
-    ``with_cons`` allocates the per-half-edge segment ids.
-    Returns ``(status, tri, twin, cons, ntri)``."""
-    n = order.shape[0]
-    cap = max(4, 2 * (n + extra) + 2)
-    tri = np.full(3 * cap, -1, IDX)
-    twin = np.full(3 * cap, -1, IDX)
-    cons = np.zeros(3 * cap if with_cons else 0, IDX)
-    a = order[0]
-    b = order[1]
-    c = order[2]
-    if orient(x, y, a, b, c) < 0:
-        b, c = c, b
-    ntri = make_first_triangle(tri, twin, a, b, c, inf)
-    status, ntri = insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, 3, ntri,
-                                   hull_only, dup_of, submerged, counts)
-    return status, tri, twin, cons, ntri
 
 
 def _merge_weighted_duplicates(pts, w, dup_of, submerged):
@@ -90,13 +48,6 @@ def _merge_weighted_duplicates(pts, w, dup_of, submerged):
     submerged[later[lighter]] = 1
     dup_of[later[~lighter]] = head[same][~lighter]
     return active
-
-
-def _reorder_seed_first(order, k1, k2):
-    """Move the seed triangle's vertices to the front of the insertion order."""
-    rest = np.ones(len(order), bool)
-    rest[[0, k1, k2]] = False
-    return np.concatenate([order[[0, k1, k2]], order[rest]])
 
 
 def resolve_algorithm(algorithm: str, weighted: bool) -> str:
@@ -178,7 +129,7 @@ def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) ->
         return Triangulation.from_collinear(pts, order, w_in, dup_of, submerged, stats, t0)
 
     if algorithm != "divide":
-        order = _reorder_seed_first(order, k1, k2)
+        order = seed_first(order, k1, k2)
     for _ in range(MAX_WEIGHTED_PASSES):
         tri, twin, cons, ntri, counts = _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged)
         if not weighted:
@@ -199,61 +150,23 @@ def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) ->
         k1, k2 = seed_triangle(x, y, order)
         if k2 < 0:
             return Triangulation.from_collinear(pts, order, w_in, dup_of, submerged, stats, t0)
-        order = _reorder_seed_first(order, k1, k2)
+        order = seed_first(order, k1, k2)
     stats["flips"] = int(counts[0])
     return Triangulation.from_mesh(pts, w_in, tri, twin, cons, ntri, order, dup_of, submerged, stats, t0)
 
 
-@njit(cache=True)
-def _gather_coords(x, y, w, order, extra):
-    """The coordinates of the points ``order``, then ``extra + 1`` zeros (room
-    for Steiner points and the infinite vertex)."""
-    n = order.shape[0] + extra + 1
-    xi, yi, wi = np.zeros(n), np.zeros(n), np.zeros(n)
-    for i in range(order.shape[0]):
-        xi[i] = x[order[i]]
-        yi[i] = y[order[i]]
-        wi[i] = w[order[i]]
-    return xi, yi, wi
-
-
-def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, extra=0,
-                    with_cons=False, coords=None):
+def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged):
     """Triangulate the points ``order`` (seed triangle first) and record
     duplicates and submerged points in ``dup_of`` / ``submerged`` (input ids).
-    The mesh uses coordinates stored in insertion order: vertex ids that follow
-    the Hilbert curve keep coordinate reads cache-friendly. ``extra`` reserves
-    vertex ids for Steiner points; the infinite vertex is ``len(order) + extra``.
-    ``coords`` (a list) receives the mesh's ``(x, y, w)`` arrays."""
+    Returns ``(tri, twin, cons, ntri, counts)`` over the mesh vertices of
+    :mod:`cdt_plugin._core.construct` (``counts[0]``: flips)."""
     m = len(order)
-    inf = m + extra
-    xi, yi, wi = _gather_coords(x, y, w, order, extra)
-    if coords is not None:
-        coords.extend((xi, yi, wi))
-    dup_int = np.full(m, -1, np.int64)
-    sub_int = np.zeros(m, np.int8)     # (unweighted divide and conquer submerges nothing)
+    xi, yi, wi = gather_coords(x, y, w, order, 0)
+    horizontal = lexicographic_order(yi[:m], -xi[:m]) if algorithm == "divide" else _NO_IDS
     counts = np.zeros(2, np.int64)
-    if algorithm == "divide":
-        tri, twin, cons, ntri = build_divide(xi, yi, wi, m, inf, dup_int, max(4, 2 * (m + extra) + 2),
-                                             with_cons)
-        status = OK
-    else:
-        status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, inf, np.arange(m), algorithm == "flip",
-                                              dup_int, sub_int, counts, extra, with_cons)
+    status, tri, twin, cons, ntri, dup, sub = build_mesh(
+        xi, yi, wi, weighted, m, m, ALGORITHM_CODES[algorithm], horizontal, 0, False, counts)
     if status != OK:  # pragma: no cover - a located point always exists
         raise CDTError(f"internal error: point location failed (status {status})")
-    if algorithm == "flip":
-        counts[0] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, inf, ntri)
-    _to_input_ids(order, dup_int, sub_int, dup_of, submerged)
+    to_input_ids(order, dup, sub, dup_of, submerged)
     return tri, twin, cons, ntri, counts
-
-
-@njit(cache=True)
-def _to_input_ids(order, dup_int, sub_int, dup_of, submerged):
-    """Record the duplicates and submerged points found among the mesh
-    vertices ``0..m-1`` (point ``order[i]`` is vertex ``i``) by input id."""
-    for i in range(order.shape[0]):
-        if dup_int[i] >= 0:
-            dup_of[order[i]] = order[dup_int[i]]
-        if sub_int[i] > 0:
-            submerged[order[i]] = 1

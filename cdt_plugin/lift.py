@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .certify import locate_all
+from ._core.certify import locate_all
 from .errors import CDTError
 
 

@@ -9,11 +9,14 @@ GeoJSON-like mapping itself) without importing a geometry library.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import CDTError, InputShapeError, NonFiniteCoordinateError, SegmentIndexError
+from .errors import (CDTError, InputShapeError, NonFiniteCoordinateError, SegmentIndexError,
+                     TooFewPointsError)
+from ._core.rings import polygon_rings
 from .validate import as_points
 
 
@@ -74,66 +77,52 @@ def _mapping(geometry):
 
 
 class _Builder:
-    """Accumulates vertices, segments and rings from GeoJSON-like geometries."""
+    """Accumulates vertices, rings and lines from GeoJSON-like geometries; the
+    rings become segments in one compiled pass (:mod:`cdt_plugin._core.rings`)."""
 
     def __init__(self):
         self.xy: list = []
-        self.z: list = []
-        self.has_z = False
-        self.segs: list = []
-        self.seg_ring: list = []
+        self.z: list = []            # (first vertex, z values) of the parts that have Z
+        self.nv = 0
+        self.pieces: list = []       # ring numbers and arrays of line segments, in input order
+        self.ring_begin: list = []
+        self.ring_end: list = []
         self.ring_polygon: list = []
         self.ring_is_hole: list = []
-        self.degenerate: list = []
+        self.ring_name: list = []    # (polygon, ring within it) for error messages
         self.n_polygons = 0
 
-    def _points(self, coords):
+    def _add_vertices(self, coords, closed=False) -> int:
+        """Append the (x, y[, z]) rows (a ring's closing point dropped); returns how many."""
         arr = np.asarray(coords, dtype=np.float64)
         if arr.size == 0:
-            return np.empty((0, 2)), np.empty(0)
+            return 0
         if arr.ndim != 2 or arr.shape[1] < 2:
             raise InputShapeError(f"coordinates must be (x, y[, z]) tuples, got shape {arr.shape}")
-        if not np.isfinite(arr[:, :2]).all():
-            bad = np.flatnonzero(~np.isfinite(arr[:, :2]).all(axis=1))
-            raise NonFiniteCoordinateError(f"geometry has NaN or infinite coordinates at position(s) "
-                                           f"{bad[:5].tolist()}")
+        if closed and len(arr) > 1 and arr[0, 0] == arr[-1, 0] and arr[0, 1] == arr[-1, 1]:
+            arr = arr[:-1]
         if arr.shape[1] > 2:
-            self.has_z = True
-            return arr[:, :2], arr[:, 2]
-        return arr[:, :2], np.full(len(arr), np.nan)
-
-    def _add_vertices(self, xy, z):
-        start = sum(len(a) for a in self.xy)
-        self.xy.append(xy)
-        self.z.append(z)
-        return start
+            self.z.append((self.nv, arr[:, 2]))
+        self.xy.append(arr[:, :2])
+        self.nv += len(arr)
+        return len(arr)
 
     def add_ring(self, coords, polygon, is_hole, ring_no):
-        xy, z = self._points(coords)
-        if len(xy) > 1 and (xy[0] == xy[-1]).all():
-            xy, z = xy[:-1], z[:-1]
-        start = self._add_vertices(xy, z)
-        distinct = len(np.unique(xy, axis=0)) if len(xy) else 0
-        area2 = _shoelace2(xy) if len(xy) >= 3 else 0.0
-        if distinct < 3 or (area2 == 0.0 and _all_collinear(xy)):
-            # too few points or zero area: keep the points, not the ring
-            self.degenerate.append((polygon, ring_no))
-            return
-        ring = len(self.ring_polygon)
+        start = self.nv
+        self._add_vertices(coords, closed=True)
+        self.pieces.append(len(self.ring_begin))
+        self.ring_begin.append(start)
+        self.ring_end.append(self.nv)
         self.ring_polygon.append(polygon)
         self.ring_is_hole.append(is_hole)
-        k = len(xy)
-        idx = np.arange(start, start + k)
-        self.segs.append(np.column_stack([idx, np.roll(idx, -1)]))
-        self.seg_ring.append(np.full(k, ring))
+        self.ring_name.append((polygon, ring_no))
 
     def add_line(self, coords):
-        xy, z = self._points(coords)
-        start = self._add_vertices(xy, z)
-        if len(xy) >= 2:
-            idx = np.arange(start, start + len(xy))
-            self.segs.append(np.column_stack([idx[:-1], idx[1:]]))
-            self.seg_ring.append(np.full(len(xy) - 1, -1))
+        start = self.nv
+        k = self._add_vertices(coords)
+        if k >= 2:
+            idx = np.arange(start, start + k)
+            self.pieces.append(np.column_stack([idx[:-1], idx[1:]]))
 
     def add(self, gi):
         kind = gi["type"]
@@ -152,9 +141,9 @@ class _Builder:
                 self.add_line(line)
         elif kind == "Point":
             if coords:
-                self._add_vertices(*self._points([coords]))
+                self._add_vertices([coords])
         elif kind == "MultiPoint":
-            self._add_vertices(*self._points(coords))
+            self._add_vertices(coords)
         elif kind == "GeometryCollection":
             for g in gi.get("geometries", []):
                 self.add(_mapping(g))
@@ -173,60 +162,95 @@ class _Builder:
             self.add_ring(ring, p, r > 0, r)
 
     def finish(self) -> PLC:
-        xy = np.concatenate(self.xy) if self.xy else np.empty((0, 2))
-        z = np.concatenate(self.z) if self.z else np.empty(0)
-        segs = np.concatenate(self.segs).astype(np.int64) if self.segs else np.empty((0, 2), np.int64)
-        seg_ring = np.concatenate(self.seg_ring).astype(np.int64) if self.seg_ring else np.empty(0, np.int64)
-        return PLC(np.ascontiguousarray(xy, dtype=np.float64), segs,
-                   segment_ring=seg_ring,
-                   ring_polygon=np.asarray(self.ring_polygon, np.int64),
-                   ring_is_hole=np.asarray(self.ring_is_hole, bool),
-                   z=z if self.has_z else None, degenerate_rings=self.degenerate)
+        if not self.xy:
+            xy = np.empty((0, 2))
+        else:
+            xy = np.ascontiguousarray(self.xy[0] if len(self.xy) == 1 else np.concatenate(self.xy))
+        if not np.isfinite(xy).all():
+            bad = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
+            raise NonFiniteCoordinateError(f"geometry has NaN or infinite coordinates at vertex "
+                                           f"position(s) {bad[:5].tolist()}")
+        z = None
+        if self.z:
+            z = np.full(len(xy), np.nan)
+            for start, values in self.z:
+                z[start:start + len(values)] = values
+        begin = np.asarray(self.ring_begin, np.int64)
+        end = np.asarray(self.ring_end, np.int64)
+        degenerate, segs, seg_ring = polygon_rings(xy[:, 0].copy(), xy[:, 1].copy(), begin, end)
+        kept = ~degenerate
+        if any(not isinstance(p, int) for p in self.pieces):
+            segs, seg_ring = self._in_input_order(segs, seg_ring, kept, begin, end)
+        return PLC(xy, segs, segment_ring=seg_ring,
+                   ring_polygon=np.asarray(self.ring_polygon, np.int64)[kept],
+                   ring_is_hole=np.asarray(self.ring_is_hole, bool)[kept], z=z,
+                   degenerate_rings=[self.ring_name[r] for r in np.flatnonzero(degenerate)])
 
-
-def _shoelace2(xy):
-    x, y = xy[:, 0], xy[:, 1]
-    return float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
-
-
-def _all_collinear(xy) -> bool:
-    from .predicates import orient2d
-    a = xy[0]
-    others = xy[(xy != a).any(axis=1)]
-    if len(others) == 0:
-        return True
-    b = others[0]
-    return all(orient2d(a[0], a[1], b[0], b[1], c[0], c[1]) == 0 for c in xy)
+    def _in_input_order(self, ring_segs, ring_of, kept, begin, end):
+        """Rings' and lines' segments interleaved as the input gave them."""
+        offsets = np.concatenate([[0], np.cumsum((end - begin)[kept])])
+        kept_no = np.cumsum(kept) - 1
+        seg_parts, ring_parts = [], []
+        for p in self.pieces:
+            if not isinstance(p, int):
+                seg_parts.append(p)
+                ring_parts.append(np.full(len(p), -1, np.int64))
+            elif kept[p]:
+                j = kept_no[p]
+                seg_parts.append(ring_segs[offsets[j]:offsets[j + 1]])
+                ring_parts.append(ring_of[offsets[j]:offsets[j + 1]])
+        return (np.concatenate(seg_parts).astype(np.int64),
+                np.concatenate(ring_parts).astype(np.int64))
 
 
 def as_plc(vertices, segments=None, holes=None, regions=None) -> PLC:
     """Validate user arrays (or a geometry, or a PLC) into a :class:`PLC`,
-    raising precise errors that name the offending rows."""
-    checked = False
+    raising precise errors that name the offending rows. A PLC passed in is
+    not changed: the result is a checked copy."""
     if isinstance(vertices, PLC):
-        plc = vertices
-    elif hasattr(vertices, "__geo_interface__") or (isinstance(vertices, dict) and "type" in vertices):
-        plc = PLC.from_geo_interface(vertices)
-    else:
-        plc = PLC(as_points(vertices, "vertices"))
-        checked = True
-    if segments is not None:
-        if isinstance(vertices, PLC) or plc.has_rings:
+        if segments is not None:
             raise CDTError("pass segments either inside the PLC/geometry or as an array, not both")
-        plc.segments = _as_segments(segments, len(plc.vertices))
-        plc.segment_ring = np.full(len(plc.segments), -1, np.int64)
+        pts = as_points(vertices.vertices, "vertices")
+        plc = dataclasses.replace(vertices, vertices=pts,
+                                  segments=_as_segments(vertices.segments, len(pts)))
     else:
-        plc.segments = _as_segments(plc.segments, len(plc.vertices))
+        gi = _geo_mapping(vertices)
+        if gi is not None:
+            if segments is not None:
+                raise CDTError("pass segments either inside the PLC/geometry or as an array, not both")
+            builder = _Builder()
+            builder.add(gi)
+            plc = builder.finish()        # its vertices are checked and its segments valid
+            if len(plc.vertices) == 0:
+                raise TooFewPointsError("the input has no vertices")
+        else:
+            pts = as_points(vertices, "vertices")
+            segs = _NO_SEGMENTS if segments is None else _as_segments(segments, len(pts))
+            plc = PLC(pts, segs, segment_ring=np.full(len(segs), -1, np.int64))
     if holes is not None:
         plc.holes = _as_xy(holes, "holes")
     if regions is not None:
         plc.regions = _as_regions(regions)
-    if len(plc.vertices) == 0:
-        from .errors import TooFewPointsError
-        raise TooFewPointsError("the input has no vertices")
-    if not checked:
-        plc.vertices = as_points(plc.vertices, "vertices")
     return plc
+
+
+def _geo_mapping(obj):
+    """The GeoJSON-like mapping of a geometry (its ``__geo_interface__``, read
+    once: shapely builds it anew on every access), or None for other input."""
+    if isinstance(obj, dict):
+        return obj if "type" in obj else None
+    if isinstance(obj, np.ndarray):
+        return None
+    gi = getattr(obj, "__geo_interface__", None)
+    if gi is None:
+        return None
+    if not isinstance(gi, dict) or "type" not in gi:
+        raise InputShapeError(f"expected a geometry with __geo_interface__ or a GeoJSON-like "
+                              f"mapping, got {type(obj).__name__}")
+    return gi
+
+
+_NO_SEGMENTS = np.empty((0, 2), np.int64)
 
 
 def _as_segments(segments, n) -> np.ndarray:

@@ -34,10 +34,10 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from .certify import edge_lifted_values
+from ._core.certify import edge_lifted_values
 from .errors import CDTError, InputShapeError
 from .io import _as_index
-from .predicates import orient2d
+from ._core.predicates import orient2d
 
 __all__ = ["Report", "report", "compare", "mesh_report", "triangle_quality", "mesh_neighbors",
            "earcut", "ANGLE_BINS"]

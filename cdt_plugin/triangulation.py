@@ -6,152 +6,13 @@ import time
 import numpy as np
 from numba import njit
 
-from .certify import edge_lifted_values, submerged_ok
+from ._core.certify import edge_lifted_values, submerged_ok
+from ._core.flips import flip_to_delaunay
+from ._core.mesh import DEAD
+from ._core.output import first_defect, rotate_min_first, solid_triangles
+from ._core.predicates import incircle_weighted, orient2d
 from .errors import CDTError, InvertedTriangleError
-from .flips import flip_to_delaunay
-from .kernel import edge_is_illegal, orient
-from .mesh import DEAD, is_ghost, nxt, prv
-from .predicates import incircle_weighted, orient2d
 from .validate import as_points
-
-
-@njit(cache=True)
-def solid_triangles(tri, twin, ntri, inf):
-    """The real (non-ghost, live) triangles and their neighbours, from the
-    half-edge store: neighbour ``j`` is opposite vertex ``j`` (-1: hull)."""
-    tid = np.full(ntri, -1, np.int64)
-    k = 0
-    for t in range(ntri):
-        if tri[3 * t] == DEAD or is_ghost(tri, t, inf):
-            continue
-        tid[t] = k
-        k += 1
-    triangles = np.empty((k, 3), np.int64)
-    neighbors = np.empty((k, 3), np.int64)
-    for t in range(ntri):
-        i = tid[t]
-        if i < 0:
-            continue
-        for j in range(3):
-            triangles[i, j] = tri[3 * t + j]
-            neighbors[i, j] = tid[twin[3 * t + (j + 1) % 3] // 3]
-    return triangles, neighbors, tid
-
-
-@njit(cache=True)
-def rotate_min_first(triangles, neighbors):
-    """List every triangle from its smallest vertex id (neighbours alike), in place."""
-    for i in range(triangles.shape[0]):
-        r = min_first(triangles[i, 0], triangles[i, 1], triangles[i, 2])
-        if r == 0:
-            continue
-        a0, a1, a2 = triangles[i, 0], triangles[i, 1], triangles[i, 2]
-        n0, n1, n2 = neighbors[i, 0], neighbors[i, 1], neighbors[i, 2]
-        if r == 1:
-            triangles[i, 0], triangles[i, 1], triangles[i, 2] = a1, a2, a0
-            neighbors[i, 0], neighbors[i, 1], neighbors[i, 2] = n1, n2, n0
-        else:
-            triangles[i, 0], triangles[i, 1], triangles[i, 2] = a2, a0, a1
-            neighbors[i, 0], neighbors[i, 1], neighbors[i, 2] = n2, n0, n1
-
-
-@njit(cache=True, inline="always")
-def min_first(a, b, c):
-    """The rotation that lists a triangle from its smallest vertex id: output
-    triangles then do not depend on the insertion order."""
-    if a < b and a < c:
-        return 0
-    return 1 if b < c else 2
-
-
-@njit(cache=True)
-def _cdt_arrays(T, N, cflag, inside, remap):
-    """One pass over the real triangles of a constrained triangulation: the
-    kept ones (``inside``) in output ids with their neighbours (-1 across the
-    domain boundary) and constrained flags, and every segment piece once with
-    its input segment."""
-    newid = np.full(T.shape[0], -1, np.int64)
-    k = 0
-    for t in range(T.shape[0]):
-        if inside[t]:
-            newid[t] = k
-            k += 1
-    triangles = np.empty((k, 3), np.int64)
-    neighbors = np.empty((k, 3), np.int64)
-    constrained = np.zeros((k, 3), np.bool_)
-    keep = np.empty(k, np.int64)
-    npieces = 0
-    for t in range(T.shape[0]):
-        for j in range(3):
-            m = N[t, j]
-            if cflag[t, j] != 0 and (m < 0 or t < m):
-                npieces += 1
-    segments = np.empty((npieces, 2), np.int64)
-    segment_ids = np.empty(npieces, np.int64)
-    p = 0
-    for t in range(T.shape[0]):
-        i = newid[t]
-        r = min_first(remap[T[t, 0]], remap[T[t, 1]], remap[T[t, 2]])
-        for j in range(3):
-            m = N[t, j]
-            if cflag[t, j] != 0 and (m < 0 or t < m):
-                segments[p, 0] = remap[T[t, (j + 1) % 3]]
-                segments[p, 1] = remap[T[t, (j + 2) % 3]]
-                segment_ids[p] = cflag[t, j] - 1
-                p += 1
-            if i >= 0:
-                s = (j + r) % 3
-                m = N[t, s]
-                triangles[i, j] = remap[T[t, s]]
-                neighbors[i, j] = newid[m] if m >= 0 else -1
-                constrained[i, j] = cflag[t, s] != 0
-        if i >= 0:
-            keep[i] = t
-    return triangles, neighbors, constrained, segments, segment_ids, keep
-
-
-@njit(cache=True)
-def _cdt_vertices(P, kept, vertex_map, order, mx, my, m, nv):
-    """Output vertices (the kept input points, then the Steiner points ``m..nv-1``
-    of the mesh) and the output id of every mesh vertex."""
-    nk = kept.shape[0]
-    vertices = np.empty((nk + nv - m, 2))
-    for i in range(nk):
-        vertices[i, 0] = P[kept[i], 0]
-        vertices[i, 1] = P[kept[i], 1]
-    remap = np.empty(nv, np.int64)
-    for i in range(m):
-        remap[i] = vertex_map[order[i]]
-    for i in range(m, nv):
-        vertices[nk + i - m, 0] = mx[i]
-        vertices[nk + i - m, 1] = my[i]
-        remap[i] = nk + i - m
-    return vertices, remap
-
-
-@njit(cache=True)
-def first_defect(tri, twin, ntri, x, y, inf, check_hull):
-    """First live triangle that stops the mesh from being a triangulation of a
-    convex region after its vertices moved: a real triangle that is not strictly
-    counter-clockwise, or (``check_hull``) a ghost edge where the hull is not
-    convex. Returns -1 when there is none. No defect means the mesh is embedded:
-    positive triangles with a convex boundary cover its inside exactly once."""
-    for t in range(ntri):
-        if tri[3 * t] == DEAD:
-            continue
-        e = 3 * t
-        if not is_ghost(tri, t, inf):
-            if orient(x, y, tri[e], tri[e + 1], tri[e + 2]) <= 0:
-                return t
-            continue
-        for k in range(3 if check_hull else 0):
-            a = tri[e + k]
-            b = tri[nxt(e + k)]
-            if a == inf or b == inf:
-                f = twin[e + k]
-                if edge_is_illegal(x, y, x, False, inf, a, b, tri[prv(e + k)], tri[prv(f)]):
-                    return t
-    return -1
 
 
 def _frozen_empty(shape):
@@ -194,23 +55,29 @@ class Triangulation:
     region_attributes : (r, 4) float64 or None
         The region seeds ``x, y, attribute, max_area`` (index with ``regions``).
     steiner : (p,) int64
-        Output indices of vertices that are not input points (intersection points).
+        Output indices of vertices that are not input points (intersection and
+        refinement points).
+    below_min_angle : (q,) int64
+        After refinement with ``min_angle``: the triangles that still miss the
+        bound (at small input angles); empty otherwise.
     """
 
-    def __init__(self, vertices, triangles, neighbors, vertex_map, stats,
-                 weights=None, edges=None, mesh=None, constrained=None, regions=None):
-        self.constrained = np.zeros(triangles.shape, bool) if constrained is None else constrained
-        self.segments = _NO_SEGMENTS
-        self.segment_ids = _NO_IDS
-        self.regions = np.full(len(triangles), -1, np.int64) if regions is None else regions
-        self.region_attributes = None
-        self.steiner = _NO_IDS
+    def __init__(self, vertices, triangles, neighbors, vertex_map, stats, weights=None,
+                 edges=None, mesh=None, constrained=None, regions=None, *, segments=None,
+                 segment_ids=None, steiner=None, below_min_angle=None, region_attributes=None):
         self.vertices = vertices
         self.triangles = triangles
         self.neighbors = neighbors
         self.vertex_map = vertex_map
         self.stats = stats
         self.weights = weights
+        self.constrained = np.zeros(triangles.shape, bool) if constrained is None else constrained
+        self.regions = np.full(len(triangles), -1, np.int64) if regions is None else regions
+        self.segments = _NO_SEGMENTS if segments is None else segments
+        self.segment_ids = _NO_IDS if segment_ids is None else segment_ids
+        self.steiner = _NO_IDS if steiner is None else steiner
+        self.below_min_angle = _NO_IDS if below_min_angle is None else below_min_angle
+        self.region_attributes = region_attributes
         self._edges = edges
         self._mesh = mesh  # (tri, twin, cons, ntri, inf) half-edge store in output ids
 
@@ -257,33 +124,17 @@ class Triangulation:
                    edges=edges.reshape(-1, 2))
 
     @classmethod
-    def from_cdt(cls, plc, mesh, order, dup_of, submerged, T, N, cflag, inside, region,
-                 attributes, stats, t0, ndup=None):
-        """Output arrays of a constrained triangulation: the triangles marked
-        ``inside``, input vertices (distinct, in input order) then Steiner ones.
-        ``ndup`` (the number of merged duplicates, when known) lets the common
-        case skip the vertex-map pass."""
-        n = len(plc.vertices)
-        if ndup == 0:
-            vertex_map = kept = np.arange(n)
-        else:
-            vertex_map, kept = _vertex_map(n, dup_of, submerged)
-            ndup = int((dup_of >= 0).sum())
-        m = len(order)
-        vertices, remap = _cdt_vertices(plc.vertices, kept, vertex_map, order, mesh.x, mesh.y,
-                                        m, mesh.nv)
-        triangles, neighbors, constrained, segments, segment_ids, keep = _cdt_arrays(
-            T, N, cflag, inside, remap)
-        out = cls(vertices, triangles, neighbors, vertex_map, stats, constrained=constrained,
-                  regions=region[keep])
-        out.segments = segments
-        out.segment_ids = segment_ids
-        out.region_attributes = attributes
-        nst = mesh.nv - m
-        out.steiner = np.arange(len(kept), len(kept) + nst)
-        stats.update(duplicates=ndup, submerged=0, vertices=len(vertices), triangles=len(keep),
-                     steiner=int(nst), seconds=time.perf_counter() - t0)
-        return out
+    def from_route(cls, out, plc, stats, t0):
+        """Wrap the output arrays of the compiled CDT route (input vertices,
+        distinct and in input order, then the Steiner vertices)."""
+        (vertices, triangles, neighbors, constrained, segments, segment_ids, regions, vertex_map,
+         kept, below) = out
+        tri = cls(vertices, triangles, neighbors, vertex_map, stats, constrained=constrained,
+                  regions=regions, segments=segments, segment_ids=segment_ids,
+                  steiner=np.arange(len(kept), len(vertices)), below_min_angle=below,
+                  region_attributes=plc.regions)
+        stats["seconds"] = time.perf_counter() - t0
+        return tri
 
     # ------------------------------------------------------------------ views
     @property

@@ -375,7 +375,7 @@ def test_corpus_point_sets(plc):
 def test_lexicographic_order_equals_lexsort(n):
     """Both paths of the lexicographic order (compiled below 2048 points, numpy's
     sort above) give np.lexsort's order: by x, then y, then input index."""
-    from cdt_plugin.ordering import lexicographic_order
+    from cdt_plugin._core.ordering import lexicographic_order
     r = np.random.default_rng(n)
     for x, y in ((r.integers(0, 6, n).astype(float), r.integers(0, 6, n).astype(float)),
                  (r.uniform(-1, 1, n), r.uniform(-1, 1, n)),

@@ -31,7 +31,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from numba import njit
 
-from cdt_plugin.predicates import (
+from cdt_plugin._core.predicates import (
     EPSILON,
     _incircle_dd,
     _incircle_exact_of_doubles,

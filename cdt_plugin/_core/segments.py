@@ -25,12 +25,10 @@ from .insertion import insert_vertex
 from .locate import ON_VERTEX, locate
 from .flips import flip_from_stack
 from .mesh import DEAD, flip, nxt, prv
+from .status import (ALL_DONE, BUFFERS_TOO_SMALL, CROSSING, DONE, LOCATE_FAILED, LOST,  # noqa: F401
+                     NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OVERLAP, SPLIT_AT, STOP_CROSSING, STOP_LIMIT,
+                     STOP_OVERLAP, TASK_LOST)
 
-# outcome of one task
-DONE = 0          # the segment (or its first piece) is an edge now
-SPLIT_AT = 1      # a vertex lies on the segment: pieces queued
-CROSSING = 2      # the segment crosses a constrained edge (``info`` = half-edge)
-OVERLAP = 3       # the edge is already a piece of another segment
 
 
 @njit(cache=True)
@@ -255,12 +253,12 @@ def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge)
     Returns ``(kind, info, hint)``: DONE (``info`` = end vertex: ``b`` or a
     vertex on the segment), OVERLAP (``info`` = the half-edge already on another
     segment) or CROSSING (``info`` = the constrained half-edge crossed);
-    ``kind < 0`` on an internal failure, -2 if the buffers are too small.
+    TASK_LOST on an internal failure, BUFFERS_TOO_SMALL if the walk buffers are too small.
     """
     qu, qw, qh, slots, stack = buf
     e0 = edge_from(tri, twin, x, y, inf, a, hint, ntri, vedge)
     if e0 < 0:
-        return -1, -1, hint
+        return TASK_LOST, -1, hint
     kind, e = first_crossing(tri, twin, x, y, inf, a, b, e0)
     if kind == DONE or kind == SPLIT_AT:
         if kind == SPLIT_AT and tri[e] != a:
@@ -272,17 +270,17 @@ def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge)
         cons[twin[e]] = sid
         return DONE, v, e // 3
     if kind < 0:
-        return -1, -1, hint
+        return TASK_LOST, -1, hint
     if qu.shape[0] < ntri + 3:  # room for the longest possible walk
-        return -2, -1, hint
+        return BUFFERS_TOO_SMALL, -1, hint
     end, k, ns, hit = crossed_edges(tri, twin, cons, x, y, a, b, e, qu, qw, qh, slots)
     if hit >= 0:
         return CROSSING, hit, hint
     if not flip_in_segment(tri, twin, cons, x, y, inf, ntri, a, end, qu, qw, qh, k, slots[0]):
-        return -1, -1, hint
+        return TASK_LOST, -1, hint
     s = find_edge_near(tri, twin, x, y, inf, a, end, slots[0], ntri)
     if s < 0:
-        return -1, -1, hint
+        return TASK_LOST, -1, hint
     cons[s] = sid
     cons[twin[s]] = sid
     # the crossed triangles' slots now hold the new triangles: re-check their edges
@@ -356,14 +354,6 @@ def push_task(tasks, ntask, a, b, sid):
     return ntask + 1
 
 
-# status of the whole task loop
-ALL_DONE = 0
-STOP_CROSSING = 1      # intersections="raise": info = (segment, other segment)
-STOP_OVERLAP = 2       # intersections="raise": info = (segment, other segment)
-NEED_VERTEX_ROOM = 3   # a Steiner point needs room: grow and call again
-NEED_EDGE_ROOM = 4     # the walk buffers are too small: grow and call again
-STOP_LIMIT = 5         # too many Steiner points: refuse rather than loop
-LOST = 6               # internal failure (a vertex could not be found)
 
 
 @njit(cache=True)
@@ -405,7 +395,7 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
         b = tasks[ntask, 1]
         sid = tasks[ntask, 2]
         kind, res, hint = insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge)
-        if kind == -2:
+        if kind == BUFFERS_TOO_SMALL:
             ntask += 1
             return NEED_EDGE_ROOM, ntri, nv, ntask
         if kind < 0:
@@ -460,7 +450,7 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
         y[nv] = py
         code, p, ntri, hint = insert_vertex(tri, twin, cons, x, y, w, False, inf, nv, hint,
                                             ntri, False, no_weights, flip_counts, stack)
-        if code == -1:
+        if code == LOCATE_FAILED:
             info[0] = sid
             return LOST, ntri, nv, ntask
         if p == nv:

@@ -6,9 +6,7 @@ from numba import njit
 from .kernel import orient
 from .mesh import DEAD, ghost_hull_edge, is_ghost, nxt, prv
 
-INSIDE = 0     # strictly inside the triangle of the returned half-edge
-ON_EDGE = 1    # strictly inside the edge of the returned half-edge
-ON_VERTEX = 2  # at the origin vertex of the returned half-edge
+from .status import INSIDE, ON_EDGE, ON_VERTEX  # noqa: F401  (the codes locate returns)
 
 
 @njit(cache=True, inline='always')

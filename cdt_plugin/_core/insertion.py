@@ -7,12 +7,9 @@ import numpy as np
 from numba import njit
 
 from .kernel import edge_is_illegal, lifted_test, orient
-from .locate import INSIDE, ON_VERTEX, locate
+from .locate import locate
 from .mesh import DEAD, flip, nxt, prv, remove_degree3, split_edge, split_triangle
-
-# status codes returned by the compiled core
-OK = 0
-LOCATE_FAILED = 1
+from .status import INSIDE, LOCATE_FAILED, LOCATION_FAILED, OK, ON_VERTEX, SUBMERGED
 
 
 @njit(cache=True)
@@ -96,19 +93,19 @@ def insert_vertex(tri, twin, cons, x, y, w, weighted, inf, q, last, ntri, hull_o
     """Insert vertex ``q``: locate it from triangle ``last``, split, flip.
 
     Returns ``(code, v, ntri, last)``: code ``ON_VERTEX`` with ``v`` the vertex
-    ``q`` coincides with (not inserted), ``-2`` if ``q`` is submerged (weighted),
-    ``-1`` if location failed, else the located code (``INSIDE``/``ON_EDGE``)
+    ``q`` coincides with (not inserted), ``SUBMERGED`` if ``q`` is submerged (weighted),
+    ``LOCATE_FAILED`` if location failed, else the located code (``INSIDE``/``ON_EDGE``)
     with ``v == q``. ``last`` is a live triangle near ``q`` for the next walk.
     """
     code, e = locate(tri, twin, x, y, inf, q, last, ntri)
     if code < 0:
-        return -1, -1, ntri, last
+        return LOCATE_FAILED, -1, ntri, last
     if code == ON_VERTEX:
         return ON_VERTEX, tri[e], ntri, e // 3
     if weighted and submerged_at(tri, twin, x, y, w, inf, code, e, q):
         submerged[q] = 1
         counts[1] += 1
-        return -2, -1, ntri, e // 3
+        return SUBMERGED, -1, ntri, e // 3
     t = e // 3
     if code == INSIDE:
         ntri = split_triangle(tri, twin, cons, t, q, ntri)
@@ -152,8 +149,8 @@ def insert_vertices_loop(tri, twin, cons, x, y, w, weighted, inf, order, first, 
         q = order[k]
         code, v, ntri, last = insert_vertex(tri, twin, cons, x, y, w, weighted, inf, q, last,
                                             ntri, hull_only, submerged, counts, stack)
-        if code == -1:
-            return LOCATE_FAILED, ntri
+        if code == LOCATE_FAILED:
+            return LOCATION_FAILED, ntri
         if code == ON_VERTEX:
             dup_of[q] = v
     return OK, ntri

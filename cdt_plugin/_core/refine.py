@@ -44,18 +44,13 @@ from numba import njit
 from .flips import flip_to_delaunay, push_outer_edges
 from .insertion import legalize
 from .kernel import edge_is_illegal, orient
-from .locate import INSIDE, ON_EDGE, ON_VERTEX, solid_step
+from .locate import solid_step
 from .predicates import incircle, orient2d
-from .mesh import flip, nxt, prv, split_edge, split_triangle
+from .mesh import flip, grow_store, nxt, prv, split_edge, split_triangle
+from .status import (FINISHED, HEAP_FULL, INSIDE, LIMIT, NEED_ROOM, ON_EDGE, ON_VERTEX,  # noqa: F401
+                     PIECES_FULL, WALK_BLOCKED, WALK_FAILED)
 
 OUT = -2            # label of a triangle outside the domain (ghosts too)
-
-# status of refine_loop
-FINISHED = 0
-NEED_ROOM = 1       # grow the arrays and call again
-LIMIT = 2           # the Steiner budget is spent
-HEAP_FULL = 3       # grow the bad-triangle heap and call again
-PIECES_FULL = 4     # grow the piece stack and call again
 
 # counters (``counts`` array)
 C_STEINER = 0       # vertices inserted
@@ -362,8 +357,6 @@ def at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
 
 
 # ------------------------------------------------------------- operations
-WALK_BLOCKED = -3
-WALK_FAILED = -1
 
 
 @njit(cache=True, inline="always")
@@ -794,49 +787,46 @@ def freeze_boundary(tri, twin, cons, lab, ntri):
             cons[twin[e]] = -cons[twin[e]]
 
 
-def refine_mesh(mesh, lab, seg_ends, *, min_angle, max_area, area_of_label, conforming,
-                split_boundary, max_new, room=0):
-    """Run the refinement on a :class:`cdt._Mesh` whose triangle labels are
-    ``lab``, with room for at least ``room`` vertices from the start (more
-    is made by doubling). Returns ``(status, counts, lab, seg_ends)``;
-    ``seg_ends`` gains the hull edges made segments. Frozen pieces are
-    unfrozen on return."""
-    nv0 = mesh.nv
-    seg_ends = with_hull_pieces(mesh.tri, mesh.twin, mesh.cons, lab, mesh.ntri, mesh.inf,
-                                seg_ends.reshape(-1, 2).astype(np.int64, copy=False))
+@njit(cache=True)
+def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_angle, area_of_label,
+                 conforming, split_boundary, max_new, room):
+    """Refine the store whose triangle labels are ``lab``, with room for at
+    least ``room`` vertices from the start (more is made by doubling).
+    ``seg_ends`` (mesh ids of each segment's ends) gains the hull edges made
+    segments. Frozen pieces are unfrozen on return. Returns ``(status,
+    counts, lab, seg_ends, (tri, twin, cons, x, y, w, inf, ntri, nv))``."""
+    nv0 = nv
+    seg_ends = with_hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends)
     if not split_boundary:
-        freeze_boundary(mesh.tri, mesh.twin, mesh.cons, lab, mesh.ntri)
-    if min_angle:
+        freeze_boundary(tri, twin, cons, lab, ntri)
+    sin2_bound, offconstant = 0.0, 0.0
+    if min_angle > 0:
         theta = math.radians(min_angle)
         sin2_bound = math.sin(theta) ** 2
         offconstant = 0.475 * math.sqrt((1.0 + math.cos(theta)) / (1.0 - math.cos(theta)))
-    else:
-        sin2_bound, offconstant = 0.0, 0.0
     # diametral lenses for quality meshing, circles for conforming Delaunay
     lens = 0.0 if conforming else math.cos(2 * math.radians(min_angle)) ** 2
     room = max(room, STEINER_ROOM * nv0 + 64)   # at least the usual few Steiner points per vertex
-    if mesh.inf < room:
-        mesh.grow_vertices(room)
-    if len(lab) < len(mesh.tri) // 3:
-        lab = _grown(lab, len(mesh.tri) // 3, OUT)
-    vseg = np.zeros(mesh.inf + 1, np.int64)
+    if inf < room:
+        tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, room)
+    lab = _grown(lab, tri.shape[0] // 3, OUT)
+    vseg = np.zeros(inf + 1, np.int64)
     counts = np.zeros(8, np.int64)
-    heap, pieces = max(1024, mesh.ntri), 256
+    heap, pieces = max(1024, ntri), 256
     while True:
-        status, mesh.ntri, mesh.nv, heap, pieces = refine_run(
-            mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.inf, mesh.ntri, mesh.nv, nv0, lab,
-            vseg, seg_ends, sin2_bound, offconstant, lens, area_of_label, conforming, max_new, counts,
-            heap, pieces)
+        status, ntri, nv, heap, pieces = refine_run(
+            tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
+            offconstant, lens, area_of_label, conforming, max_new, counts, heap, pieces)
         if status != NEED_ROOM:
             break
-        mesh.grow_vertices()
-        lab = _grown(lab, len(mesh.tri) // 3, OUT)
-        vseg = _grown(vseg, mesh.inf + 1, 0)
-    np.abs(mesh.cons, out=mesh.cons)
+        tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, 0)
+        lab = _grown(lab, tri.shape[0] // 3, OUT)
+        vseg = _grown(vseg, inf + 1, 0)
+    for e in range(cons.shape[0]):
+        cons[e] = abs(cons[e])
     if counts[C_UNREPAIRED]:   # (never seen: a repair needs a stack as deep as the mesh)
-        counts[C_FLIPS] += flip_to_delaunay(mesh.tri, mesh.twin, mesh.cons, mesh.x, mesh.y, mesh.x,
-                                            False, mesh.inf, mesh.ntri)
-    return status, counts, lab, seg_ends
+        counts[C_FLIPS] += flip_to_delaunay(tri, twin, cons, x, y, x, False, inf, ntri)
+    return status, counts, lab, seg_ends, (tri, twin, cons, x, y, w, inf, ntri, nv)
 
 
 @njit(cache=True)
@@ -878,9 +868,13 @@ def refine_run(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, s
             return status, ntri, nv, heap, pieces
 
 
+@njit(cache=True)
 def _grown(a, n, fill):
+    """``a`` lengthened to ``n`` with ``fill`` (``a`` itself when long enough)."""
+    if a.shape[0] >= n:
+        return a
     b = np.full(n, fill, a.dtype)
-    b[: len(a)] = a
+    b[: a.shape[0]] = a
     return b
 
 

@@ -230,3 +230,26 @@ def remove_degree3(tri, twin, o1, o2, o3):
     link(twin, 3 * t1 + 1, w2)
     link(twin, 3 * t1 + 2, w3)
     return 3 * t1
+
+
+@njit(cache=True)
+def grow_store(tri, twin, cons, x, y, w, inf, nv, at_least):
+    """The store with room for about twice the vertices (or ``at_least``, if
+    more): coordinates copied up to ``nv``, the infinite vertex moved to the new
+    last id, the triangle arrays lengthened (dead room stays -1, ``cons`` 0).
+    Returns ``(tri, twin, cons, x, y, w, inf)``."""
+    new_inf = max(2 * inf + 16, at_least)
+    nx, ny, nw = np.zeros(new_inf + 1), np.zeros(new_inf + 1), np.zeros(new_inf + 1)
+    nx[:nv] = x[:nv]
+    ny[:nv] = y[:nv]
+    nw[:nv] = w[:nv]
+    cap = 3 * (2 * new_inf + 2)
+    ntri_arr = np.full(cap, -1, IDX)
+    ntwin = np.full(cap, -1, IDX)
+    ncons = np.zeros(cap, IDX)
+    for e in range(tri.shape[0]):
+        v = tri[e]
+        ntri_arr[e] = new_inf if v == inf else v
+        ntwin[e] = twin[e]
+    ncons[:cons.shape[0]] = cons
+    return ntri_arr, ntwin, ncons, nx, ny, nw, new_inf

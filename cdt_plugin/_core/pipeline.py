@@ -1,0 +1,504 @@
+"""The constrained Delaunay route, once, compiled (Sec. 2.10).
+
+:func:`cdt_route` takes one PLC as flat arrays and runs every step:
+lexicographic order, the Delaunay triangulation of the vertices, duplicate
+vertices merged, segments inserted by cavity retriangulation (and crossings
+split, with ``split``), the domain classified by segment depth or seeds,
+optional Delaunay refinement, and the output arrays. A single call to
+:func:`cdt_plugin.triangulate` makes one call of it; the batch path
+(:func:`mesh_geometries`) loops it over many geometries without going back to
+Python. Errors come back as a status code (:mod:`.status`) with ``info``; the
+Python side raises the precise :class:`cdt_plugin.CDTError`.
+
+``refinement`` is ``None`` or a tuple ``(min_angle, max_area, conforming,
+split_boundary, max_steiner)``; numba compiles the route once for each, so the
+refinement code is compiled only when first asked for.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .construct import DIVIDE, FLIP, build_mesh, gather_coords, horizontal_order, seed_first, seed_triangle, to_input_ids
+from .flips import flip_to_delaunay
+from .mesh import grow_store
+from .ordering import _lexicographic_order
+from .output import cdt_arrays, cdt_vertices, solid_triangles
+from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, OUT,
+                     STEINER_ROOM, count_below, refine_store)
+from .regions import flood_seeds, segment_depths
+from .rings import ring_segments
+from .segments import by_smaller_end, insert_segments, make_buffers
+from .status import (FINISHED, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OK, ROUTE_COLLINEAR,
+                     ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP,
+                     ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP,
+                     ALL_DONE)
+
+# what one route counts (``counts``; the Python side names them in ``stats``)
+K_FLIPS = 0
+K_ZERO_SEGMENTS = 1
+K_DUPLICATE_SEGMENTS = 2
+K_ON_SEGMENTS = 3
+K_MERGED_OVERLAPS = 4
+K_INTERSECTIONS = 5
+K_DUPLICATES = 6
+K_REF_STEINER = 7
+K_REF_SPLITS = 8
+K_REF_FLIPS = 9
+K_FROZEN = 10
+K_ATTEMPTS = 11
+K_DEFERRED = 12
+K_REF_COMPLETE = 13
+K_REF_LIMIT = 14
+NCOUNTS = 15
+
+
+@njit(cache=True)
+def dedup_tasks(segs, nv):
+    """Segments (mesh ids) as tasks: zero-length ones dropped, repeated ones
+    (either direction) merged into the first. Returns ``(tasks, ntask, mult,
+    zero-length count)``: task rows ``a, b, segment id`` (1-based) stacked so
+    that the first segment is on top, and ``mult[sid]`` how many input
+    segments lie on segment ``sid``."""
+    m = segs.shape[0]
+    start, group = by_smaller_end(segs, m, nv)
+    first = np.full(m, -1, np.int64)     # the kept segment each one repeats
+    mult = np.zeros(m + 1, np.int64)
+    for a in range(nv):
+        for k in range(start[a], start[a + 1]):
+            i = group[k]
+            first[i] = i
+            b = max(segs[i, 0], segs[i, 1])
+            for kk in range(start[a], k):          # an earlier segment with the same ends
+                j = group[kk]
+                if first[j] == j and max(segs[j, 0], segs[j, 1]) == b:
+                    first[i] = j
+                    break
+            mult[first[i] + 1] += 1
+    nzero = m - start[nv]
+    ntask = 0
+    tasks = np.empty((m - nzero + 16, 3), np.int64)
+    for i in range(m - 1, -1, -1):       # a stack: the first segment on top
+        if first[i] == i:
+            tasks[ntask, 0] = segs[i, 0]
+            tasks[ntask, 1] = segs[i, 1]
+            tasks[ntask, 2] = i + 1
+            ntask += 1
+    return tasks, ntask, mult, nzero
+
+
+@njit(cache=True)
+def insert_all_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_ends, split,
+                        limit, seg_counts, info):
+    """Run the segment tasks to the end, growing the store and the walk buffers
+    as asked. Returns ``(status, (tri, twin, cons, x, y, w, inf, ntri, nv))``
+    with the status of :func:`segments.insert_segments` (ALL_DONE or a stop)."""
+    buf = make_buffers(0)      # made on the first segment that is not an edge yet
+    while True:
+        stack = np.empty(inf + 16, np.int64)
+        status, ntri, nv, ntask = insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks,
+                                                  ntask, seg_ends, split, limit, seg_counts, info,
+                                                  stack, buf)
+        if status == NEED_VERTEX_ROOM:
+            tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, 0)
+            grown = np.empty((2 * tasks.shape[0] + 16, 3), np.int64)
+            grown[:ntask] = tasks[:ntask]
+            tasks = grown
+        elif status == NEED_EDGE_ROOM:
+            buf = make_buffers(2 * ntri)
+        else:
+            return status, (tri, twin, cons, x, y, w, inf, ntri, nv)
+
+
+@njit(cache=True)
+def solid_with_flags(tri, twin, cons, ntri, inf):
+    """The solid triangles ``T`` with their neighbours ``N``, the index in ``T``
+    of each mesh slot (``tid``, -1: ghost or dead) and the segment id (1-based,
+    0 none) of the edge opposite each vertex (``cflag``)."""
+    T, N, tid = solid_triangles(tri, twin, ntri, inf)
+    cflag = np.zeros((T.shape[0], 3), np.int64)
+    for t in range(ntri):
+        i = tid[t]
+        if i >= 0:
+            for j in range(3):
+                cflag[i, j] = cons[3 * t + (j + 1) % 3]
+    return T, N, tid, cflag
+
+
+@njit(cache=True)
+def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_ring, ring_polygon,
+             ring_is_hole, holes, regions, use_seeds, keep_hull, check_holes, info):
+    """Which solid triangles are inside the domain, and their region: depth
+    parity by default, Triangle's rule (everything enclosed, less the hole
+    seeds' regions) with ``use_seeds``; the polygon of the ring a triangle is
+    entered through (rings), or the region seed that paints it. Returns
+    ``(inside, region, ok)``; ``ok`` is False (``info[0]`` = the ring) when a
+    hole ring is entered from outside its shell (``check_holes``)."""
+    k = T.shape[0]
+    depth_mesh, entry_mesh = segment_depths(tri, twin, cons, ntri, inf, mult)
+    has_segments = False
+    for e in range(3 * ntri):
+        if cons[e] != 0:
+            has_segments = True
+            break
+    inside = np.ones(k, np.bool_)
+    region = np.full(k, -1, np.int64)
+    for t in range(ntri):
+        i = tid[t]
+        if i < 0:
+            continue
+        depth = depth_mesh[t]
+        if has_segments and not keep_hull:
+            inside[i] = depth > 0 if use_seeds else depth % 2 == 1
+        if ring_polygon.shape[0] > 0 and entry_mesh[t] > 0:
+            ring = seg_ring[entry_mesh[t] - 1]
+            if ring >= 0:
+                region[i] = ring_polygon[ring]
+    if check_holes and ring_polygon.shape[0] > 0 and not keep_hull:
+        for t in range(ntri):       # slot order is the order of T: the error names the first
+            i = tid[t]
+            if i < 0 or not inside[i] or entry_mesh[t] <= 0:
+                continue
+            ring = seg_ring[entry_mesh[t] - 1]
+            if ring >= 0 and ring_is_hole[ring]:
+                info[0] = ring
+                return inside, region, False
+    if holes.shape[0] > 0:
+        label = np.zeros(k, np.int64)
+        flood_seeds(x, y, T, N, cflag, holes[:, 0].copy(), holes[:, 1].copy(), inside, label,
+                    np.ones(holes.shape[0], np.int64))
+        for i in range(k):
+            if label[i] != 0:
+                inside[i] = False
+    if regions.shape[0] > 0:
+        label = np.full(k, -1, np.int64)
+        flood_seeds(x, y, T, N, cflag, regions[:, 0].copy(), regions[:, 1].copy(),
+                    np.ones(k, np.bool_), label, np.arange(regions.shape[0]))
+        region = label
+    return inside, region, True
+
+
+@njit(cache=True)
+def slot_labels(tid, inside, region, cap):
+    """Refinement's label of every mesh slot: the region of an inside solid
+    triangle, else OUT."""
+    lab = np.full(cap, OUT, np.int64)
+    for t in range(tid.shape[0]):
+        i = tid[t]
+        if i >= 0 and inside[i]:
+            lab[t] = region[i]
+    return lab
+
+
+@njit(cache=True)
+def triangle_labels(tid, lab, k):
+    """Back from slot labels: ``inside`` and ``region`` (-1 outside) of the
+    ``k`` solid triangles."""
+    inside = np.zeros(k, np.bool_)
+    region = np.full(k, -1, np.int64)
+    for t in range(tid.shape[0]):
+        i = tid[t]
+        if i >= 0 and lab[t] != OUT:
+            inside[i] = True
+            region[i] = lab[t]
+    return inside, region
+
+
+@njit(cache=True)
+def area_bounds(max_area, regions, lab):
+    """Area bound per triangle label (``label + 1`` indexes it; 0: none): the
+    global ``max_area`` (0: none) or a region seed's fourth column where
+    positive. A single 0 when there is no bound at all."""
+    any_region = False
+    for r in range(regions.shape[0]):
+        if regions[r, 3] > 0:
+            any_region = True
+    if max_area <= 0 and not any_region:
+        return np.zeros(1)
+    top = -1
+    for t in range(lab.shape[0]):
+        top = max(top, lab[t])
+    bounds = np.full(top + 2, max_area if max_area > 0 else 0.0)
+    for r in range(min(regions.shape[0], top + 1)):
+        a = regions[r, 3]
+        if np.isfinite(a) and a > 0:
+            bounds[r + 1] = a
+    return bounds
+
+
+@njit(cache=True)
+def twice_area(x, y, a, b, c):
+    return abs((x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a]))
+
+
+@njit(cache=True)
+def refinement_room(x, y, T, inside, region, area_of_label, cap):
+    """About how many Steiner points the area bounds alone will add (the mesh
+    is made that large at once instead of growing by doubling); at most ``cap``.
+    A refined mesh has about 1.6 triangles, so 0.8 vertices, per bound area."""
+    total = 0.0
+    for i in range(T.shape[0]):
+        if inside[i]:
+            label = region[i] + 1
+            bound = area_of_label[label] if label < area_of_label.shape[0] else 0.0
+            if bound > 0:
+                total += twice_area(x, y, T[i, 0], T[i, 1], T[i, 2]) / 2 / bound
+    return int(min(0.8 * total, cap))
+
+
+@njit(cache=True)
+def domain_area(x, y, T, inside):
+    total = 0.0
+    for i in range(T.shape[0]):
+        if inside[i]:
+            total += twice_area(x, y, T[i, 0], T[i, 1], T[i, 2])
+    return total / 2
+
+
+@njit(cache=True)
+def output_ids(n, dup_of):
+    """Output id of every input point (``vertex_map``: duplicates share the id
+    of the point they repeat) and the input point kept for each output id
+    (``kept``): the distinct points in order of first appearance."""
+    vertex_map = np.full(n, -1, np.int64)
+    first = np.full(n, -1, np.int64)      # output id of each root point
+    kept = np.empty(n, np.int64)
+    nk = 0
+    for i in range(n):
+        root = dup_of[i] if dup_of[i] >= 0 else i
+        if first[root] < 0:
+            first[root] = nk
+            kept[nk] = i
+            nk += 1
+        vertex_map[i] = first[root]
+    return vertex_map, kept[:nk]
+
+
+@njit(cache=True)
+def no_mesh():
+    """The output of a route that made no mesh (an error, or all points collinear)."""
+    e2 = np.empty((0, 2), np.int64)
+    e3 = np.empty((0, 3), np.int64)
+    e1 = np.empty(0, np.int64)
+    return (np.empty((0, 2)), e3, e3.copy(), np.empty((0, 3), np.bool_), e2, e1, e1.copy(),
+            e1.copy(), e1.copy(), e1.copy())
+
+
+@njit(cache=True)
+def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
+              algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, refinement):
+    """Constrained Delaunay triangulation of one PLC, every step in one call.
+
+    Parameters: the vertices ``px, py`` (n,); ``segs`` (m, 2) vertex pairs;
+    ``seg_ring`` (m,) the ring of each segment (-1 free; empty without rings),
+    ``ring_polygon`` / ``ring_is_hole`` per ring; ``holes`` (h, 2) and
+    ``regions`` (r, 4) seeds, ``use_seeds`` whether seeds were given at all
+    (Triangle's rule instead of depth parity); ``algorithm`` a construction
+    code; ``order_in`` / ``horizontal_in`` the insertion and (y, -x) orders
+    when the caller sorted already (empty: sorted here); ``split`` crossing
+    segments are split (else reported); ``keep_hull``; ``max_steiner`` the cap
+    on intersection points (-1: default); ``refinement`` None or its options.
+
+    Returns ``(status, info, counts, out)`` with ``out = (vertices, triangles,
+    neighbors, constrained, segments, segment_ids, regions, vertex_map, kept,
+    below_min_angle)`` in output ids (see :mod:`.output`).
+    """
+    n = px.shape[0]
+    info = np.zeros(4, np.int64)
+    counts = np.zeros(NCOUNTS, np.int64)
+    order = order_in if order_in.shape[0] > 0 else _lexicographic_order(px, py)
+    k1, k2 = seed_triangle(px, py, order)
+    if k2 < 0:
+        return ROUTE_COLLINEAR, info, counts, no_mesh()
+    if algorithm != DIVIDE:
+        order = seed_first(order, k1, k2)
+    ms = segs.shape[0]
+    extra = 16 + ms // 2 if split else 0
+    if refinement is not None:   # the room refinement starts with, made now rather than by a copy
+        extra = max(extra, STEINER_ROOM * n + 64 - n)
+    xi, yi, wi = gather_coords(px, py, np.zeros(n), order, extra)
+    inf = n + extra
+    mesh_of = np.empty(n, np.int64)
+    for i in range(n):
+        mesh_of[order[i]] = i
+    horizontal = np.empty(0, np.int64)
+    if algorithm == DIVIDE:
+        horizontal = horizontal_order(xi, yi, n, horizontal_in, mesh_of)
+    build_counts = np.zeros(2, np.int64)
+    status, tri, twin, cons, ntri, dup, sub = build_mesh(xi, yi, wi, False, n, inf, algorithm,
+                                                         horizontal, extra, True, build_counts)
+    if status != OK:  # (a located point always exists)
+        info[0] = 1
+        info[1] = status
+        return ROUTE_INTERNAL, info, counts, no_mesh()
+    dup_of = np.full(n, -1, np.int64)
+    to_input_ids(order, dup, sub, dup_of, np.zeros(n, np.int8))
+    for i in range(n):
+        if dup_of[i] >= 0:
+            counts[K_DUPLICATES] += 1
+            mesh_of[i] = mesh_of[dup_of[i]]
+
+    # segments
+    seg_ends = np.empty((ms, 2), np.int64)
+    for s in range(ms):
+        seg_ends[s, 0] = mesh_of[segs[s, 0]]
+        seg_ends[s, 1] = mesh_of[segs[s, 1]]
+    tasks, ntask, mult, nzero = dedup_tasks(seg_ends, n)
+    counts[K_ZERO_SEGMENTS] = nzero
+    counts[K_DUPLICATE_SEGMENTS] = ms - nzero - ntask
+    limit = max_steiner if max_steiner >= 0 else 10 * ms + 1000
+    seg_counts = np.zeros(3, np.int64)
+    status, store = insert_all_segments(tri, twin, cons, xi, yi, wi, inf, ntri, n, tasks, ntask,
+                                        seg_ends, split, limit, seg_counts, info)
+    tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
+    counts[K_ON_SEGMENTS] = seg_counts[0]
+    counts[K_MERGED_OVERLAPS] = seg_counts[1]
+    counts[K_INTERSECTIONS] = seg_counts[2]
+    if status != ALL_DONE:
+        if status == STOP_CROSSING:
+            return ROUTE_CROSSING, info, counts, no_mesh()
+        if status == STOP_OVERLAP:
+            return ROUTE_OVERLAP, info, counts, no_mesh()
+        if status == STOP_LIMIT:
+            info[2] = limit
+            return ROUTE_STEINER_LIMIT, info, counts, no_mesh()
+        info[1] = status
+        info[2] = 2
+        return ROUTE_INTERNAL, info, counts, no_mesh()
+    if algorithm == FLIP:
+        counts[K_FLIPS] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, inf, ntri)
+    else:
+        counts[K_FLIPS] = build_counts[0]
+
+    # the domain
+    T, N, tid, cflag = solid_with_flags(tri, twin, cons, ntri, inf)
+    inside, region, ok = classify(tri, twin, cons, ntri, inf, xi, yi, T, N, tid, cflag, mult,
+                                  seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
+                                  keep_hull, not split, info)
+    if not ok:
+        return ROUTE_HOLE_OUTSIDE, info, counts, no_mesh()
+
+    route_status = ROUTE_OK
+    sin2_bound = 0.0
+    if refinement is not None:
+        min_angle, max_area, conforming, split_boundary, max_new = refinement
+        lab = slot_labels(tid, inside, region, tri.shape[0] // 3)
+        area_of_label = area_bounds(max_area, regions, lab)
+        if max_new < 0:
+            max_new = 100 * nv + 100_000
+            if max_area > 0:
+                max_new += int(min(8 * domain_area(xi, yi, T, inside) / max_area, 1e9))
+        counts[K_REF_LIMIT] = max_new
+        budget = max(max_new - counts[K_INTERSECTIONS], 0)
+        room = STEINER_ROOM * nv + 64
+        if area_of_label.shape[0] > 1:
+            room += refinement_room(xi, yi, T, inside, region, area_of_label, 2_000_000)
+        rstatus, rc, lab, _, store = refine_store(tri, twin, cons, xi, yi, wi, inf, ntri, nv, lab,
+                                                  seg_ends, min_angle, area_of_label, conforming,
+                                                  split_boundary, budget, room)
+        tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
+        counts[K_REF_STEINER] = rc[C_STEINER]
+        counts[K_REF_SPLITS] = rc[C_SEG_SPLITS]
+        counts[K_REF_FLIPS] = rc[C_FLIPS]
+        counts[K_FROZEN] = rc[C_FROZEN]
+        counts[K_ATTEMPTS] = rc[C_ATTEMPTS]
+        counts[K_DEFERRED] = rc[C_DEFERRED]
+        counts[K_REF_COMPLETE] = rstatus == FINISHED
+        if rstatus != FINISHED:
+            route_status = ROUTE_REFINE_LIMIT
+        T, N, tid, cflag = solid_with_flags(tri, twin, cons, ntri, inf)
+        inside, region = triangle_labels(tid, lab, T.shape[0])
+        if min_angle > 0:
+            sin2_bound = math.sin(math.radians(min_angle)) ** 2
+
+    # output arrays
+    vertex_map, kept = output_ids(n, dup_of)
+    vertices, remap = cdt_vertices(px, py, kept, vertex_map, order, xi, yi, n, nv)
+    triangles, neighbors, constrained, pieces, piece_ids, keep = cdt_arrays(T, N, cflag, inside, remap)
+    out_regions = np.empty(keep.shape[0], np.int64)
+    for i in range(keep.shape[0]):
+        out_regions[i] = region[keep[i]]
+    below = np.empty(0, np.int64)
+    if refinement is not None:
+        for p in range(piece_ids.shape[0]):
+            if piece_ids[p] >= ms:        # a convex-hull piece made a segment by refinement
+                piece_ids[p] = -1
+        if sin2_bound > 0:
+            below = count_below(vertices, triangles, sin2_bound)
+    return route_status, info, counts, (vertices, triangles, neighbors, constrained, pieces,
+                                        piece_ids, out_regions, vertex_map, kept, below)
+
+
+# ------------------------------------------------------------------ many geometries
+@njit(cache=True)
+def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1,
+                    split, max_steiner, algorithm, refinement, steiner0):
+    """:func:`cdt_route` over geometries ``g0:g1`` of flat ring arrays, in one
+    compiled loop. Returns ``(triangles, geometry, region, steiner_xy,
+    failed)``: triangles in batch vertex ids (a geometry's input vertices keep
+    their ring position, Steiner vertices are numbered from ``steiner0`` in the
+    order of ``steiner_xy``), grouped by geometry; ``failed[g - g0]`` marks the
+    geometries whose route stopped (a crossing, a hole outside its shell, all
+    points collinear...), which the caller meshes one by one to get the
+    precise result or error."""
+    nv_all = ring_start[geom_ring_start[g1]] - ring_start[geom_ring_start[g0]]
+    cap = 2 * nv_all + 16
+    T = np.empty((cap, 3), np.int64)
+    G = np.empty(cap, np.int64)
+    R = np.empty(cap, np.int64)
+    S = np.empty((16, 2))
+    ns = 0
+    k = 0
+    failed = np.zeros(g1 - g0, np.bool_)
+    no_seeds = np.empty((0, 2))
+    no_regions = np.empty((0, 4))
+    no_order = np.empty(0, np.int64)
+    keep_all = np.ones(geom_ring_start[g1] - geom_ring_start[g0] + 1, np.bool_)
+    for g in range(g0, g1):
+        r0 = geom_ring_start[g]
+        r1 = geom_ring_start[g + 1]
+        if r0 == r1:
+            continue
+        v0 = ring_start[r0]
+        v1 = ring_start[r1]
+        segs, ring_of = ring_segments(ring_start, r0, r1, keep_all)
+        status, _, _, out = cdt_route(x[v0:v1], y[v0:v1], segs, ring_of, ring_polygon[r0:r1],
+                                      ring_is_hole[r0:r1], no_seeds, no_regions, False, algorithm,
+                                      no_order, no_order, split, False, max_steiner, refinement)
+        if status != ROUTE_OK:
+            failed[g - g0] = True
+            continue
+        vertices, triangles, _, _, _, _, regions, _, kept, _ = out
+        nk = kept.shape[0]
+        glob = np.empty(vertices.shape[0], np.int64)
+        for j in range(nk):
+            glob[j] = v0 + kept[j]
+        nnew = vertices.shape[0] - nk
+        if ns + nnew > S.shape[0]:
+            grown = np.empty((2 * (ns + nnew), 2))
+            grown[:ns] = S[:ns]
+            S = grown
+        for j in range(nk, vertices.shape[0]):
+            glob[j] = steiner0 + ns
+            S[ns, 0] = vertices[j, 0]
+            S[ns, 1] = vertices[j, 1]
+            ns += 1
+        nt = triangles.shape[0]
+        if k + nt > T.shape[0]:
+            size = 2 * (k + nt)
+            T2 = np.empty((size, 3), np.int64)
+            G2 = np.empty(size, np.int64)
+            R2 = np.empty(size, np.int64)
+            T2[:k] = T[:k]
+            G2[:k] = G[:k]
+            R2[:k] = R[:k]
+            T, G, R = T2, G2, R2
+        for t in range(nt):         # batch ids keep the order of output ids: still min first
+            for j in range(3):
+                T[k, j] = glob[triangles[t, j]]
+            G[k] = g
+            R[k] = regions[t]
+            k += 1
+    return T[:k], G[:k], R[:k], S[:ns], failed

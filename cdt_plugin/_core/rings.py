@@ -1,0 +1,73 @@
+"""Rings of polygons as segments: the one place where a ring (a closed chain
+of vertices, closing point dropped) becomes the segments from each vertex to
+the next, for single geometries and batches alike."""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .kernel import orient
+
+
+@njit(cache=True)
+def ring_is_degenerate(x, y, a, b):
+    """Whether the ring of vertices ``a..b-1`` encloses nothing: fewer than three
+    distinct points, or all of them on one line (exact)."""
+    p1 = -1
+    for k in range(a + 1, b):
+        if x[k] != x[a] or y[k] != y[a]:
+            p1 = k
+            break
+    if p1 < 0:
+        return True
+    for k in range(p1 + 1, b):
+        if orient(x, y, a, p1, k) != 0:
+            return False
+    return True
+
+
+@njit(cache=True)
+def segments_of_rings(begin, end, keep, v0):
+    """The segments of the rings ``begin[r]..end[r] - 1`` whose ``keep`` flag is
+    set (each vertex to the next of its ring; vertex ids less ``v0``) and the
+    ring of each, counted among the kept rings from 0."""
+    m = 0
+    for r in range(begin.shape[0]):
+        if keep[r]:
+            m += end[r] - begin[r]
+    segs = np.empty((m, 2), np.int64)
+    ring_of = np.empty(m, np.int64)
+    s = 0
+    kept = 0
+    for r in range(begin.shape[0]):
+        if not keep[r]:
+            continue
+        a = begin[r] - v0
+        b = end[r] - v0
+        for p in range(a, b):
+            segs[s, 0] = p
+            segs[s, 1] = p + 1 if p + 1 < b else a
+            ring_of[s] = kept
+            s += 1
+        kept += 1
+    return segs, ring_of
+
+
+@njit(cache=True)
+def ring_segments(ring_start, r0, r1, keep):
+    """:func:`segments_of_rings` of the consecutive rings ``r0:r1`` of flat ring
+    arrays (ring ``r`` is ``ring_start[r]..ring_start[r + 1] - 1``), in vertex
+    ids relative to the first ring's start."""
+    return segments_of_rings(ring_start[r0:r1], ring_start[r0 + 1:r1 + 1], keep, ring_start[r0])
+
+
+@njit(cache=True)
+def polygon_rings(x, y, begin, end):
+    """Every ring ``begin[r]..end[r] - 1`` checked and turned into segments:
+    ``(degenerate, segments, segment_ring)``; a degenerate ring
+    (:func:`ring_is_degenerate`) gives no segments."""
+    degenerate = np.zeros(begin.shape[0], np.bool_)
+    for r in range(begin.shape[0]):
+        degenerate[r] = ring_is_degenerate(x, y, begin[r], end[r])
+    segs, ring_of = segments_of_rings(begin, end, ~degenerate, 0)
+    return degenerate, segs, ring_of

@@ -1,0 +1,134 @@
+"""First use: the engine is compiled by numba the first time each route runs,
+then cached on disk (``__pycache__`` beside the sources, or ``NUMBA_CACHE_DIR``).
+
+While a route compiles, one line on stderr says so, through the
+``cdt_plugin`` logger (silence it with
+``logging.getLogger("cdt_plugin").setLevel(logging.ERROR)``).
+:func:`compile_routes` (the ``cdt-plugin compile`` command) compiles every
+route ahead of time, for Docker images, CI and Dask workers.
+
+>>> from cdt_plugin.compiling import ROUTES
+>>> sorted(ROUTES)
+['batch', 'delaunay', 'refine', 'triangulate', 'weighted']
+"""
+from __future__ import annotations
+
+import logging
+import os
+import time
+from typing import Callable, Iterable
+
+import numpy as np
+from numba.core import config, event
+
+logger = logging.getLogger("cdt_plugin")
+
+# what the compiled entry points are, for the message
+_ENTRY_NAMES = {
+    "cdt_route": "the constrained Delaunay route (triangulate)",
+    "mesh_geometries": "the batch route (triangulate_rings)",
+    "build_mesh": "the Delaunay route (delaunay)",
+}
+
+
+def cache_dir() -> str:
+    """Where numba keeps the compiled engine."""
+    if config.CACHE_DIR:
+        return config.CACHE_DIR
+    return os.path.join(os.path.dirname(os.path.abspath(__file__)), "__pycache__")
+
+
+class _CompileNotice(event.Listener):
+    """Says once per outermost compilation of a cdt_plugin function that it is
+    compiling, and how long it took."""
+
+    def __init__(self) -> None:
+        self.depth = 0
+        self.start = 0.0
+        self.what = ""
+
+    def on_start(self, ev) -> None:
+        dispatcher = ev.data.get("dispatcher") if isinstance(ev.data, dict) else None
+        module = getattr(getattr(dispatcher, "py_func", None), "__module__", "") or ""
+        if self.depth == 0 and not module.startswith("cdt_plugin"):
+            return
+        self.depth += 1
+        if self.depth == 1:
+            name = dispatcher.py_func.__name__
+            self.what = _ENTRY_NAMES.get(name, f"{module}.{name}")
+            self.start = time.perf_counter()
+            logger.warning("cdt_plugin: compiling %s with numba (once: it is cached in %s; "
+                           "`cdt-plugin compile` does every route ahead of time)",
+                           self.what, cache_dir())
+
+    def on_end(self, ev) -> None:
+        if self.depth == 0:
+            return
+        self.depth -= 1
+        if self.depth == 0:
+            logger.info("cdt_plugin: compiled %s in %.1f s", self.what,
+                        time.perf_counter() - self.start)
+
+
+_notice = _CompileNotice()
+event.register("numba:compile", _notice)
+
+
+# ------------------------------------------------------------ every route, ahead of time
+def _delaunay():
+    from . import delaunay
+    delaunay(np.random.default_rng(0).uniform(size=(20, 2)))
+
+
+def _weighted():
+    from . import delaunay
+    rng = np.random.default_rng(0)
+    delaunay(rng.uniform(size=(20, 2)), rng.uniform(0, 0.01, 20))
+
+
+def _square():
+    return np.array([[0, 0], [1, 0], [1, 1], [0, 1.0]]), np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
+
+
+def _triangulate():
+    from . import triangulate
+    tri = triangulate(*_square())
+    tri.is_delaunay()
+
+
+def _refine():
+    from . import triangulate
+    triangulate(*_square(), min_angle=30, max_area=0.1)
+
+
+def _batch():
+    from .batch import triangulate_rings
+    xy = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [2, 0], [3, 0], [2, 1.0]])
+    triangulate_rings(xy, [0, 4, 7], [0, 1, 2], [0, 0], [False, False])
+    triangulate_rings(xy, [0, 4, 7], [0, 1, 2], [0, 0], [False, False], min_angle=30)
+
+
+ROUTES: dict[str, Callable[[], None]] = {
+    "delaunay": _delaunay, "weighted": _weighted, "triangulate": _triangulate,
+    "refine": _refine, "batch": _batch,
+}
+
+
+def compile_routes(routes: Iterable[str] | None = None,
+                   report: Callable[[str], None] | None = None) -> dict[str, float]:
+    """Compile (or load from the cache) every route, or the ``routes`` named
+    (keys of :data:`ROUTES`). Returns the seconds each took; ``report`` is
+    called with a line per route."""
+    names = list(ROUTES) if routes is None else list(routes)
+    unknown = [n for n in names if n not in ROUTES]
+    if unknown:
+        from .errors import CDTError
+        raise CDTError(f"unknown route {unknown[0]!r}; the routes are {sorted(ROUTES)}")
+    seconds = {}
+    for name in names:
+        t0 = time.perf_counter()
+        ROUTES[name]()
+        seconds[name] = time.perf_counter() - t0
+        if report is not None:
+            report(f"{name}: {seconds[name]:.1f} s")
+    return seconds
