@@ -1,0 +1,598 @@
+"""One small polygon per call, as a trimesh / shapely user meets it.
+
+The other benchmarks time large inputs, where the compiled kernels dominate. A user
+who reaches cdt_plugin through ``trimesh.creation.triangulate_polygon`` or
+``shapely.constrained_delaunay_triangles`` instead calls it once per polygon, on
+polygons of a few to a few hundred vertices, in a process that has just started.
+What they meet is the fixed cost of a call (argument checks, reading the shapely
+geometry, building the output object) and the cost of the first call (numba
+compilation, or loading numba's cache). This file measures both.
+
+Warm timings, one shapely polygon per call (built deterministically):
+
+* ``square``   — ``shapely.box(0, 0, 1, 1)``, 4 vertices;
+* ``star12``   — a star of 12 vertices, radii alternating 1 and 0.5;
+* ``star60``   — the same with 60 vertices;
+* ``star60h2`` — star60 with 2 holes (regular 8-gons of radius 0.12 centred at
+  (+-0.2, 0): inside the inner radius, apart from each other);
+* ``star400h4`` — a star of 400 vertices with 4 holes (8-gons of radius 0.1 centred
+  0.2 from the origin on the axes).
+
+Implementations, interleaved round-robin in one worker process per polygon (``harness.py``):
+
+* ``ours``          — ``cdt_plugin.triangulate(polygon)``, the shapely polygon passed directly;
+* ``ours_trimesh``  — ``cdt_plugin.adapters.trimesh.triangulate_polygon(polygon)`` (trimesh drop-in);
+* ``ours_shapely``  — ``cdt_plugin.adapters.shapely.constrained_delaunay_triangles(polygon)``
+  (shapely drop-in);
+* ``ours_delaunay`` — ``cdt_plugin.delaunay(V)`` on the polygon's vertices (every ring's
+  vertices, closing points dropped): the floor of a call without segments or shapely;
+* ``triangle``      — Triangle, ``triangle.triangulate({vertices, segments, holes}, "pQ")`` on
+  arrays prepared once outside the timed call; the reference of the ratios;
+* ``geos``          — ``shapely.constrained_delaunay_triangles(polygon)`` (GEOS, shapely >= 2.1);
+* ``trimesh_earcut`` — ``trimesh.creation.triangulate_polygon(polygon, engine="earcut")``
+  (polygon in, as a trimesh user calls it; ear clipping, not Delaunay);
+* ``earcut``        — ``mapbox_earcut.triangulate_float64(V, ring_ends)`` on prepared arrays.
+
+Each round times ``number`` back-to-back calls (hundreds for the small polygons) and
+reports the mean per call; the table gives the median over the rounds in
+microseconds, and the ratio of ``cdt_plugin.triangulate`` to Triangle and to earcut.
+The goal (the issue): every row at most 1.0x Triangle's time, the square at most
+30 us; stretch: at most 2x earcut.
+
+First use, each case a new Python process (``NUMBA_CACHE_DIR`` = a fresh temporary
+directory for the empty-cache cases):
+
+* empty cache: ``import cdt_plugin`` alone; import + first ``delaunay`` of 100 random
+  points; import + first ``triangulate`` of the square; import + first
+  ``triangulate(star12, min_angle=30)`` (2 Steiner points: the refinement really runs);
+  all of them in one process (goal: at most 30 s);
+* filled cache (the same directory again, after the all-in-one case filled it): import
+  alone; import + first ``triangulate`` of the square (goal: at most 0.5 s); all.
+
+The child times its phases with ``time.perf_counter`` and prints them as JSON; the
+parent times the whole child by wall clock (interpreter start, numpy and shapely
+imports, exit included).
+
+Usage (from the repository root)::
+
+    python benchmarks/bench_small.py --quick          # smoke: 3 rounds, first use all-in-one + cached, ~3 min
+    python benchmarks/bench_small.py                  # full run, ~8 minutes on 2 cores (6 of them compiling)
+    python benchmarks/bench_small.py --write-readme   # full run + README block (bench:small markers)
+    python benchmarks/bench_small.py --only ours,triangle --workloads square --no-cold
+
+Options: ``--repeat R`` (rounds, default 15; 3 with ``--quick``), ``--only``,
+``--workloads``, ``--timeout S`` per timed sample, ``--setup-timeout S`` (import +
+warm-up, and each first-use child), ``--no-cold`` (skip the first-use processes),
+``--out PATH.md`` (a .json with the raw numbers is written beside it; default
+``benchmarks/results/small.md``, ``small-quick.md`` with ``--quick``).
+
+This module must not import numba or cdt_plugin at import time: the first-use
+children re-run it and time the import.
+"""
+from __future__ import annotations
+
+import time
+
+_T_MODULE = time.perf_counter()   # the first-use child's clock starts here
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import os  # noqa: E402
+import shutil  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
+from dataclasses import dataclass  # noqa: E402
+from pathlib import Path  # noqa: E402
+from typing import Any, Callable  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from harness import (README, REPO_ROOT, WORKER_FLAG, Impl, Suite, Workload,  # noqa: E402
+                     machine_info, measure_times, replace_between_markers, short_reason)
+from harness import main as harness_main  # noqa: E402
+
+FIRST_USE_FLAG = "--_first-use"
+DEFAULT_REPEAT, QUICK_REPEAT = 15, 3
+
+# ----------------------------------------------------------------------------- polygons
+
+
+@dataclass(frozen=True)
+class Shape:
+    name: str
+    label: str
+    n_outer: int          # 0: the unit square
+    n_holes: int
+    number: int           # calls per timed sample (about 0.1 s for the slowest peer)
+
+    @property
+    def n_vertices(self) -> int:
+        return (self.n_outer or 4) + 8 * self.n_holes
+
+
+SHAPES = [
+    Shape("square", "square (4 v)", 0, 0, 400),
+    Shape("star12", "star 12 v", 12, 0, 400),
+    Shape("star60", "star 60 v", 60, 0, 300),
+    Shape("star60h2", "star 60 v + 2 holes (76 v)", 60, 2, 200),
+    Shape("star400h4", "star 400 v + 4 holes (432 v)", 400, 4, 60),
+]
+
+
+def star(n: int, n_holes: int = 0):
+    """A star of n vertices (radii alternating 1 and 0.5) with n_holes regular 8-gons."""
+    import shapely
+    t = 2 * np.pi * np.arange(n) / n
+    r = np.where(np.arange(n) % 2 == 0, 1.0, 0.5)
+    shell = np.column_stack([r * np.cos(t), r * np.sin(t)])
+    hole_r = 0.12 if n_holes <= 2 else 0.1
+    s = 2 * np.pi * np.arange(8) / 8
+    holes = []
+    for k in range(n_holes):
+        a = 2 * np.pi * k / n_holes
+        centre = 0.2 * np.array([np.cos(a), np.sin(a)])
+        holes.append(centre + hole_r * np.column_stack([np.cos(s), np.sin(s)]))
+    return shapely.Polygon(shell, holes)
+
+
+def make_polygon(shape: Shape):
+    import shapely
+    return shapely.box(0, 0, 1, 1) if shape.n_outer == 0 else star(shape.n_outer, shape.n_holes)
+
+
+def polygon_input(polygon) -> dict:
+    """The polygon and the arrays the array peers take, made once (never timed)."""
+    import shapely
+    rings = [polygon.exterior, *polygon.interiors]
+    coords = [np.asarray(r.coords)[:-1] for r in rings]           # closing points dropped
+    V = np.ascontiguousarray(np.concatenate(coords), dtype=np.float64)
+    ends = np.cumsum([len(c) for c in coords])
+    S = np.concatenate([np.column_stack([np.arange(e - len(c), e), np.roll(np.arange(e - len(c), e), -1)])
+                        for c, e in zip(coords, ends)]).astype(np.int32)
+    H = np.array([shapely.Polygon(r).representative_point().coords[0] for r in polygon.interiors],
+                 dtype=np.float64).reshape(-1, 2)
+    pslg = {"vertices": V, "segments": S}
+    if len(H):
+        pslg["holes"] = H                     # an empty holes array crashes triangle
+    return {"polygon": polygon, "V": V, "ends": ends.astype(np.uint32), "pslg": pslg,
+            "expected": len(V) + 2 * len(H) - 2}     # triangles of any triangulation without Steiner points
+
+
+def workload(shape: Shape) -> Workload:
+    return Workload(shape.name, shape.label, lambda: polygon_input(make_polygon(shape)),
+                    size=shape.n_vertices, number=shape.number, memory=False)
+
+
+WORKLOADS = [workload(s) for s in SHAPES]
+
+# ----------------------------------------------------------------------------- implementations
+
+
+def setup_ours() -> Callable[[dict], Any]:
+    import cdt_plugin
+    triangulate = cdt_plugin.triangulate
+    return lambda d: triangulate(d["polygon"])
+
+
+def setup_ours_trimesh() -> Callable[[dict], Any]:
+    from cdt_plugin.adapters.trimesh import triangulate_polygon
+    return lambda d: triangulate_polygon(d["polygon"])
+
+
+def setup_ours_shapely() -> Callable[[dict], Any]:
+    from cdt_plugin.adapters.shapely import constrained_delaunay_triangles
+    return lambda d: constrained_delaunay_triangles(d["polygon"])
+
+
+def setup_ours_delaunay() -> Callable[[dict], Any]:
+    import cdt_plugin
+    delaunay = cdt_plugin.delaunay
+    return lambda d: delaunay(d["V"])
+
+
+def setup_triangle() -> Callable[[dict], Any]:
+    import triangle
+    triangulate = triangle.triangulate
+    return lambda d: triangulate(d["pslg"], "pQ")
+
+
+def setup_geos() -> Callable[[dict], Any]:
+    import shapely
+    if not hasattr(shapely, "constrained_delaunay_triangles"):
+        raise ImportError(f"shapely {shapely.__version__} has no constrained_delaunay_triangles (need 2.1)")
+    cdt = shapely.constrained_delaunay_triangles
+    return lambda d: cdt(d["polygon"])
+
+
+def setup_trimesh_earcut() -> Callable[[dict], Any]:
+    import mapbox_earcut  # noqa: F401  (trimesh's earcut engine; fail here, not in the timed call)
+    import trimesh
+    triangulate_polygon = trimesh.creation.triangulate_polygon
+    return lambda d: triangulate_polygon(d["polygon"], engine="earcut")
+
+
+def setup_earcut() -> Callable[[dict], Any]:
+    import mapbox_earcut
+    triangulate = mapbox_earcut.triangulate_float64
+    return lambda d: triangulate(d["V"], d["ends"])
+
+
+def count_geoms(result) -> int:
+    import shapely
+    return int(shapely.get_num_geometries(result))
+
+
+IMPLS = [
+    Impl("ours", "cdt_plugin.triangulate", setup_ours, lambda t: len(t.triangles),
+         timed="triangulate(polygon), shapely Polygon in, Triangulation out",
+         dist="cdt-plugin", package="cdt_plugin"),
+    Impl("ours_trimesh", "trimesh drop-in", setup_ours_trimesh, lambda r: len(r[1]),
+         timed="cdt_plugin.adapters.trimesh.triangulate_polygon(polygon), (vertices, faces) out"),
+    Impl("ours_shapely", "shapely drop-in", setup_ours_shapely, count_geoms,
+         timed="cdt_plugin.adapters.shapely.constrained_delaunay_triangles(polygon), "
+         "GeometryCollection of triangles out"),
+    Impl("ours_delaunay", "cdt_plugin.delaunay (vertices)", setup_ours_delaunay,
+         lambda t: len(t.triangles),
+         timed="delaunay(V) on the ring vertices, no segments (convex hull: other triangle counts)"),
+    Impl("triangle", "Triangle", setup_triangle, lambda r: len(r["triangles"]),
+         timed="triangulate({vertices, segments, holes}, 'pQ') on prepared arrays, dict of arrays out",
+         dist="triangle"),
+    Impl("geos", "GEOS", setup_geos, count_geoms,
+         timed="shapely.constrained_delaunay_triangles(polygon), GeometryCollection out",
+         dist="shapely"),
+    Impl("trimesh_earcut", "earcut via trimesh", setup_trimesh_earcut, lambda r: len(r[1]),
+         timed="trimesh.creation.triangulate_polygon(polygon, engine='earcut'), (vertices, faces) out",
+         dist="trimesh"),
+    Impl("earcut", "earcut (arrays)", setup_earcut, lambda idx: len(idx) // 3,
+         timed="mapbox_earcut.triangulate_float64(V, ring ends) on prepared arrays, index array out",
+         dist="mapbox_earcut"),
+]
+
+SUITE = Suite(
+    name="small",                    # README markers: <!-- bench:small:start --> ... <!-- bench:small:end -->
+    title="Small polygons, one per call: warm per-call time and first use",
+    workloads=WORKLOADS,
+    impls=IMPLS,
+    reference="triangle",
+    script=os.path.abspath(__file__),
+    readme_after="gis",
+)
+
+GOAL_TRIANGLE = 1.0        # every row at most Triangle's time
+GOAL_SQUARE_US = 30.0      # ... and the square at most 30 us
+STRETCH_EARCUT = 2.0       # stretch: at most 2x earcut
+GOAL_COLD_S = 30.0         # import + delaunay + triangulate + refinement, empty cache
+GOAL_CACHED_S = 0.5        # import + first small triangulate, filled cache
+
+# ----------------------------------------------------------------------------- first use
+
+
+FIRST_STEPS = {            # step -> what the child calls (shown in the table)
+    "delaunay": "delaunay(100 random points)",
+    "triangulate": "triangulate(square)",
+    "min_angle": "triangulate(star12, min_angle=30)",
+}
+ALL_STEPS = ["delaunay", "triangulate", "min_angle"]
+
+
+def _first_use_child(steps: list[str]) -> None:
+    """Runs in a new process: import cdt_plugin, then the first call of each step."""
+    import shapely
+    numba_preloaded = "numba" in sys.modules
+    inputs = {"delaunay": np.random.default_rng(0).uniform(0.0, 1.0, (100, 2)),
+              "triangulate": shapely.box(0, 0, 1, 1), "min_angle": star(12)}
+    phases: list[tuple[str, float]] = [("prelude", time.perf_counter() - _T_MODULE)]
+    t0 = time.perf_counter()
+    import cdt_plugin
+    phases.append(("import", time.perf_counter() - t0))
+    for step in steps:
+        t0 = time.perf_counter()
+        if step == "delaunay":
+            out = cdt_plugin.delaunay(inputs[step])
+        elif step == "triangulate":
+            out = cdt_plugin.triangulate(inputs[step])
+        else:
+            out = cdt_plugin.triangulate(inputs[step], min_angle=30)
+        phases.append((step, time.perf_counter() - t0))
+        assert len(out.triangles) > 0
+    print(json.dumps({"phases": phases, "numba_preloaded": numba_preloaded}), flush=True)
+
+
+def _run_child(steps: list[str], cache: str, timeout: float) -> dict:
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run([sys.executable, os.path.abspath(__file__), FIRST_USE_FLAG, json.dumps(steps)],
+                              env=env, cwd=str(REPO_ROOT), stdin=subprocess.DEVNULL,
+                              capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"error": f"timed out (> {timeout:g} s)"}
+    wall = time.perf_counter() - t0
+    lines = proc.stdout.strip().splitlines()
+    if proc.returncode != 0 or not lines:
+        tail = (proc.stderr.strip().splitlines() or [""])[-1][:160]
+        return {"error": f"child failed (exit code {proc.returncode}){': ' + tail if tail else ''}"}
+    out = json.loads(lines[-1])
+    out["wall_s"] = wall
+    out["calls_s"] = sum(s for name, s in out["phases"] if name != "prelude")   # import + first calls
+    return out
+
+
+def _dir_size(path: str) -> tuple[int, int]:
+    files = [p for p in Path(path).rglob("*") if p.is_file()]
+    return len(files), sum(p.stat().st_size for p in files)
+
+
+def measure_first_use(quick: bool, timeout: float) -> list[dict]:
+    """Each case a new process; the empty-cache cases each get a fresh NUMBA_CACHE_DIR,
+    the filled-cache cases reuse the all-in-one case's directory."""
+    empty = [[], ["delaunay"], ["triangulate"], ["min_angle"], ALL_STEPS]
+    if quick:
+        empty = [ALL_STEPS]
+    filled = [[], ["triangulate"], ALL_STEPS]
+    rows: list[dict] = []
+    dirs: list[str] = []
+    try:
+        for steps in empty:
+            dirs.append(tempfile.mkdtemp(prefix="numba-small-"))
+            rows.append({"cache": "empty", "steps": steps, **_run_child(steps, dirs[-1], timeout)})
+            _log_first_use(rows[-1])
+        filled_dir = dirs[-1]              # the all-in-one case's: every kernel compiled and cached
+        if "error" not in rows[-1]:
+            files, size = _dir_size(filled_dir)
+            for steps in filled:
+                rows.append({"cache": "filled", "steps": steps, "cache_files": files, "cache_bytes": size,
+                             **_run_child(steps, filled_dir, timeout)})
+                _log_first_use(rows[-1])
+    finally:
+        for d in dirs:
+            shutil.rmtree(d, ignore_errors=True)
+    return rows
+
+
+def _case_label(steps: list[str]) -> str:
+    return "import cdt_plugin" + "".join(f" + {FIRST_STEPS[s]}" for s in steps)
+
+
+def _log_first_use(row: dict) -> None:
+    what = f"  first use, {row['cache']} cache, {_case_label(row['steps'])}:"
+    if "error" in row:
+        _log(f"{what} n/a: {row['error']}")
+    else:
+        _log(f"{what} {row['calls_s']:.2f} s in the child, {row['wall_s']:.2f} s wall")
+
+# ----------------------------------------------------------------------------- checks
+
+
+def checks(results: dict, data: dict[str, dict]) -> list[str]:
+    """Every triangulation of the polygon without Steiner points has n + 2h - 2 triangles."""
+    warnings = []
+    labels = {i.name: i.label for i in IMPLS}
+    for name, row in results["workloads"].items():
+        expected = data[name]["expected"]
+        for impl, c in row.items():
+            if impl != "ours_delaunay" and c.get("count") is not None and c["count"] != expected:
+                warnings.append(f"{name}: {labels[impl]} gives {c['count']} triangles, "
+                                f"expected n + 2h - 2 = {expected}")
+    for row in results.get("first_use", []):
+        if row.get("numba_preloaded"):
+            warnings.append(f"first use ({_case_label(row['steps'])}): numba imported before the timed span")
+    return warnings
+
+# ----------------------------------------------------------------------------- report
+
+
+def _us(seconds: float | None) -> str:
+    if seconds is None:
+        return "n/a"
+    us = seconds * 1e6
+    return f"{us:.0f}" if us >= 100 else f"{us:.1f}" if us >= 10 else f"{us:.2f}"
+
+
+def _ratio(a: float | None, b: float | None) -> str:
+    return f"{a / b:.2f}x" if a and b else "n/a"
+
+
+def _verdict(ok: bool | None) -> str:
+    return "n/a" if ok is None else ("met" if ok else "not met")
+
+
+def render(results: dict, info: dict, args_line: str) -> str:
+    v = ", ".join(f"{k} {val}" for k, val in info["versions"].items() if val)
+    impls = [i for i in IMPLS if any(i.name in row for row in results["workloads"].values())]
+    med = {w: {i: c.get("median") for i, c in row.items()} for w, row in results["workloads"].items()}
+    lines = [
+        f"Machine: {info['cpu_count']} CPUs ({info['cpus_usable']} usable)"
+        + (f", {info['cpu_model']}" if info["cpu_model"] else "")
+        + f"; {v}; {info['date']}. Command: `{args_line}`"
+        + (" (mode: quick)" if results["mode"] == "quick" else "") + ".",
+        "",
+        "Warm, one polygon per call: median microseconds per call.",
+        "",
+        "| polygon | vertices | triangles | " + " | ".join(i.label for i in impls) + " |",
+        "|---|---:|---:|" + "---:|" * len(impls),
+    ]
+    notes: list[str] = []
+    for shape in SHAPES:
+        row = results["workloads"].get(shape.name)
+        if row is None:
+            continue
+        tris = row.get("triangle", {}).get("count") or row.get("ours", {}).get("count")
+        cells = []
+        for i in impls:
+            c = row.get(i.name, {})
+            cells.append(_us(c.get("median")))
+            if c.get("error"):
+                notes.append(f"{shape.label} / {i.label}: {c['error']}")
+        lines.append(f"| {shape.label} | {shape.n_vertices} | {tris if tris is not None else 'n/a'} | "
+                     + " | ".join(cells) + " |")
+
+    lines += ["", f"cdt_plugin.triangulate against the goal (at most {GOAL_TRIANGLE:.1f}x Triangle, the square "
+              f"at most {GOAL_SQUARE_US:g} us) and the stretch (at most {STRETCH_EARCUT:.1f}x earcut, both "
+              "columns):", "",
+              "| polygon | cdt_plugin.triangulate us | / Triangle | goal | / earcut via trimesh | "
+              "/ earcut (arrays) | stretch |",
+              "|---|---:|---:|---|---:|---:|---|"]
+    for shape in SHAPES:
+        m = med.get(shape.name)
+        if m is None:
+            continue
+        ours, tri = m.get("ours"), m.get("triangle")
+        goal = None if not (ours and tri) else (
+            ours <= GOAL_TRIANGLE * tri and (shape.name != "square" or ours * 1e6 <= GOAL_SQUARE_US))
+        ecs = [m.get("trimesh_earcut"), m.get("earcut")]
+        stretch = None if not (ours and any(ecs)) else all(ours <= STRETCH_EARCUT * e for e in ecs if e)
+        lines.append(f"| {shape.label} | {_us(ours)} | {_ratio(ours, tri)} | {_verdict(goal)} | "
+                     f"{_ratio(ours, ecs[0])} | {_ratio(ours, ecs[1])} | {_verdict(stretch)} |")
+
+    first = results.get("first_use")
+    if first:
+        lines += ["", "First use, each case a new process (`NUMBA_CACHE_DIR` = a fresh temporary directory for "
+                  "the empty-cache cases; the filled-cache cases reuse the all-in-one case's directory):", "",
+                  "| numba cache | case | phases in the child (s) | import + calls s | child wall s | goal |",
+                  "|---|---|---|---:|---:|---|"]
+        for r in first:
+            if "error" in r:
+                lines.append(f"| {r['cache']} | {_case_label(r['steps'])} | n/a: {r['error']} | n/a | n/a | |")
+                continue
+            phases = ", ".join(f"{name} {s:.2f}" for name, s in r["phases"])
+            goal = ""
+            if r["cache"] == "empty" and r["steps"] == ALL_STEPS:
+                goal = f"<= {GOAL_COLD_S:g} s: {_verdict(r['calls_s'] <= GOAL_COLD_S)}"
+            elif r["cache"] == "filled" and r["steps"] == ["triangulate"]:
+                goal = f"<= {GOAL_CACHED_S:g} s: {_verdict(r['calls_s'] <= GOAL_CACHED_S)}"
+            lines.append(f"| {r['cache']} | {_case_label(r['steps'])} | {phases} | {r['calls_s']:.2f} | "
+                         f"{r['wall_s']:.2f} | {goal} |")
+        cached = next((r for r in first if r["cache"] == "filled" and "cache_files" in r), None)
+        if cached:
+            lines += ["", f"The filled cache: {cached['cache_files']} files, "
+                      f"{cached['cache_bytes'] / 2**20:.1f} MiB."]
+
+    spans = "; ".join(f"{i.label}: {i.timed}" for i in impls if i.timed)
+    numbers = ", ".join(f"{s.name} {s.number}" for s in SHAPES if s.name in results["workloads"])
+    lines += ["", f"Warm: median of {results['repeat']} interleaved rounds, one worker process per polygon, "
+              f"after a warm-up call; each round times back-to-back calls ({numbers}) and gives the mean per "
+              f"call (garbage collector off during the round). Ratios are taken in the same run. "
+              f"Timed spans: {spans}. Triangles: Triangle's count (every peer but cdt_plugin.delaunay, which "
+              "triangulates the convex hull of the vertices, must give n + 2h - 2)."]
+    if first:
+        lines[-1] += (" First use: phases timed with `time.perf_counter` in the child (prelude = the "
+                      "benchmark module, numpy, shapely and the inputs, before `import cdt_plugin`; not in "
+                      "\"import + calls\", which the goals are judged on); child wall = the parent's clock "
+                      "around the whole child (interpreter start and exit included).")
+    if notes:
+        lines += [""] + [f"- n/a: {n}" for n in notes]
+    if results.get("warnings"):
+        lines += [""] + [f"- WARNING: {w}" for w in results["warnings"]]
+    return "\n".join(lines) + "\n"
+
+# ----------------------------------------------------------------------------- driver
+
+
+def _log(msg: str) -> None:
+    print(msg, file=sys.stderr, flush=True)
+
+
+def _parse(argv: list[str]) -> argparse.Namespace:
+    p = argparse.ArgumentParser(description=SUITE.title)
+    p.add_argument("--quick", action="store_true",
+                   help=f"smoke test: {QUICK_REPEAT} rounds; first use only all-in-one + cached")
+    p.add_argument("--repeat", type=int, default=None,
+                   help=f"interleaved rounds per polygon (default {DEFAULT_REPEAT})")
+    p.add_argument("--only", default=None,
+                   help="comma-separated implementations: " + ",".join(i.name for i in IMPLS))
+    p.add_argument("--workloads", default=None,
+                   help="comma-separated polygons: " + ",".join(w.name for w in WORKLOADS))
+    p.add_argument("--timeout", type=float, default=120.0, help="seconds allowed per timed round (default 120)")
+    p.add_argument("--setup-timeout", type=float, default=600.0,
+                   help="seconds allowed for import + warm-up, and for each first-use process (default 600)")
+    p.add_argument("--no-cold", action="store_true", help="skip the first-use processes")
+    p.add_argument("--out", default=None,
+                   help="markdown output (a .json with raw numbers is written beside it); "
+                   "default benchmarks/results/small.md (small-quick.md with --quick)")
+    p.add_argument("--write-readme", action="store_true",
+                   help="regenerate the README block between <!-- bench:small:start/end --> markers")
+    return p.parse_args(argv)
+
+
+def _select(spec: str | None, items: list, what: str) -> list:
+    if not spec:
+        return items
+    wanted = [s.strip() for s in spec.split(",") if s.strip()]
+    unknown = set(wanted) - {i.name for i in items}
+    if unknown:
+        raise SystemExit(f"unknown {what} {sorted(unknown)}; known: {[i.name for i in items]}")
+    return [i for i in items if i.name in wanted]
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == [WORKER_FLAG]:                 # a timing worker (harness.py)
+        return harness_main(SUITE, argv)
+    if argv[:1] == [FIRST_USE_FLAG]:              # a first-use child
+        _first_use_child(json.loads(argv[1]))
+        return 0
+    args = _parse(argv)
+    t_start = time.perf_counter()
+    repeat = args.repeat if args.repeat is not None else (QUICK_REPEAT if args.quick else DEFAULT_REPEAT)
+    impls = _select(args.only, IMPLS, "implementation(s)")
+    workloads = _select(args.workloads, WORKLOADS, "polygon(s)")
+    info = machine_info(SUITE)
+    _log(f"{SUITE.title}: {len(workloads)} polygon(s) x {len(impls)} implementation(s), {repeat} round(s); "
+         f"{info['cpu_count']} CPUs; python {info['versions']['python']}")
+    results: dict[str, Any] = {"suite": SUITE.name, "mode": "quick" if args.quick else "full",
+                               "repeat": repeat, "machine": info, "argv": argv, "workloads": {}}
+
+    for wl in workloads:
+        _log(f"{wl.label}:")
+        cells = measure_times(SUITE, wl, impls, {i.name: repeat for i in impls},
+                              args.timeout, args.setup_timeout)
+        results["workloads"][wl.name] = {
+            name: {"median": c.median, "times": c.times, "count": c.count, "error": c.error,
+                   "number": wl.number} for name, c in cells.items()}
+    if not args.no_cold:
+        _log("first use (new processes):")
+        results["first_use"] = measure_first_use(args.quick, args.setup_timeout)
+
+    data = {s.name: polygon_input(make_polygon(s)) for s in SHAPES}
+    try:
+        results["warnings"] = checks(results, data)
+    except Exception as exc:
+        results["warnings"] = [f"the checks failed: {short_reason(exc)}"]
+    for w in results["warnings"]:
+        _log(f"WARNING: {w}")
+
+    shown, skip = [], False                      # the command line minus where the output goes
+    for a in argv:
+        if skip:
+            skip = False
+        elif a == "--out":
+            skip = True
+        elif a != "--write-readme" and not a.startswith("--out="):
+            shown.append(a)
+    args_line = " ".join(["python", os.path.relpath(SUITE.script, REPO_ROOT)] + shown)
+    md = render(results, info, args_line)
+    results["elapsed_s"] = time.perf_counter() - t_start
+
+    out = Path(args.out) if args.out else (
+        REPO_ROOT / "benchmarks" / "results" / (SUITE.name + ("-quick" if args.quick else "") + ".md"))
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(f"# {SUITE.title}\n\n{md}")
+    out.with_suffix(".json").write_text(json.dumps(results, indent=1) + "\n")
+    _log(f"wrote {out} and {out.with_suffix('.json')}")
+    ours_failed = [w for w, row in results["workloads"].items() if "ours" in row and row["ours"]["error"]]
+    if args.write_readme and ours_failed:
+        _log(f"NOT updating {README}: cdt_plugin failed on {', '.join(ours_failed)}")
+        return 1
+    if args.write_readme:
+        README.write_text(replace_between_markers(README.read_text(), SUITE.name, md, SUITE.readme_after))
+        _log(f"updated {README} between the bench:{SUITE.name} markers")
+    print(md)
+    _log(f"total {results['elapsed_s']:.0f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
