@@ -1,4 +1,7 @@
 """cdt_plugin: constrained Delaunay triangulation and edge flips for NumPy arrays."""
+from importlib.metadata import PackageNotFoundError, version as _version
+
+from . import compiling  # noqa: F401  (first: it says when numba compiles a route)
 from .cdt import triangulate
 from .delaunay import delaunay
 from .errors import (
@@ -35,4 +38,7 @@ __all__ = [
     "NonFiniteCoordinateError",
     "TooFewPointsError",
 ]
-__version__ = "0.1.0"
+try:
+    __version__ = _version("cdt-plugin")
+except PackageNotFoundError:  # pragma: no cover - run from a source tree that is not installed
+    __version__ = "0+unknown"

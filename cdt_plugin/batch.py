@@ -18,6 +18,7 @@ import numpy as np
 
 from ._core.construct import ALGORITHM_CODES
 from ._core.pipeline import mesh_geometries
+from ._core.rings import polygon_rings
 from .cdt import check_options, triangulate_plc
 from .errors import CDTError
 from .lift import lift_z
@@ -84,19 +85,20 @@ class MeshBatch:
 
 
 def geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, z, g) -> PLC:
-    """The PLC of geometry ``g`` of flat ring arrays (its rings' edges are the segments)."""
+    """The PLC of geometry ``g`` of flat ring arrays (its rings' edges are the
+    segments; a degenerate ring is named in ``degenerate_rings``, as a geometry's is)."""
     r0, r1 = geom_ring_start[g], geom_ring_start[g + 1]
     v0, v1 = ring_start[r0], ring_start[r1]
-    n = v1 - v0
-    nxt = np.arange(1, n + 1)
-    local_start = ring_start[r0:r1 + 1] - v0
-    nxt[local_start[1:] - 1] = local_start[:-1]
-    ring_of = np.repeat(np.arange(r1 - r0), np.diff(local_start))
-    seg = np.column_stack([np.arange(n), nxt]).astype(np.int64)
-    return PLC(xy[v0:v1], seg, segment_ring=ring_of.astype(np.int64),
-               ring_polygon=np.asarray(ring_polygon[r0:r1], np.int64),
-               ring_is_hole=np.asarray(ring_is_hole[r0:r1], bool),
-               z=None if z is None else z[v0:v1].copy())
+    local = xy[v0:v1]
+    bounds = np.asarray(ring_start[r0:r1 + 1], np.int64) - v0
+    degenerate, seg, ring_of = polygon_rings(local[:, 0].copy(), local[:, 1].copy(), bounds[:-1],
+                                             bounds[1:])
+    polygon = np.asarray(ring_polygon[r0:r1], np.int64)
+    hole = np.asarray(ring_is_hole[r0:r1], bool)
+    named = [(int(polygon[r]), int((polygon[:r] == polygon[r]).sum())) for r in np.flatnonzero(degenerate)]
+    return PLC(local, seg, segment_ring=ring_of, ring_polygon=polygon[~degenerate],
+               ring_is_hole=hole[~degenerate], z=None if z is None else z[v0:v1].copy(),
+               degenerate_rings=named)
 
 
 def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, *, z=None,
@@ -154,7 +156,7 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     steiner_xy, steiner_z = [], []
     nsteiner = 0
     # one by one: seed options, or Steiner points whose Z must be interpolated
-    compiled = not any(v not in (None, False) for v in seeds.values()) and not (
+    compiled = all(v is None or v is False for v in seeds.values()) and not (
         z is not None and (route["split"] or route["refinement"] is not None))
     if compiled:
         todo = []

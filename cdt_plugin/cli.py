@@ -93,7 +93,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "mesh them, report their quality, compare with other meshes.")
     from . import __version__
     parser.add_argument("--version", action="version", version=f"cdt-plugin {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{mesh,report}", required=True)
+    sub = parser.add_subparsers(dest="command", metavar="{mesh,report,compile}", required=True)
 
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("input", metavar="INPUT",
@@ -148,6 +148,16 @@ def build_parser() -> argparse.ArgumentParser:
                           "the same vertices)")
     rep.add_argument("--json", action="store_true", help="print the report as JSON")
     rep.set_defaults(func=_cmd_report)
+
+    from .compiling import ROUTES
+    comp = sub.add_parser("compile", formatter_class=fmt,
+                          help="compile every route ahead of time (Docker images, CI, Dask workers)",
+                          description="Compile the engine's routes with numba now and fill the "
+                                      "cache, so that no later process compiles; prints the "
+                                      "seconds per route (a filled cache loads in well under one).")
+    comp.add_argument("routes", nargs="*", metavar="ROUTE",
+                      help=f"routes to compile (default: all of {', '.join(sorted(ROUTES))})")
+    comp.set_defaults(func=_cmd_compile)
     return parser
 
 
@@ -283,14 +293,46 @@ def _shapely_geometry(feature: Feature):
                        "--intersections split meshes its rings as they are") from None
 
 
+_EXTRA_OF = {"shapely": "shapely", "trimesh": "trimesh", "matplotlib": "plot", "geopandas": "gis",
+             "mapbox_earcut": "bench", "tqdm": "cli"}
+
+
 def _import(module: str, purpose: str):
     import importlib
     try:
         return importlib.import_module(module)
     except ImportError:
-        extra = {"shapely": "shapely", "trimesh": "trimesh", "matplotlib": "plot",
-                 "geopandas": "gis"}.get(module, module)
-        raise CLIError(f"{purpose} needs {module} (pip install 'cdt-plugin[{extra}]')") from None
+        raise CLIError(_missing(module, purpose)) from None
+
+
+def _missing(module: str, purpose: str) -> str:
+    return f"{purpose} needs {module} (pip install 'cdt-plugin[{_EXTRA_OF.get(module, module)}]')"
+
+
+def _check_packages(args) -> None:
+    """The optional packages the options need, checked before anything is read or
+    compiled (a missing one is an error naming the extra that brings it)."""
+    import importlib.util
+    needs = []
+    output = getattr(args, "output", None)
+    if output is not None:
+        suffix = Path(output).suffix.lower()
+        if suffix in MESH_FORMATS:
+            needs.append(("trimesh", f"writing {suffix}"))
+        elif suffix in GEOJSON_FORMATS:
+            needs.append(("shapely", "writing GeoJSON"))
+        elif suffix == ".gpkg":
+            needs.append(("geopandas", "writing .gpkg"))
+    if args.plot is not None:
+        needs.append(("matplotlib", "--plot"))
+    against = getattr(args, "against", None)
+    if against == "earcut":
+        needs.append(("mapbox_earcut", "--against earcut"))
+    elif against:
+        needs.append(("trimesh", "--against MESH"))
+    for module, purpose in needs:
+        if importlib.util.find_spec(module) is None:
+            raise CLIError(_missing(module, purpose))
 
 
 # --------------------------------------------------------------- meshing
@@ -571,6 +613,7 @@ def _save_plot(path: Path, combined, against=None, against_name="against") -> No
 def _cmd_mesh(args) -> int:
     output = Path(args.output)
     _check_output(output, args.extrude)
+    _check_packages(args)
     if _layer_job(args):
         return _mesh_layer(args, output)
     if output.suffix.lower() == ".gpkg":
@@ -603,12 +646,25 @@ def _against(spec: str, features: Sequence[Feature]):
 
 
 def _cmd_report(args) -> int:
+    _check_packages(args)
     features, tris, combined = _mesh_all(args)
     against, name = _against(args.against, features) if args.against else (None, "against")
     rep = combined.report(against=against, against_name=name)
     print(rep.to_json() if args.json else rep)
     if args.plot is not None:
         _save_plot(args.plot, combined, against, name)
+    return 0
+
+
+def _cmd_compile(args) -> int:
+    import logging
+    import time
+
+    from .compiling import cache_dir, compile_routes
+    logging.getLogger("cdt_plugin").setLevel(logging.ERROR)   # this command says it itself
+    t0 = time.perf_counter()
+    compile_routes(args.routes or None, report=print)
+    print(f"all in {time.perf_counter() - t0:.1f} s; cached in {cache_dir()}")
     return 0
 
 

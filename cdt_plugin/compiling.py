@@ -32,10 +32,11 @@ _ENTRY_NAMES = {
 
 
 def cache_dir() -> str:
-    """Where numba keeps the compiled engine."""
+    """Where numba keeps the compiled engine: ``NUMBA_CACHE_DIR``, or the
+    ``__pycache__`` folders of the installed package."""
     if config.CACHE_DIR:
         return config.CACHE_DIR
-    return os.path.join(os.path.dirname(os.path.abspath(__file__)), "__pycache__")
+    return os.path.join(os.path.dirname(os.path.abspath(__file__)), "**", "__pycache__")
 
 
 class _CompileNotice(event.Listener):

@@ -219,3 +219,18 @@ def test_progress_bar_counts_every_geometry(capsys):
 def test_unknown_option_is_a_clear_error():
     with pytest.raises(cdt_plugin.CDTError, match="unknown option 'colour'"):
         triangulate_batch([shapely.box(0, 0, 1, 1)], colour="red")
+
+
+def test_hole_seeds_as_an_array_go_one_by_one_like_single_calls():
+    """Regression: a NumPy array of hole seeds was tested for truth (ValueError)."""
+    xy = np.array([[0, 0], [3, 0], [3, 3], [0, 3], [1, 1], [2, 1], [2, 2], [1, 2.0]])
+    segs_free = batch.triangulate_rings(xy, [0, 4, 8], [0, 2], [0, 0], [False, False],
+                                        holes=np.array([[1.5, 1.5]]), intersections="split")
+    tri = cdt_plugin.triangulate(batch.geometry_plc(xy, np.array([0, 4, 8]), np.array([0, 2]),
+                                                    np.array([0, 0]), np.array([False, False]), None, 0),
+                                 holes=[[1.5, 1.5]], intersections="split")
+    assert segs_free.stats["fallback"] == 1
+    assert canonical_triangles(segs_free.vertices, segs_free.triangles) == \
+        canonical_triangles(tri.vertices, tri.triangles)
+    assert len(tri.triangles) == 8
+    assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")

@@ -294,3 +294,48 @@ def test_mesh_with_max_area(tmp_path, capsys):
     T = tio.read_ele(out).triangles
     areas = _areas(tio.read_node(tmp_path / "A.node").vertices, T)
     assert len(T) > 29 and areas.max() <= 0.01 * (1 + 1e-12)
+
+
+# ------------------------------------------------------------------ compile and first use
+def test_compile_command_fills_every_route(tmp_path):
+    proc = run("compile")
+    lines = proc.stdout.splitlines()
+    from cdt_plugin.compiling import ROUTES
+    assert [line.split(":")[0] for line in lines[:-1]] == list(ROUTES)
+    assert lines[-1].startswith("all in ")
+    assert "compiling" not in proc.stderr        # the command silences the first-use notice
+
+
+def test_compile_command_refuses_an_unknown_route(capsys):
+    assert cli.main(["compile", "triangulate", "no-such-route"]) == 1
+    err = capsys.readouterr().err
+    assert "unknown route 'no-such-route'" in err and "triangulate" in err
+
+
+def test_missing_output_package_is_named_before_any_work(tmp_path, capsys, monkeypatch):
+    import importlib.util
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name == "trimesh" else real(name, *a))
+    # the input does not exist: the package check comes first, before reading or meshing
+    assert cli.main(["mesh", str(tmp_path / "missing.poly"), "-o", str(tmp_path / "out.ply")]) == 1
+    err = capsys.readouterr().err
+    assert "writing .ply needs trimesh (pip install 'cdt-plugin[trimesh]')" in err
+
+
+def test_first_use_notice_says_once_that_a_route_compiles(caplog):
+    """A compile of a cdt_plugin function logs one warning naming it (a real numba compile
+    of a fresh function in a cdt_plugin module; cached routes compile nothing)."""
+    import logging
+
+    import numba
+    namespace = {"__name__": "cdt_plugin.probe_for_test"}
+    exec("def probe(a):\n    return a + 1\n", namespace)
+    probe = numba.njit(namespace["probe"])
+    with caplog.at_level(logging.INFO, logger="cdt_plugin"):
+        assert probe(1) == 2
+        assert probe(2) == 3                 # compiled already: nothing more is said
+    messages = [r.getMessage() for r in caplog.records if r.name == "cdt_plugin"]
+    assert len([m for m in messages if "compiling" in m]) == 1, messages
+    assert "cdt_plugin.probe_for_test.probe" in messages[0] and "cached" in messages[0]
+    assert any(m.startswith("cdt_plugin: compiled") for m in messages)

@@ -97,7 +97,7 @@ def submerged_ok(vx, vy, vw, triangles, neighbors, sx, sy, sw):
     triangulation (so leaving it out is right), else 0."""
     ok = np.zeros(sx.shape[0], np.int8)
     for i in range(sx.shape[0]):
-        k = locate_in_arrays(vx, vy, triangles, neighbors, sx[i], sy[i])
+        k = locate_in_arrays(vx, vy, triangles, neighbors, sx[i], sy[i], np.int64(0))
         if k < 0:
             continue
         a = triangles[k, 0]

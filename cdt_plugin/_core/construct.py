@@ -129,7 +129,7 @@ def build_mesh(xi, yi, wi, weighted, m, inf, algorithm, horizontal, extra, with_
         status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, inf, np.arange(m),
                                               algorithm == FLIP, dup, sub, counts, extra, with_cons)
     if status == OK and algorithm == FLIP:
-        counts[0] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, inf, ntri)
+        counts[0] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, np.bool_(False), inf, ntri)
     return status, tri, twin, cons, ntri, dup, sub
 
 

@@ -197,8 +197,8 @@ def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results):
     order of the horizontal cuts, reordered along with ``u``. Returns
     ``(e, number of quad-edges used)``,
     ``e`` a counter-clockwise hull edge."""
-    nfree = 0
-    top = 0
+    nfree = np.int64(0)
+    top = np.int64(0)
     rp = 0
     stack[0] = 0
     stack[1] = u.shape[0]

@@ -19,14 +19,14 @@ def flip_to_delaunay(tri, twin, cons, x, y, w, weighted, inf, ntri, max_flips=-1
     exceeded."""
     m = 3 * ntri
     stack = np.empty(m + 16, np.int64)
-    sp = 0
+    sp = np.int64(0)
     for e in range(m):
         if tri[3 * (e // 3)] == DEAD:
             continue
         if e < twin[e]:
             stack[sp] = e
             sp += 1
-    return flip_from_stack(tri, twin, cons, x, y, w, weighted, inf, stack, sp, max_flips)
+    return flip_from_stack(tri, twin, cons, x, y, w, weighted, inf, stack, sp, np.int64(max_flips))
 
 
 @njit(cache=True)

@@ -144,7 +144,7 @@ def insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
 def insert_vertices_loop(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
                          hull_only, dup_of, submerged, counts, stack):
     """The loop of :func:`insert_vertices`, with its flip stack passed in."""
-    last = 0
+    last = np.int64(0)
     for k in range(first, order.shape[0]):
         q = order[k]
         code, v, ntri, last = insert_vertex(tri, twin, cons, x, y, w, weighted, inf, q, last,

@@ -14,6 +14,7 @@ Delaunay triangulation of the real ones, whatever the input order.
 """
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from .predicates import incircle, incircle_weighted, orient2d
@@ -93,7 +94,7 @@ def lifted_test(x, y, w, weighted, a, b, c, d):
         return 1
     if r < 0:
         return -1
-    return perturbed_incircle_sign(x, y, a, b, c, d)
+    return perturbed_incircle_sign(x, y, np.int64(a), np.int64(b), np.int64(c), np.int64(d))
 
 
 @njit(cache=True, inline='always')

@@ -87,7 +87,7 @@ def make_first_triangle(tri, twin, a, b, c, inf):
         g = k + 1
         gp = (k + 2) % 3 + 1
         link(twin, 3 * g + 1, 3 * gp + 2)
-    return 4
+    return np.int64(4)   # (np.int64: a literal would make each callee compile twice)
 
 
 @njit(cache=True, inline='always')

@@ -29,7 +29,7 @@ from .output import cdt_arrays, cdt_vertices, solid_triangles
 from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, OUT,
                      STEINER_ROOM, count_below, refine_store)
 from .regions import flood_seeds, segment_depths
-from .rings import ring_segments
+from .rings import ring_is_degenerate, ring_segments
 from .segments import by_smaller_end, insert_segments, make_buffers
 from .status import (FINISHED, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OK, ROUTE_COLLINEAR,
                      ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP,
@@ -95,14 +95,14 @@ def insert_all_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, s
     """Run the segment tasks to the end, growing the store and the walk buffers
     as asked. Returns ``(status, (tri, twin, cons, x, y, w, inf, ntri, nv))``
     with the status of :func:`segments.insert_segments` (ALL_DONE or a stop)."""
-    buf = make_buffers(0)      # made on the first segment that is not an edge yet
+    buf = make_buffers(np.int64(0))      # made on the first segment that is not an edge yet
     while True:
         stack = np.empty(inf + 16, np.int64)
         status, ntri, nv, ntask = insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks,
                                                   ntask, seg_ends, split, limit, seg_counts, info,
                                                   stack, buf)
         if status == NEED_VERTEX_ROOM:
-            tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, 0)
+            tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, np.int64(0))
             grown = np.empty((2 * tasks.shape[0] + 16, 3), np.int64)
             grown[:ntask] = tasks[:ntask]
             tasks = grown
@@ -327,8 +327,10 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     if algorithm == DIVIDE:
         horizontal = horizontal_order(xi, yi, n, horizontal_in, mesh_of)
     build_counts = np.zeros(2, np.int64)
-    status, tri, twin, cons, ntri, dup, sub = build_mesh(xi, yi, wi, False, n, inf, algorithm,
-                                                         horizontal, extra, True, build_counts)
+    # (np.bool_: literal constants would compile the whole construction a second time)
+    status, tri, twin, cons, ntri, dup, sub = build_mesh(xi, yi, wi, np.bool_(False), n, inf,
+                                                         algorithm, horizontal, extra,
+                                                         np.bool_(True), build_counts)
     if status != OK:  # (a located point always exists)
         info[0] = 1
         info[1] = status
@@ -367,10 +369,9 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
         info[1] = status
         info[2] = 2
         return ROUTE_INTERNAL, info, counts, no_mesh()
-    if algorithm == FLIP:
-        counts[K_FLIPS] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, inf, ntri)
-    else:
-        counts[K_FLIPS] = build_counts[0]
+    counts[K_FLIPS] = build_counts[0]
+    if algorithm == FLIP:     # the modified flip algorithm after the segments (Sec. 2.10.3)
+        counts[K_FLIPS] += flip_to_delaunay(tri, twin, cons, xi, yi, wi, np.bool_(False), inf, ntri)
 
     # the domain
     T, N, tid, cflag = solid_with_flags(tri, twin, cons, ntri, inf)
@@ -442,7 +443,7 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     order of ``steiner_xy``), grouped by geometry; ``failed[g - g0]`` marks the
     geometries whose route stopped (a crossing, a hole outside its shell, all
     points collinear...), which the caller meshes one by one to get the
-    precise result or error."""
+    precise result or error (a degenerate ring, too)."""
     nv_all = ring_start[geom_ring_start[g1]] - ring_start[geom_ring_start[g0]]
     cap = 2 * nv_all + 16
     T = np.empty((cap, 3), np.int64)
@@ -463,6 +464,12 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
             continue
         v0 = ring_start[r0]
         v1 = ring_start[r1]
+        degenerate = False
+        for r in range(r0, r1):
+            degenerate = degenerate or ring_is_degenerate(x, y, ring_start[r], ring_start[r + 1])
+        if degenerate:        # the single call reports it (or, splitting, keeps its points)
+            failed[g - g0] = True
+            continue
         segs, ring_of = ring_segments(ring_start, r0, r1, keep_all)
         status, _, _, out = cdt_route(x[v0:v1], y[v0:v1], segs, ring_of, ring_polygon[r0:r1],
                                       ring_is_hole[r0:r1], no_seeds, no_regions, False, algorithm,

@@ -64,7 +64,7 @@ C_UNREPAIRED = 7    # segment splits whose flip repair ran out of stack (a final
 
 
 # ---------------------------------------------------------------- geometry
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def sin2_min_angle(x, y, a, b, c):
     """Squared sine of the smallest angle of triangle ``a b c`` (the quality
     key: smaller is worse), and twice its area."""
@@ -90,7 +90,7 @@ def sin2_min_angle(x, y, a, b, c):
     return d * d / den, d
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def area_bound(area_of_label, label):
     """The area bound of triangles labelled ``label`` (``area_of_label[label + 1]``;
     0, none, past its end)."""
@@ -98,13 +98,13 @@ def area_bound(area_of_label, label):
     return area_of_label[i] if i < area_of_label.shape[0] else 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def shortest_edge2(x, y, a, b, c):
     return min((x[b] - x[a]) ** 2 + (y[b] - y[a]) ** 2, (x[c] - x[b]) ** 2 + (y[c] - y[b]) ** 2,
                (x[a] - x[c]) ** 2 + (y[a] - y[c]) ** 2)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def is_bad(x, y, a, b, c, sin2_bound, area_bound):
     """Whether the triangle breaks the angle or the area bound; and its key."""
     key, d = sin2_min_angle(x, y, a, b, c)
@@ -115,7 +115,7 @@ def is_bad(x, y, a, b, c, sin2_bound, area_bound):
     return angle_bad, area_bad, np.floor(2.0 * np.log2(shortest_edge2(x, y, a, b, c)))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def encroaches(x, y, a, b, px, py, lens):
     """Whether the point encroaches ``a b``: it sees the piece at an angle of
     more than 90 degrees (strictly inside the diametral circle; ``lens == 0``)
@@ -132,7 +132,7 @@ def encroaches(x, y, a, b, px, py, lens):
     return lens == 0.0 or dot * dot >= lens * (ax * ax + ay * ay) * (bx * bx + by * by)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def steiner_point(x, y, a, b, c, offconstant):
     """Circumcentre of counter-clockwise ``a b c``, pulled in to the off-centre
     on the bisector of the shortest edge when ``offconstant > 0`` and the
@@ -187,7 +187,7 @@ NBUCKETS = 4400    # keys floor(2 log2(edge^2)) of finite doubles lie in -2148..
 BUCKET0 = 2200     # the bucket of key 0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def bucket_of(key):
     if not key > -BUCKET0:          # -inf (a zero-length edge) and NaN first
         return 0
@@ -196,7 +196,7 @@ def bucket_of(key):
     return int(key) + BUCKET0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def queue_reset(Q, qs):
     """Empty the queue."""
     head, tail = Q[3], Q[4]
@@ -209,7 +209,7 @@ def queue_reset(Q, qs):
     qs[3] = 0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def queue_triangle(Q, qs, key, t, a, b, c):
     """Put triangle ``t = (a, b, c)`` at the back of bucket ``key``. Returns
     False when the queue is full (nothing queued)."""
@@ -239,7 +239,7 @@ def queue_triangle(Q, qs, key, t, a, b, c):
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def queue_pop(Q, qs):
     """Take the oldest entry of the smallest non-empty bucket (the queue must
     not be empty); returns its index in ``Q[0]``, valid until the next push."""
@@ -258,7 +258,7 @@ def queue_pop(Q, qs):
     return s
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
     """Queue triangle ``t`` if it is inside the domain and breaks a bound.
     Returns False when the queue is full."""
@@ -274,7 +274,7 @@ def queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def queue_piece(tri, sq, sn, g, forced):
     """Put the segment piece of half-edge ``g`` on the split stack (``forced``:
     split it even if no triangle vertex encroaches it by then). Returns the
@@ -289,7 +289,7 @@ def queue_piece(tri, sq, sn, g, forced):
 
 
 # ------------------------------------------------------------------ tests
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, h):
     """Whether constrained half-edge ``h`` is encroached: a triangle vertex
     beside it (inside the domain, or anywhere with ``conforming``) lies strictly
@@ -312,7 +312,7 @@ def piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, h):
 PRECISION_FLOOR = 2.0 ** -44   # an edge shorter than this times its coordinates is at the limit
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def below_precision(x, y, u, v):
     """Whether edge ``u v`` is shorter than :data:`PRECISION_FLOOR` times its
     largest coordinate: splitting it, or refining a triangle with it, only adds
@@ -324,7 +324,7 @@ def below_precision(x, y, u, v):
     return (x[u] - x[v]) ** 2 + (y[u] - y[v]) ** 2 < m * m
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
     """Shewchuk's rule (as in Triangle): leave a skinny triangle alone when its
     shortest edge joins Steiner vertices on two segments that share an endpoint
@@ -359,7 +359,7 @@ def at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
 # ------------------------------------------------------------- operations
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def walk_to(tri, twin, cons, x, y, t, q, limit):
     """Visibility walk from triangle ``t`` to vertex ``q`` that never crosses a
     segment. Returns ``(code, e)`` as :func:`locate` does, or
@@ -376,14 +376,14 @@ def walk_to(tri, twin, cons, x, y, t, q, limit):
     return WALK_FAILED, -1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def cavity_encroached(tri, twin, cons, x, y, inf, h, on_edge, q, mark, stamp, bstack, enc, lens):
     """The segment pieces that new vertex ``q`` (located at half-edge ``h``)
     would encroach: those bounding its cavity, the triangles whose circumdisk
     holds ``q``, grown from the triangle(s) containing it without crossing a
     segment. Fills ``enc``; returns how many."""
     n = 0
-    sp = 0
+    sp = np.int64(0)
     t0 = h // 3
     mark[t0] = stamp
     bstack[sp] = t0
@@ -420,7 +420,7 @@ def cavity_encroached(tri, twin, cons, x, y, inf, h, on_edge, q, mark, stamp, bs
     return n
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def param_on(x, y, A, B, v):
     """Parameter of vertex ``v`` along segment ``A -> B`` (0 at A, 1 at B)."""
     if v == A:
@@ -435,7 +435,7 @@ def param_on(x, y, A, B, v):
     return ((x[v] - x[A]) * dx + (y[v] - y[A]) * dy) / n
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def place_on_piece(x, y, seg_ends, sid, u, v, shell_at, q):
     """Write into vertex ``q`` the split point of piece ``u v`` of segment
     ``sid``: the midpoint, or with ``shell_at`` (``u`` or ``v``) the point at
@@ -461,7 +461,7 @@ def place_on_piece(x, y, seg_ends, sid, u, v, shell_at, q):
     y[q] = y[A] + tm * (y[B] - y[A])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def shell_centre(tri, twin, cons, lab, e):
     """Triangle's rule: when exactly one end of piece ``e`` meets another
     segment inside a domain triangle beside it (the two span an angle there),
@@ -478,7 +478,7 @@ def shell_centre(tri, twin, cons, lab, e):
     return -1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0, stack, counts,
                 fc, no_sub):
     """Split the segment piece of half-edge ``e`` at new vertex ``q``, then
@@ -511,7 +511,7 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
     vseg[q] = sid
     # flip on real sides only: a hull piece split at a rounded point may leave
     # the hull non-convex by an ulp, and its ghosts must stay as they are
-    sp = 0
+    sp = np.int64(0)
     if c != inf:
         stack[0] = 3 * t1
         stack[1] = 3 * (ntri - 2)
@@ -541,7 +541,7 @@ def flip_edges_at(tri, twin, cons, x, y, inf, q, slot, c, d, stack, counts):
     e = 3 * slot
     while tri[e] != q:
         e += 1
-    sp = 0
+    sp = np.int64(0)
     e0 = e
     while True:                      # the half-edges out of q
         v = tri[nxt(e)]
@@ -579,14 +579,14 @@ def flip_edges_at(tri, twin, cons, x, y, inf, q, slot, c, d, stack, counts):
     return True, slot
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub):
     fc[0] = 0
-    legalize(tri, twin, cons, x, y, x, False, inf, q, stack, sp, False, no_sub, fc)
+    legalize(tri, twin, cons, x, y, x, np.bool_(False), inf, q, stack, sp, np.bool_(False), no_sub, fc)
     counts[C_FLIPS] += fc[0]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts, fc, no_sub):
     """Insert vertex ``q`` located at ``(code, h)`` (inside a triangle or on a
     non-segment edge) and flip. Returns ``(slot of a triangle at q, ntri)``."""
@@ -809,23 +809,23 @@ def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_ang
     room = max(room, STEINER_ROOM * nv0 + 64)   # at least the usual few Steiner points per vertex
     if inf < room:
         tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, room)
-    lab = _grown(lab, tri.shape[0] // 3, OUT)
+    lab = _grown(lab, tri.shape[0] // 3, np.int64(OUT))
     vseg = np.zeros(inf + 1, np.int64)
     counts = np.zeros(8, np.int64)
-    heap, pieces = max(1024, ntri), 256
+    heap, pieces = max(1024, ntri), np.int64(256)
     while True:
         status, ntri, nv, heap, pieces = refine_run(
             tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
             offconstant, lens, area_of_label, conforming, max_new, counts, heap, pieces)
         if status != NEED_ROOM:
             break
-        tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, 0)
-        lab = _grown(lab, tri.shape[0] // 3, OUT)
-        vseg = _grown(vseg, inf + 1, 0)
+        tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, np.int64(0))
+        lab = _grown(lab, tri.shape[0] // 3, np.int64(OUT))
+        vseg = _grown(vseg, inf + 1, np.int64(0))
     for e in range(cons.shape[0]):
         cons[e] = abs(cons[e])
     if counts[C_UNREPAIRED]:   # (never seen: a repair needs a stack as deep as the mesh)
-        counts[C_FLIPS] += flip_to_delaunay(tri, twin, cons, x, y, x, False, inf, ntri)
+        counts[C_FLIPS] += flip_to_delaunay(tri, twin, cons, x, y, x, np.bool_(False), inf, ntri)
     return status, counts, lab, seg_ends, (tri, twin, cons, x, y, w, inf, ntri, nv)
 
 

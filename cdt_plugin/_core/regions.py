@@ -121,7 +121,7 @@ def flood_seeds(vx, vy, triangles, neighbors, cflag, px, py, allowed, label, val
     repaints an earlier one's region). Each point location walks from the
     previous seed's triangle, so seeds given in a coherent order walk little."""
     stack = np.empty(label.shape[0], np.int64)
-    k0 = 0
+    k0 = np.int64(0)
     for i in range(px.shape[0]):
         k = locate_in_arrays(vx, vy, triangles, neighbors, px[i], py[i], k0)
         if k < 0:

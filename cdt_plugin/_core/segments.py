@@ -119,7 +119,7 @@ def edge_from(tri, twin, x, y, inf, v, hint, ntri, vedge):
         e = vedge[v]
         if e >= 0 and tri[e] == v and tri[3 * (e // 3)] != DEAD:
             return e
-    return vertex_edge(tri, twin, x, y, inf, v, hint, ntri)
+    return vertex_edge(tri, twin, x, y, inf, np.int64(v), hint, ntri)
 
 
 @njit(cache=True)
@@ -187,7 +187,7 @@ def crossed_edges(tri, twin, cons, x, y, a, b, h, qu, qw, qh, slots):
 @njit(cache=True)
 def find_edge_near(tri, twin, x, y, inf, u, w, hint, ntri):
     """Half-edge ``u -> w`` (locating ``u`` from triangle ``hint``), or -1."""
-    e0 = vertex_edge(tri, twin, x, y, inf, u, hint, ntri)
+    e0 = vertex_edge(tri, twin, x, y, inf, np.int64(u), hint, ntri)
     if e0 < 0:
         return -1
     e = e0
@@ -284,12 +284,12 @@ def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge)
     cons[s] = sid
     cons[twin[s]] = sid
     # the crossed triangles' slots now hold the new triangles: re-check their edges
-    sp = 0
+    sp = np.int64(0)
     for i in range(ns):
         for j in range(3):
             stack[sp] = 3 * slots[i] + j
             sp += 1
-    flip_from_stack(tri, twin, cons, x, y, w, False, inf, stack, sp, -1)
+    flip_from_stack(tri, twin, cons, x, y, w, np.bool_(False), inf, stack, sp, np.int64(-1))
     return DONE, end, slots[0]
 
 
@@ -314,8 +314,8 @@ def crossing_point(x, y, a, b, u, v, s0, s1, t0, t1):
     on the pieces when rounding of earlier points has made the pieces cross
     where the input segments do not (or are collinear)."""
     if crosses(x, y, s0, s1, t0, t1):
-        return intersection_point(x, y, s0, s1, t0, t1)
-    return intersection_point(x, y, a, b, u, v)
+        return intersection_point(x, y, np.int64(s0), np.int64(s1), np.int64(t0), np.int64(t1))
+    return intersection_point(x, y, np.int64(a), np.int64(b), np.int64(u), np.int64(v))
 
 
 @njit(cache=True)
@@ -383,7 +383,7 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
     tasks, seg_ends, counts, info, stack = (unowned(tasks), unowned(seg_ends), unowned(counts),
                                             unowned(info), unowned(stack))
     buf = (unowned(buf[0]), unowned(buf[1]), unowned(buf[2]), unowned(buf[3]), unowned(buf[4]))
-    hint = 0
+    hint = np.int64(0)
     ntask = mark_present(tri, twin, cons, ntri, nv, tasks, ntask)
     vedge = vertex_edges(tri, ntri, nv)
     crossings = 0
@@ -448,8 +448,8 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
                                 seg_ends[other - 1, 0], seg_ends[other - 1, 1])
         x[nv] = px
         y[nv] = py
-        code, p, ntri, hint = insert_vertex(tri, twin, cons, x, y, w, False, inf, nv, hint,
-                                            ntri, False, no_weights, flip_counts, stack)
+        code, p, ntri, hint = insert_vertex(tri, twin, cons, x, y, w, np.bool_(False), inf, nv, hint,
+                                            ntri, np.bool_(False), no_weights, flip_counts, stack)
         if code == LOCATE_FAILED:
             info[0] = sid
             return LOST, ntri, nv, ntask
@@ -457,13 +457,14 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
             nv += 1
             counts[2] += 1
         # the crossed piece u-v2 of `other` must now pass through p
-        e = find_edge_near(tri, twin, x, y, inf, u, v2, hint, ntri)
+        e = find_edge_near(tri, twin, x, y, inf, np.int64(u), np.int64(v2), hint, ntri)
         if e >= 0 and cons[e] == other and p != u and p != v2:
             cons[e] = 0
             cons[twin[e]] = 0
             fstack = buf[4]
             fstack[0] = e  # no longer a segment: it may need a flip now
-            flip_from_stack(tri, twin, cons, x, y, w, False, inf, fstack, 1, -1)
+            flip_from_stack(tri, twin, cons, x, y, w, np.bool_(False), inf, fstack, np.int64(1),
+                            np.int64(-1))
             ntask = push_task(tasks, ntask, u, p, other)
             ntask = push_task(tasks, ntask, p, v2, other)
         # (p may be a or b itself when the crossing rounds onto an end: then

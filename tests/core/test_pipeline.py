@@ -248,14 +248,7 @@ def test_mesh_geometries_equals_the_route_per_geometry():
     assert status == ROUTE_CROSSING
 
 
-# ------------------------------------------------------------------ suspected defects (pinned)
-@pytest.mark.xfail(strict=True, reason=(
-    "cdt_route's FLIP construction: build_mesh already runs the flip algorithm (counted in "
-    "build_counts[0]), then after segment insertion cdt_route runs flip_to_delaunay again and "
-    "stores only that second, no-op pass in counts[K_FLIPS]: triangulate(algorithm='flip') "
-    "reports stats['flips'] == 0 where delaunay(algorithm='flip') reports the real count, and "
-    "the docstring's order 'lexicographic triangulation, segment insertion, then the modified "
-    "flip algorithm' is not what runs"))
+# ------------------------------------------------------------------ defects found by these tests (fixed)
 def test_route_flip_counts_the_flips_of_the_flip_algorithm():
     pts = np.random.default_rng(3).random((60, 2))
     status, info, counts, o = route(pts, [(0, 1)], algorithm=FLIP, keep_hull=True)
@@ -264,11 +257,6 @@ def test_route_flip_counts_the_flips_of_the_flip_algorithm():
     assert counts[K_FLIPS] > 0
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the compiled batch path meshes a geometry with a degenerate ring (here a hole of two "
-    "distinct points) without marking it failed, while triangulate() of the same polygon "
-    "raises InvalidGeometryError (the degenerate-ring check lives only in plc.py / "
-    "triangulate_plc, not in the route that mesh_geometries loops)"))
 def test_mesh_geometries_refuses_a_degenerate_ring_like_triangulate():
     import cdt_plugin
     from cdt_plugin import InvalidGeometryError
