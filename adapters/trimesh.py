@@ -115,6 +115,8 @@ def _compact(vertices, faces):
     """Only the vertices the faces use, in their original order; faces renumbered."""
     used = np.zeros(len(vertices), bool)
     used[faces.ravel()] = True
+    if used.all():          # the common case: nothing to drop
+        return vertices, faces
     new_index = np.cumsum(used) - 1
     return vertices[used], new_index[faces].astype(np.int64)
 

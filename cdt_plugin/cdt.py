@@ -8,6 +8,7 @@ wraps the result, or raises the precise error for the route's stop.
 """
 from __future__ import annotations
 
+import functools
 import time
 
 import numpy as np
@@ -180,7 +181,9 @@ def triangulate_plc(plc: PLC, *, keep_hull=False, split=False, algorithm="divide
         return _collinear_result(plc, algorithm, t0)
     if status not in (ROUTE_OK, ROUTE_REFINE_LIMIT):
         _raise_stop(status, info, plc)
-    tri = Triangulation.from_route(out, plc, _stats(plc, algorithm, counts, out, refinement), t0)
+    seconds = time.perf_counter() - t0
+    tri = Triangulation.from_route(out, plc, functools.partial(_stats, plc, algorithm, counts, out,
+                                                               refinement, seconds))
     if status == ROUTE_REFINE_LIMIT:
         raise RefinementLimitError(
             f"refinement stopped at max_steiner={int(counts[K_REF_LIMIT])} Steiner points with "
@@ -189,7 +192,7 @@ def triangulate_plc(plc: PLC, *, keep_hull=False, split=False, algorithm="divide
     return tri
 
 
-def _stats(plc, algorithm, counts, out, refinement) -> dict:
+def _stats(plc, algorithm, counts, out, refinement, seconds) -> dict:
     """The route's counts by name."""
     vertex_map = out[7]
     segs = plc.segments
@@ -202,7 +205,7 @@ def _stats(plc, algorithm, counts, out, refinement) -> dict:
              "merged_overlaps": int(counts[K_MERGED_OVERLAPS]),
              "intersection_points": int(counts[K_INTERSECTIONS]), "flips": int(counts[K_FLIPS]),
              "duplicates": int(counts[K_DUPLICATES]), "submerged": 0, "vertices": len(out[0]),
-             "triangles": len(out[1]), "steiner": len(out[0]) - len(out[8])}
+             "triangles": len(out[1]), "steiner": len(out[0]) - len(out[8]), "seconds": seconds}
     if refinement is not None:
         stats.update(refinement_steiner=int(counts[K_REF_STEINER]),
                      refinement_segment_splits=int(counts[K_REF_SPLITS]),

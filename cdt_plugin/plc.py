@@ -166,25 +166,29 @@ class _Builder:
             xy = np.empty((0, 2))
         else:
             xy = np.ascontiguousarray(self.xy[0] if len(self.xy) == 1 else np.concatenate(self.xy))
-        if not np.isfinite(xy).all():
-            bad = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
+        begin = np.array(self.ring_begin, np.int64)
+        end = np.array(self.ring_end, np.int64)
+        _, _, bad, degenerate, segs, seg_ring = polygon_rings(xy, begin, end)
+        if bad >= 0:
+            rows = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
             raise NonFiniteCoordinateError(f"geometry has NaN or infinite coordinates at vertex "
-                                           f"position(s) {bad[:5].tolist()}")
+                                           f"position(s) {rows[:5].tolist()}")
         z = None
         if self.z:
             z = np.full(len(xy), np.nan)
             for start, values in self.z:
                 z[start:start + len(values)] = values
-        begin = np.asarray(self.ring_begin, np.int64)
-        end = np.asarray(self.ring_end, np.int64)
-        degenerate, segs, seg_ring = polygon_rings(xy[:, 0].copy(), xy[:, 1].copy(), begin, end)
-        kept = ~degenerate
+        ring_polygon = np.array(self.ring_polygon, np.int64)
+        ring_is_hole = np.array(self.ring_is_hole, bool)
+        names = []
+        if degenerate.any():
+            kept = ~degenerate
+            names = [self.ring_name[r] for r in np.flatnonzero(degenerate)]
+            ring_polygon, ring_is_hole = ring_polygon[kept], ring_is_hole[kept]
         if any(not isinstance(p, int) for p in self.pieces):
-            segs, seg_ring = self._in_input_order(segs, seg_ring, kept, begin, end)
-        return PLC(xy, segs, segment_ring=seg_ring,
-                   ring_polygon=np.asarray(self.ring_polygon, np.int64)[kept],
-                   ring_is_hole=np.asarray(self.ring_is_hole, bool)[kept], z=z,
-                   degenerate_rings=[self.ring_name[r] for r in np.flatnonzero(degenerate)])
+            segs, seg_ring = self._in_input_order(segs, seg_ring, ~degenerate, begin, end)
+        return PLC(xy, segs, segment_ring=seg_ring, ring_polygon=ring_polygon,
+                   ring_is_hole=ring_is_hole, z=z, degenerate_rings=names)
 
     def _in_input_order(self, ring_segs, ring_of, kept, begin, end):
         """Rings' and lines' segments interleaved as the input gave them."""

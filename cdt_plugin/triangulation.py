@@ -124,17 +124,27 @@ class Triangulation:
                    edges=edges.reshape(-1, 2))
 
     @classmethod
-    def from_route(cls, out, plc, stats, t0):
+    def from_route(cls, out, plc, stats):
         """Wrap the output arrays of the compiled CDT route (input vertices,
-        distinct and in input order, then the Steiner vertices)."""
+        distinct and in input order, then the Steiner vertices); ``stats`` may
+        be a function that makes the dict on first access."""
         (vertices, triangles, neighbors, constrained, segments, segment_ids, regions, vertex_map,
          kept, below) = out
-        tri = cls(vertices, triangles, neighbors, vertex_map, stats, constrained=constrained,
-                  regions=regions, segments=segments, segment_ids=segment_ids,
-                  steiner=np.arange(len(kept), len(vertices)), below_min_angle=below,
-                  region_attributes=plc.regions)
-        stats["seconds"] = time.perf_counter() - t0
-        return tri
+        return cls(vertices, triangles, neighbors, vertex_map, stats, constrained=constrained,
+                   regions=regions, segments=segments, segment_ids=segment_ids,
+                   steiner=np.arange(len(kept), len(vertices)), below_min_angle=below,
+                   region_attributes=plc.regions)
+
+    @property
+    def stats(self) -> dict:
+        """Counts (``flips``, ``duplicates``, ``steiner``...) and ``seconds``."""
+        if callable(self._stats):        # made on first access: most callers never look
+            self._stats = self._stats()
+        return self._stats
+
+    @stats.setter
+    def stats(self, value) -> None:
+        self._stats = value
 
     # ------------------------------------------------------------------ views
     @property

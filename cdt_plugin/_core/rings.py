@@ -62,12 +62,24 @@ def ring_segments(ring_start, r0, r1, keep):
 
 
 @njit(cache=True)
-def polygon_rings(x, y, begin, end):
-    """Every ring ``begin[r]..end[r] - 1`` checked and turned into segments:
-    ``(degenerate, segments, segment_ring)``; a degenerate ring
-    (:func:`ring_is_degenerate`) gives no segments."""
+def polygon_rings(xy, begin, end):
+    """The vertices ``xy`` (n, 2) checked (``bad``: the first row with a NaN or
+    infinite coordinate, -1 when none) and every ring ``begin[r]..end[r] - 1``
+    turned into segments. Returns ``(x, y, bad, degenerate, segments,
+    segment_ring)``; a degenerate ring (:func:`ring_is_degenerate`) gives no
+    segments."""
+    n = xy.shape[0]
+    x = np.empty(n)
+    y = np.empty(n)
+    bad = -1
+    for i in range(n):
+        x[i] = xy[i, 0]
+        y[i] = xy[i, 1]
+        if bad < 0 and not (np.isfinite(x[i]) and np.isfinite(y[i])):
+            bad = i
     degenerate = np.zeros(begin.shape[0], np.bool_)
-    for r in range(begin.shape[0]):
-        degenerate[r] = ring_is_degenerate(x, y, begin[r], end[r])
+    if bad < 0:
+        for r in range(begin.shape[0]):
+            degenerate[r] = ring_is_degenerate(x, y, begin[r], end[r])
     segs, ring_of = segments_of_rings(begin, end, ~degenerate, 0)
-    return degenerate, segs, ring_of
+    return x, y, bad, degenerate, segs, ring_of

@@ -23,7 +23,7 @@ from cdt_plugin import io as tio
 from cdt_plugin.report import triangle_quality
 from corpus import corpus_dir
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 CORPUS = corpus_dir()
 needs_corpus = pytest.mark.skipif(not CORPUS.exists(), reason="corpus not found")
 has_refinement = "min_angle" in inspect.signature(cdt_plugin.triangulate).parameters

@@ -5,8 +5,6 @@ leaves aside (duplicate vertices, crossings, refinement) takes the general route
 from __future__ import annotations
 
 import doctest
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,9 +15,8 @@ import cdt_plugin.batch as batch
 from cdt_plugin import InvalidGeometryError, SegmentIntersectionError
 from cdt_plugin.adapters.shapely import _polygon_rings, triangulate_batch
 
-sys.path.insert(0, str(Path(__file__).parent))
-from checker import assert_valid, canonical_triangles  # noqa: E402
-from corpus import corpus_dir  # noqa: E402
+from checker import assert_valid, canonical_triangles
+from corpus import corpus_dir
 
 
 def test_doctests():

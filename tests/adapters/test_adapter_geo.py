@@ -25,7 +25,7 @@ from cdt_plugin.adapters import geo  # noqa: E402
 from checker import assert_valid, canonical_triangles  # noqa: E402
 from corpus import corpus_dir  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 LOWRES = corpus_dir() / "gis" / "naturalearth_lowres.geojson"
 needs_corpus = pytest.mark.skipif(not LOWRES.exists(), reason="corpus not found")
 CENTRAL_EUROPE = ["Germany", "Poland", "Czechia", "Austria", "Switzerland", "Hungary", "Slovakia"]

@@ -77,7 +77,7 @@ def corpus_dir() -> Path:
     env = os.environ.get("CDT_CORPUS")
     if env:
         return Path(env)
-    return Path(__file__).resolve().parents[1].parent / "shared" / "corpus"
+    return Path(__file__).resolve().parents[2].parent / "shared" / "corpus"
 
 
 def corpus_files() -> List[Path]:

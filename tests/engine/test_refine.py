@@ -16,7 +16,7 @@ import cdt_plugin
 from cdt_plugin import CDTError, RefinementLimitError
 from checker import check_empty_circumcircles, check_steiner_segments, check_triangulation
 
-CORPUS = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "corpus")
+CORPUS = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "corpus")
 
 
 def ring(n, start=0):
