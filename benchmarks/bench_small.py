@@ -89,8 +89,8 @@ from typing import Any, Callable  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness import (README, REPO_ROOT, WORKER_FLAG, Impl, Suite, Workload,  # noqa: E402
-                     machine_info, measure_times, replace_between_markers, short_reason)
+from harness import (REPO_ROOT, WORKER_FLAG, Impl, Suite, Workload,  # noqa: E402
+                     machine_info, measure_times, short_reason, write_results)
 from harness import main as harness_main  # noqa: E402
 
 FIRST_USE_FLAG = "--_first-use"
@@ -576,22 +576,7 @@ def main(argv: list[str] | None = None) -> int:
     md = render(results, info, args_line)
     results["elapsed_s"] = time.perf_counter() - t_start
 
-    out = Path(args.out) if args.out else (
-        REPO_ROOT / "benchmarks" / "results" / (SUITE.name + ("-quick" if args.quick else "") + ".md"))
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(f"# {SUITE.title}\n\n{md}")
-    out.with_suffix(".json").write_text(json.dumps(results, indent=1) + "\n")
-    _log(f"wrote {out} and {out.with_suffix('.json')}")
-    ours_failed = [w for w, row in results["workloads"].items() if "ours" in row and row["ours"]["error"]]
-    if args.write_readme and ours_failed:
-        _log(f"NOT updating {README}: cdt_plugin failed on {', '.join(ours_failed)}")
-        return 1
-    if args.write_readme:
-        README.write_text(replace_between_markers(README.read_text(), SUITE.name, md, SUITE.readme_after))
-        _log(f"updated {README} between the bench:{SUITE.name} markers")
-    print(md)
-    _log(f"total {results['elapsed_s']:.0f} s")
-    return 0
+    return write_results(SUITE, results, md, args)
 
 
 if __name__ == "__main__":

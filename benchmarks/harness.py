@@ -756,6 +756,13 @@ def main(suite: Suite, argv: list[str] | None = None) -> int:
     md = render_markdown(suite, results, info, args_line)
     results["elapsed_s"] = time.perf_counter() - t_start
 
+    return write_results(suite, results, md, args)
+
+
+def write_results(suite: Suite, results: dict, md: str, args: argparse.Namespace) -> int:
+    """Write ``results/<suite>.md`` and ``.json`` (``-quick`` with ``--quick``), and
+    with ``--write-readme`` the README block between the suite's markers, unless
+    cdt_plugin's own column failed somewhere. Returns the exit status."""
     out = Path(args.out) if args.out else (
         REPO_ROOT / "benchmarks" / "results" / (suite.name + ("-quick" if args.quick else "") + ".md"))
     out.parent.mkdir(parents=True, exist_ok=True)

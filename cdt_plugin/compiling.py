@@ -23,12 +23,13 @@ from numba.core import config, event
 
 logger = logging.getLogger("cdt_plugin")
 
-# what the compiled entry points are, for the message
+# what is compiling, for the message: the routes' entry points, else the module
 _ENTRY_NAMES = {
     "cdt_route": "the constrained Delaunay route (triangulate)",
     "mesh_geometries": "the batch route (triangulate_rings)",
     "build_mesh": "the Delaunay route (delaunay)",
 }
+_MODULE_NAMES = {"cdt_plugin._core.predicates": "the exact predicates"}
 
 
 def cache_dir() -> str:
@@ -40,13 +41,15 @@ def cache_dir() -> str:
 
 
 class _CompileNotice(event.Listener):
-    """Says once per outermost compilation of a cdt_plugin function that it is
-    compiling, and how long it took."""
+    """Says once per process and per route (or module) that it is compiling,
+    when the outermost compilation of a cdt_plugin function starts, and how long
+    it took (at INFO level)."""
 
     def __init__(self) -> None:
         self.depth = 0
         self.start = 0.0
         self.what = ""
+        self.said: set[str] = set()
 
     def on_start(self, ev) -> None:
         dispatcher = ev.data.get("dispatcher") if isinstance(ev.data, dict) else None
@@ -56,11 +59,13 @@ class _CompileNotice(event.Listener):
         self.depth += 1
         if self.depth == 1:
             name = dispatcher.py_func.__name__
-            self.what = _ENTRY_NAMES.get(name, f"{module}.{name}")
+            self.what = _ENTRY_NAMES.get(name) or _MODULE_NAMES.get(module) or f"{module}.{name}"
             self.start = time.perf_counter()
-            logger.warning("cdt_plugin: compiling %s with numba (once: it is cached in %s; "
-                           "`cdt-plugin compile` does every route ahead of time)",
-                           self.what, cache_dir())
+            if self.what not in self.said:
+                self.said.add(self.what)
+                logger.warning("cdt_plugin: compiling %s with numba (once: it is cached in %s; "
+                               "`cdt-plugin compile` does every route ahead of time)",
+                               self.what, cache_dir())
 
     def on_end(self, ev) -> None:
         if self.depth == 0:

@@ -17,8 +17,9 @@ import time
 
 import numpy as np
 
-from ._core.construct import (ALGORITHM_CODES, build_mesh, gather_coords, seed_first, seed_triangle,
-                              to_input_ids)
+from ._core.construct import build, gather_coords, seed_first, seed_triangle, to_input_ids
+from ._core.divide import build_divide_sorted
+from ._core.flips import flip_to_delaunay
 from ._core.insertion import redundant_vertices
 from ._core.ordering import brio_order, lexicographic_order
 from ._core.status import OK
@@ -159,14 +160,23 @@ def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged):
     """Triangulate the points ``order`` (seed triangle first) and record
     duplicates and submerged points in ``dup_of`` / ``submerged`` (input ids).
     Returns ``(tri, twin, cons, ntri, counts)`` over the mesh vertices of
-    :mod:`cdt_plugin._core.construct` (``counts[0]``: flips)."""
+    :mod:`cdt_plugin._core.construct` (``counts[0]``: flips). Only the
+    construction asked for is called, so only it is compiled on first use."""
     m = len(order)
     xi, yi, wi = gather_coords(x, y, w, order, 0)
-    horizontal = lexicographic_order(yi[:m], -xi[:m]) if algorithm == "divide" else _NO_IDS
     counts = np.zeros(2, np.int64)
-    status, tri, twin, cons, ntri, dup, sub = build_mesh(
-        xi, yi, wi, weighted, m, m, ALGORITHM_CODES[algorithm], horizontal, 0, False, counts)
-    if status != OK:  # pragma: no cover - a located point always exists
-        raise CDTError(f"internal error: point location failed (status {status})")
+    dup = np.full(m, -1, np.int64)
+    sub = np.zeros(m, np.int8)
+    cap = max(4, 2 * m + 2)
+    if algorithm == "divide":
+        horizontal = lexicographic_order(yi[:m], -xi[:m])
+        tri, twin, cons, ntri = build_divide_sorted(xi, yi, wi, m, m, dup, cap, False, horizontal)
+    else:
+        status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, m, np.arange(m),
+                                              algorithm == "flip", dup, sub, counts, 0, False)
+        if status != OK:  # pragma: no cover - a located point always exists
+            raise CDTError(f"internal error: point location failed (status {status})")
+        if algorithm == "flip":
+            counts[0] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, m, ntri)
     to_input_ids(order, dup, sub, dup_of, submerged)
     return tri, twin, cons, ntri, counts

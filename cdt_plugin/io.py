@@ -487,7 +487,7 @@ def _as_points(a, what, cols=2) -> np.ndarray:
     return arr
 
 
-def _as_index(a, what, cols, n=None) -> np.ndarray:
+def as_index(a, what, cols, n=None) -> np.ndarray:
     arr = np.asarray(a)
     if arr.size == 0:
         return np.zeros((0, cols), dtype=np.int64)
@@ -553,7 +553,7 @@ def write_poly(path, vertices, segments, holes=None, regions=None, segment_marke
     """
     lines = _node_lines(vertices, attributes, markers)
     n = int(lines[0].split()[0])
-    s = _as_index(segments, "segments", 2, n)
+    s = as_index(segments, "segments", 2, n)
     smarks = _opt_rows(segment_markers, s.shape[0], "segment_markers", np.int64)
     f0 = WRITE_FIRST_INDEX
     lines.append(f"{s.shape[0]} {0 if smarks is None else 1}")
@@ -585,7 +585,7 @@ def write_ele(path, triangles, attributes=None) -> None:
     """Write a ``.ele`` file (triangles and corners numbered from 1)."""
     t = np.asarray(triangles)
     cols = t.shape[1] if t.ndim == 2 and t.shape[1] in (3, 6) else 3
-    t = _as_index(t, "triangles", cols)
+    t = as_index(t, "triangles", cols)
     if (t < 0).any():
         raise InputShapeError("triangles contain negative vertex indices")
     attrs = _opt_rows(attributes, t.shape[0], "attributes", np.float64)
@@ -604,7 +604,7 @@ def write_ele(path, triangles, attributes=None) -> None:
 
 def write_edge(path, edges, markers=None) -> None:
     """Write a ``.edge`` file (edges and endpoints numbered from 1)."""
-    e = _as_index(edges, "edges", 2)
+    e = as_index(edges, "edges", 2)
     if (e < 0).any():
         raise InputShapeError("edges contain negative vertex indices")
     marks = _opt_rows(markers, e.shape[0], "markers", np.int64)
@@ -620,7 +620,7 @@ def write_edge(path, edges, markers=None) -> None:
 
 def write_neigh(path, neighbors) -> None:
     """Write a ``.neigh`` file (triangles numbered from 1, -1 for no neighbour)."""
-    nb = _as_index(neighbors, "neighbors", 3)
+    nb = as_index(neighbors, "neighbors", 3)
     k = nb.shape[0]
     if ((nb < -1) | (nb >= k)).any():
         raise InputShapeError(f"neighbors must be -1 or in 0..{k - 1}")

@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from .report import ANGLE_BINS, Report, _against_arrays, mesh_report, report as quality_report, triangle_quality
+from .report import ANGLE_BINS, Report, against_arrays, mesh_report, report as quality_report, triangle_quality
 
 __all__ = ["plot", "histogram", "figure", "save"]
 
@@ -105,7 +105,7 @@ def _mesh_parts(mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if hasattr(mesh, "vertex_map"):
         V, T, S = mesh.vertices, mesh.triangles, mesh.segments
     else:
-        V, T = _against_arrays(mesh)
+        V, T = against_arrays(mesh)
         S = np.empty((0, 2), np.int64)
     return (np.asarray(V, dtype=np.float64)[:, :2], np.asarray(T, dtype=np.int64),
             np.asarray(S, dtype=np.int64).reshape(-1, 2))

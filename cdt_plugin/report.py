@@ -36,7 +36,7 @@ from numba import njit
 
 from ._core.certify import edge_lifted_values
 from .errors import CDTError, InputShapeError
-from .io import _as_index
+from .io import as_index
 from ._core.predicates import orient2d
 
 __all__ = ["Report", "report", "compare", "mesh_report", "triangle_quality", "mesh_neighbors",
@@ -325,7 +325,7 @@ def mesh_report(vertices, triangles, *, segments=None, name: str = "mesh",
     1
     """
     V, T = _as_arrays(vertices, triangles)
-    S = None if segments is None else _as_index(segments, "segments", 2, len(V))
+    S = None if segments is None else as_index(segments, "segments", 2, len(V))
     used = np.unique(T)
     uniq, inverse = np.unique(V[used], axis=0, return_inverse=True)
     merged = np.full(len(V), -1, np.int64)
@@ -370,7 +370,7 @@ def report(tri, against=None, *, name: str = "cdt_plugin", against_name: str = "
     ours = _report_of_triangulation(tri, name, bins)
     if against is None:
         return ours
-    V, T = _against_arrays(against)
+    V, T = against_arrays(against)
     seg_xy = np.asarray(tri.vertices, np.float64)[np.asarray(tri.segments, np.int64)]
     pieces = _indices_of(V, seg_xy.reshape(-1, 2)).reshape(-1, 2)
     theirs = mesh_report(V, T, segments=pieces[(pieces >= 0).all(axis=1)], name=against_name,
@@ -474,11 +474,11 @@ def _as_arrays(vertices, triangles) -> tuple[np.ndarray, np.ndarray]:
     V = np.asarray(vertices, dtype=np.float64)
     if V.ndim != 2 or V.shape[1] not in (2, 3):
         raise InputShapeError(f"vertices must have shape (n, 2) or (n, 3), got {V.shape}")
-    T = _as_index(triangles, "triangles", 3, len(V))
+    T = as_index(triangles, "triangles", 3, len(V))
     return np.ascontiguousarray(V[:, :2]), T
 
 
-def _against_arrays(against) -> tuple[np.ndarray, np.ndarray]:
+def against_arrays(against) -> tuple[np.ndarray, np.ndarray]:
     """(vertices, triangles) of a pair, a Triangulation or a trimesh-like object."""
     if hasattr(against, "triangles") and hasattr(against, "vertex_map"):
         return _as_arrays(against.vertices, against.triangles)

@@ -4,7 +4,6 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from numba import njit
 
 from ._core.certify import edge_lifted_values, submerged_ok
 from ._core.flips import flip_to_delaunay

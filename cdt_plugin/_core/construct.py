@@ -13,13 +13,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .divide import _build_divide
+from .divide import build_divide_sorted
 from .flips import flip_to_delaunay
 from .insertion import insert_vertices
 from .kernel import orient
 from .locate import same_point
 from .mesh import IDX, make_first_triangle
-from .ordering import _lexicographic_order
+from .ordering import lexicographic_order_compiled
 from .status import OK
 
 DIVIDE = 0          # the construction codes the compiled routes take
@@ -105,7 +105,7 @@ def horizontal_order(xi, yi, m, horizontal_in, mesh_of):
     horizontal cuts use: sorted here, or ``horizontal_in`` (input ids, sorted by
     the caller's faster sort) mapped to mesh ids."""
     if horizontal_in.shape[0] == 0:
-        return _lexicographic_order(yi[:m], -xi[:m])
+        return lexicographic_order_compiled(yi[:m], -xi[:m])
     out = np.empty(m, np.int64)
     for k in range(m):
         out[k] = mesh_of[horizontal_in[k]]
@@ -123,7 +123,7 @@ def build_mesh(xi, yi, wi, weighted, m, inf, algorithm, horizontal, extra, with_
     sub = np.zeros(m, np.int8)
     cap = max(4, 2 * (m + extra) + 2)
     if algorithm == DIVIDE:
-        tri, twin, cons, ntri = _build_divide(xi, yi, wi, m, inf, dup, cap, with_cons, horizontal)
+        tri, twin, cons, ntri = build_divide_sorted(xi, yi, wi, m, inf, dup, cap, with_cons, horizontal)
         status = OK
     else:
         status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, inf, np.arange(m),

@@ -405,11 +405,11 @@ def build_divide(x, y, w, m, inf, dup, cap, with_cons):
     room for ``cap`` triangles. Returns ``(tri, twin, cons, ntri)``."""
     # the (y, -x) order of the horizontal cuts (numpy's sort is the fastest here)
     horizontal = lexicographic_order(y[:m], -x[:m])
-    return _build_divide(x, y, w, m, inf, dup, cap, with_cons, horizontal)
+    return build_divide_sorted(x, y, w, m, inf, dup, cap, with_cons, horizontal)
 
 
 @njit(cache=True)
-def _build_divide(x, y, w, m, inf, dup, cap, with_cons, horizontal):
+def build_divide_sorted(x, y, w, m, inf, dup, cap, with_cons, horizontal):
     """:func:`build_divide` after the sort: duplicates marked, the work arrays
     made, the subdivision built and converted."""
     u = mark_duplicates(x, y, m, dup)

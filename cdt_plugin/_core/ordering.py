@@ -106,14 +106,14 @@ def lexicographic_order(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     their input order. (The same as ``np.lexsort((y, x))``, about four times
     faster: one sort by x, then the runs of equal x sorted by y.)"""
     if len(x) < SMALL_SORT:
-        return _lexicographic_order(x, y)
+        return lexicographic_order_compiled(x, y)
     order = np.argsort(x).astype(np.int64)
     sort_ties(x, y, order)
     return order
 
 
 @njit(cache=True)
-def _lexicographic_order(x, y):
+def lexicographic_order_compiled(x, y):
     """:func:`lexicographic_order` in one compiled call (the ties make the
     result the same whatever sort the first pass uses)."""
     order = np.argsort(x).astype(np.int64)

@@ -24,7 +24,7 @@ from numba import njit
 from .construct import DIVIDE, FLIP, build_mesh, gather_coords, horizontal_order, seed_first, seed_triangle, to_input_ids
 from .flips import flip_to_delaunay
 from .mesh import grow_store
-from .ordering import _lexicographic_order
+from .ordering import lexicographic_order_compiled
 from .output import cdt_arrays, cdt_vertices, solid_triangles
 from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, OUT,
                      STEINER_ROOM, count_below, refine_store)
@@ -53,6 +53,8 @@ K_DEFERRED = 12
 K_REF_COMPLETE = 13
 K_REF_LIMIT = 14
 NCOUNTS = 15
+
+SMALL_MESH = 1 << 16    # triangles: below this, work arrays are made at once rather than on demand
 
 
 @njit(cache=True)
@@ -95,7 +97,9 @@ def insert_all_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, s
     """Run the segment tasks to the end, growing the store and the walk buffers
     as asked. Returns ``(status, (tri, twin, cons, x, y, w, inf, ntri, nv))``
     with the status of :func:`segments.insert_segments` (ALL_DONE or a stop)."""
-    buf = make_buffers(np.int64(0))      # made on the first segment that is not an edge yet
+    # the walk buffers: made now on small meshes (asking for them later would redo the
+    # pass over the edges that are segments already), on the first walk on large ones
+    buf = make_buffers(ntri if ntri <= SMALL_MESH else np.int64(0))
     while True:
         stack = np.empty(inf + 16, np.int64)
         status, ntri, nv, ntask = insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks,
@@ -308,7 +312,7 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     n = px.shape[0]
     info = np.zeros(4, np.int64)
     counts = np.zeros(NCOUNTS, np.int64)
-    order = order_in if order_in.shape[0] > 0 else _lexicographic_order(px, py)
+    order = order_in if order_in.shape[0] > 0 else lexicographic_order_compiled(px, py)
     k1, k2 = seed_triangle(px, py, order)
     if k2 < 0:
         return ROUTE_COLLINEAR, info, counts, no_mesh()

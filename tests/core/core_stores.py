@@ -14,7 +14,7 @@ import numpy as np
 from cdt_plugin._core.construct import (DIVIDE, build_mesh, gather_coords, horizontal_order,
                                         seed_first, seed_triangle)
 from cdt_plugin._core.mesh import IDX
-from cdt_plugin._core.ordering import _lexicographic_order
+from cdt_plugin._core.ordering import lexicographic_order_compiled
 from cdt_plugin._core.segments import insert_segments, make_buffers
 from checker import canonical_triangles
 from store_check import to_arrays
@@ -32,7 +32,7 @@ def delaunay_store(points, algorithm=DIVIDE, extra=0, with_cons=True):
     P = np.asarray(points, np.float64).reshape(-1, 2)
     px, py = P[:, 0].copy(), P[:, 1].copy()
     n = len(P)
-    order = _lexicographic_order(px, py)
+    order = lexicographic_order_compiled(px, py)
     k1, k2 = seed_triangle(px, py, order)
     assert k2 >= 0, "collinear input: no store"
     if algorithm != DIVIDE:

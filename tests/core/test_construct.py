@@ -8,8 +8,8 @@ import pytest
 
 from cdt_plugin._core.construct import (DIVIDE, FLIP, INCREMENTAL, build, gather_coords,
                                         seed_first, seed_triangle)
-from cdt_plugin._core.divide import _build_divide
-from cdt_plugin._core.ordering import _lexicographic_order
+from cdt_plugin._core.divide import build_divide_sorted
+from cdt_plugin._core.ordering import lexicographic_order_compiled
 from checker import orient2d_exact
 from core_stores import delaunay_store, store_triangles
 from store_check import check_store
@@ -105,7 +105,7 @@ def test_seed_triangle_on_collinear_input():
     x, y = 3 * t + 1, 2 * t - 7            # one line, not exactly: check with the exact orient
     P = np.column_stack([x, y])
     exact_line = all(orient2d_exact(P[0], P[-1], P[i]) == 0 for i in range(9))
-    order = _lexicographic_order(x, y)
+    order = lexicographic_order_compiled(x, y)
     k1, k2 = seed_triangle(x, y, order)
     assert k1 == 1
     assert (k2 == -1) == exact_line
@@ -145,12 +145,12 @@ def test_build_reserves_room_and_marks_duplicates():
 def test_divide_without_cons_and_with_small_cap():
     """``with_cons=False`` leaves ``cons`` empty; the store is sane all the same."""
     P = INPUTS["grid"]
-    order = _lexicographic_order(P[:, 0].copy(), P[:, 1].copy())
+    order = lexicographic_order_compiled(P[:, 0].copy(), P[:, 1].copy())
     x, y, w = gather_coords(P[:, 0].copy(), P[:, 1].copy(), np.zeros(len(P)), order, 0)
     m = len(P)
     dup = np.full(m, -1, np.int64)
-    hor = _lexicographic_order(y[:m], -x[:m])
-    tri, twin, cons, ntri = _build_divide(x, y, w, m, m, dup, 2 * m + 2, False, hor)
+    hor = lexicographic_order_compiled(y[:m], -x[:m])
+    tri, twin, cons, ntri = build_divide_sorted(x, y, w, m, m, dup, 2 * m + 2, False, hor)
     assert cons.shape[0] == 0
     c = check_store(tri, twin, cons, ntri, m, x, y)
     assert c["solid"] == 2 * m - c["ghosts"] - 2
