@@ -90,7 +90,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from harness import (REPO_ROOT, WORKER_FLAG, Impl, Suite, Workload,  # noqa: E402
-                     machine_info, measure_times, short_reason, write_results)
+                     command_line, machine_info, measure_times, short_reason, write_results)
 from harness import main as harness_main  # noqa: E402
 
 FIRST_USE_FLAG = "--_first-use"
@@ -564,15 +564,7 @@ def main(argv: list[str] | None = None) -> int:
     for w in results["warnings"]:
         _log(f"WARNING: {w}")
 
-    shown, skip = [], False                      # the command line minus where the output goes
-    for a in argv:
-        if skip:
-            skip = False
-        elif a == "--out":
-            skip = True
-        elif a != "--write-readme" and not a.startswith("--out="):
-            shown.append(a)
-    args_line = " ".join(["python", os.path.relpath(SUITE.script, REPO_ROOT)] + shown)
+    args_line = command_line(SUITE, argv)
     md = render(results, info, args_line)
     results["elapsed_s"] = time.perf_counter() - t_start
 

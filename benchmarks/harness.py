@@ -736,16 +736,7 @@ def main(suite: Suite, argv: list[str] | None = None) -> int:
             for name, c in cells.items()
         }
 
-    script_rel = os.path.relpath(suite.script, REPO_ROOT)
-    shown, skip = [], False             # the command line minus where the output goes
-    for a in argv:
-        if skip:
-            skip = False
-        elif a == "--out":
-            skip = True
-        elif a != "--write-readme" and not a.startswith("--out="):
-            shown.append(a)
-    args_line = " ".join(["python", script_rel] + shown)
+    args_line = command_line(suite, argv)
     if suite.checks is not None:
         try:
             results["warnings"] = list(suite.checks(results))
@@ -757,6 +748,20 @@ def main(suite: Suite, argv: list[str] | None = None) -> int:
     results["elapsed_s"] = time.perf_counter() - t_start
 
     return write_results(suite, results, md, args)
+
+
+def command_line(suite: Suite, argv: list[str]) -> str:
+    """The command that made a table, as the table shows it: the script and its
+    options, less where the output goes (``--out``, ``--write-readme``)."""
+    shown, skip = [], False
+    for a in argv:
+        if skip:
+            skip = False
+        elif a == "--out":
+            skip = True
+        elif a != "--write-readme" and not a.startswith("--out="):
+            shown.append(a)
+    return " ".join(["python", os.path.relpath(suite.script, REPO_ROOT)] + shown)
 
 
 def write_results(suite: Suite, results: dict, md: str, args: argparse.Namespace) -> int:
