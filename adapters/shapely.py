@@ -35,7 +35,12 @@ __all__ = ["triangulate", "triangulate_batch", "to_shapely", "constrained_delaun
 # GEOS type ids (shapely.GeometryType)
 _POINT, _LINESTRING, _LINEARRING, _POLYGON, _MULTIPOINT, _MULTILINESTRING, _MULTIPOLYGON, _COLLECTION = range(8)
 _POLYGONAL = (_LINEARRING, _POLYGON, _MULTIPOLYGON)   # types whose rings bound a domain
+# per type id + 1 (missing is -1): whether GEOS validity is checked (polygonal, collections);
+# a lookup, since np.isin costs tens of microseconds on a one-geometry call
+_CHECKED_FOR_VALIDITY = np.isin(np.arange(-1, 8), _POLYGONAL + (_COLLECTION,))
+_EMPTY_COLLECTION = shapely.GeometryCollection()    # geometries are immutable: one serves all
 _REPAIR_METHODS = {True: "linework", "linework": "linework", "structure": "structure"}
+_VECTORISED_FROM = 16    # polygons read as flat ring arrays from this many on (else one by one)
 
 
 # --------------------------------------------------------------------------- input
@@ -254,8 +259,7 @@ def _plcs(arr, method, indexed):
     types = shapely.get_type_id(arr)
     arr = arr.copy()
     # --- validity of polygonal input (GeometryCollections: their polygonal members)
-    check = np.isin(types, _POLYGONAL) | (types == _COLLECTION)
-    idx = np.flatnonzero(check)
+    idx = np.flatnonzero(_CHECKED_FOR_VALIDITY[types + 1])
     if len(idx):
         valid = shapely.is_valid(arr[idx])
         for i in idx[~valid]:
@@ -269,18 +273,16 @@ def _plcs(arr, method, indexed):
         raise _fail(TooFewPointsError, f"the geometry is empty ({shapely.to_wkt(arr[i])}): "
                     "nothing to triangulate", i, indexed)
     plcs = [None] * len(arr)
-    fast = np.flatnonzero((types == _POLYGON) | (types == _MULTIPOLYGON))
-    if len(fast):
-        for i, plc in zip(fast, _polygon_plcs(arr[fast])):
+    polygons = np.flatnonzero((types == _POLYGON) | (types == _MULTIPOLYGON))
+    if len(polygons) >= _VECTORISED_FROM:   # fewer: the arrays' set-up costs more than it saves
+        for i, plc in zip(polygons, _polygon_plcs(arr[polygons])):
             plcs[i] = plc
-    for i in np.flatnonzero(~missing & (types != _POLYGON) & (types != _MULTIPOLYGON)):
-        try:
-            plcs[i] = PLC.from_geo_interface(arr[i])
-        except CDTError as e:
-            raise _with_index(e, int(i), indexed)
-    for i in fast:
-        if plcs[i] is None:  # a degenerate ring: the generic reader reports or keeps it
-            plcs[i] = PLC.from_geo_interface(arr[i])
+    for i in np.flatnonzero(~missing):
+        if plcs[i] is None:   # other types, a few polygons, or a degenerate ring (reported or kept)
+            try:
+                plcs[i] = PLC.from_geo_interface(arr[i])
+            except CDTError as e:
+                raise _with_index(e, int(i), indexed)
     return plcs
 
 
@@ -497,7 +499,7 @@ def constrained_delaunay_triangles(geometry, **kwargs):
     types = shapely.get_type_id(flat)
     polygonal = ((types == _POLYGON) | (types == _MULTIPOLYGON)) & ~shapely.is_empty(flat)
     out = np.empty(len(flat), dtype=object)
-    out[~shapely.is_missing(flat)] = shapely.GeometryCollection()
+    out[~shapely.is_missing(flat)] = _EMPTY_COLLECTION
     idx = np.flatnonzero(polygonal)
     if len(idx):
         plcs = _plcs(flat[idx], None, indexed=False if scalar else idx)

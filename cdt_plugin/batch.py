@@ -91,8 +91,8 @@ def geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, z,
     v0, v1 = ring_start[r0], ring_start[r1]
     local = xy[v0:v1]
     bounds = np.asarray(ring_start[r0:r1 + 1], np.int64) - v0
-    _, _, _, degenerate, seg, ring_of = polygon_rings(np.ascontiguousarray(local), bounds[:-1],
-                                                      bounds[1:])
+    _, degenerate, _, seg, ring_of = polygon_rings(np.ascontiguousarray(local), bounds[:-1],
+                                                   bounds[1:])
     polygon = np.asarray(ring_polygon[r0:r1], np.int64)
     hole = np.asarray(ring_is_hole[r0:r1], bool)
     named = [(int(polygon[r]), int((polygon[:r] == polygon[r]).sum())) for r in np.flatnonzero(degenerate)]

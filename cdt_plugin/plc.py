@@ -16,6 +16,7 @@ import numpy as np
 
 from .errors import (CDTError, InputShapeError, NonFiniteCoordinateError, SegmentIndexError,
                      TooFewPointsError)
+from ._core.checks import first_segment_out_of_range
 from ._core.rings import polygon_rings
 from .validate import as_points
 
@@ -64,7 +65,8 @@ class PLC:
         (7, 7, [False, True])
         """
         builder = _Builder()
-        builder.add(_mapping(geometry))
+        if not builder.add_geometry(geometry):
+            builder.add(_mapping(geometry))
         return builder.finish()
 
 
@@ -91,6 +93,7 @@ class _Builder:
         self.ring_is_hole: list = []
         self.ring_name: list = []    # (polygon, ring within it) for error messages
         self.n_polygons = 0
+        self.has_lines = False
 
     def _add_vertices(self, coords, closed=False) -> int:
         """Append the (x, y[, z]) rows (a ring's closing point dropped); returns how many."""
@@ -123,6 +126,7 @@ class _Builder:
         if k >= 2:
             idx = np.arange(start, start + k)
             self.pieces.append(np.column_stack([idx[:-1], idx[1:]]))
+            self.has_lines = True
 
     def add(self, gi):
         kind = gi["type"]
@@ -161,6 +165,25 @@ class _Builder:
         for r, ring in enumerate(rings):
             self.add_ring(ring, p, r > 0, r)
 
+    def add_geometry(self, geometry) -> bool:
+        """Read a shapely-style Polygon or MultiPolygon through its coordinate
+        arrays (``exterior.coords``, ``interiors``, ``geoms``): the same rings as
+        its ``__geo_interface__``, which shapely builds as a tuple per
+        coordinate on every access (most of a small call's time). Returns
+        False for anything else."""
+        kind = getattr(geometry, "geom_type", None)
+        if kind == "Polygon" and hasattr(geometry, "exterior"):
+            polygons = (geometry,)
+        elif kind == "MultiPolygon" and hasattr(geometry, "geoms"):
+            polygons = geometry.geoms
+        else:
+            return False
+        for polygon in polygons:
+            if not polygon.is_empty:
+                self._add_polygon([polygon.exterior.coords]
+                                  + [hole.coords for hole in polygon.interiors])
+        return True
+
     def finish(self) -> PLC:
         if not self.xy:
             xy = np.empty((0, 2))
@@ -168,7 +191,7 @@ class _Builder:
             xy = np.ascontiguousarray(self.xy[0] if len(self.xy) == 1 else np.concatenate(self.xy))
         begin = np.array(self.ring_begin, np.int64)
         end = np.array(self.ring_end, np.int64)
-        _, _, bad, degenerate, segs, seg_ring = polygon_rings(xy, begin, end)
+        bad, degenerate, n_degenerate, segs, seg_ring = polygon_rings(xy, begin, end)
         if bad >= 0:
             rows = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
             raise NonFiniteCoordinateError(f"geometry has NaN or infinite coordinates at vertex "
@@ -181,14 +204,13 @@ class _Builder:
         ring_polygon = np.array(self.ring_polygon, np.int64)
         ring_is_hole = np.array(self.ring_is_hole, bool)
         names = []
-        if degenerate.any():
+        if n_degenerate:
             kept = ~degenerate
             names = [self.ring_name[r] for r in np.flatnonzero(degenerate)]
             ring_polygon, ring_is_hole = ring_polygon[kept], ring_is_hole[kept]
-        if any(not isinstance(p, int) for p in self.pieces):
+        if self.has_lines:
             segs, seg_ring = self._in_input_order(segs, seg_ring, ~degenerate, begin, end)
-        return PLC(xy, segs, segment_ring=seg_ring, ring_polygon=ring_polygon,
-                   ring_is_hole=ring_is_hole, z=z, degenerate_rings=names)
+        return PLC(xy, segs, None, None, seg_ring, ring_polygon, ring_is_hole, z, names)
 
     def _in_input_order(self, ring_segs, ring_of, kept, begin, end):
         """Rings' and lines' segments interleaved as the input gave them."""
@@ -218,12 +240,10 @@ def as_plc(vertices, segments=None, holes=None, regions=None) -> PLC:
         plc = dataclasses.replace(vertices, vertices=pts,
                                   segments=_as_segments(vertices.segments, len(pts)))
     else:
-        gi = _geo_mapping(vertices)
-        if gi is not None:
+        builder = _Builder()
+        if builder.add_geometry(vertices) or _add_mapping(builder, vertices):
             if segments is not None:
                 raise CDTError("pass segments either inside the PLC/geometry or as an array, not both")
-            builder = _Builder()
-            builder.add(gi)
             plc = builder.finish()        # its vertices are checked and its segments valid
             if len(plc.vertices) == 0:
                 raise TooFewPointsError("the input has no vertices")
@@ -238,20 +258,23 @@ def as_plc(vertices, segments=None, holes=None, regions=None) -> PLC:
     return plc
 
 
-def _geo_mapping(obj):
-    """The GeoJSON-like mapping of a geometry (its ``__geo_interface__``, read
-    once: shapely builds it anew on every access), or None for other input."""
+def _add_mapping(builder, obj) -> bool:
+    """Add the GeoJSON-like mapping of a geometry (its ``__geo_interface__``,
+    read once: shapely builds it anew on every access); False for input that
+    is no geometry."""
     if isinstance(obj, dict):
-        return obj if "type" in obj else None
-    if isinstance(obj, np.ndarray):
-        return None
-    gi = getattr(obj, "__geo_interface__", None)
+        gi = obj if "type" in obj else None
+    elif isinstance(obj, np.ndarray):
+        gi = None
+    else:
+        gi = getattr(obj, "__geo_interface__", None)
+        if gi is not None and (not isinstance(gi, dict) or "type" not in gi):
+            raise InputShapeError(f"expected a geometry with __geo_interface__ or a GeoJSON-like "
+                                  f"mapping, got {type(obj).__name__}")
     if gi is None:
-        return None
-    if not isinstance(gi, dict) or "type" not in gi:
-        raise InputShapeError(f"expected a geometry with __geo_interface__ or a GeoJSON-like "
-                              f"mapping, got {type(obj).__name__}")
-    return gi
+        return False
+    builder.add(gi)
+    return True
 
 
 _NO_SEGMENTS = np.empty((0, 2), np.int64)
@@ -263,14 +286,14 @@ def _as_segments(segments, n) -> np.ndarray:
         return np.empty((0, 2), np.int64)
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise InputShapeError(f"segments must have shape (m, 2), got {arr.shape}")
-    if not np.issubdtype(arr.dtype, np.integer):
+    if arr.dtype.kind not in "iu":
         as_int = np.asarray(arr, dtype=np.float64)
         bad = np.flatnonzero((as_int != np.round(as_int)).any(axis=1) | ~np.isfinite(as_int).all(axis=1))
         if bad.size:
             raise SegmentIndexError(f"segment {int(bad[0])} has non-integer vertex indices "
                                     f"{arr[bad[0]].tolist()}")
     arr = np.ascontiguousarray(arr, dtype=np.int64)
-    if arr.min() < 0 or arr.max() >= n:
+    if first_segment_out_of_range(arr, n) >= 0:
         bad = np.flatnonzero((arr[:, 0] < 0) | (arr[:, 0] >= n) | (arr[:, 1] < 0) | (arr[:, 1] >= n))
         i = int(bad[0])
         raise SegmentIndexError(

@@ -1,6 +1,7 @@
 """The result of a triangulation: plain NumPy arrays plus certificates."""
 from __future__ import annotations
 
+import functools
 import time
 
 import numpy as np
@@ -97,7 +98,9 @@ class Triangulation:
         twin_out = twin[: 3 * ntri]
         triangles, neighbors, _ = solid_triangles(tri_out, twin_out, ntri, len(kept))
         rotate_min_first(triangles, neighbors)
-        _finish_stats(stats, n, vertex_map, dup_of, submerged, len(triangles), t0)
+        # the counts are made on first access: most callers never look
+        stats = functools.partial(_finished_stats, stats, n, vertex_map, dup_of, len(triangles),
+                                  time.perf_counter() - t0)
         weights = None if w_in is None else w_in[kept]
         out = cls(pts[kept], triangles, neighbors, vertex_map, stats, weights,
                   mesh=(tri_out, twin_out, cons[: 3 * ntri], ntri, len(kept)))
@@ -116,7 +119,7 @@ class Triangulation:
         vertex_map, kept = _vertex_map(n, dup_of, submerged)
         edges = np.column_stack([vertex_map[line[:-1]], vertex_map[line[1:]]]).astype(np.int64)
         empty = np.empty((0, 3), np.int64)
-        _finish_stats(stats, n, vertex_map, dup_of, submerged, 0, t0)
+        _finished_stats(stats, n, vertex_map, dup_of, 0, time.perf_counter() - t0)
         stats["collinear"] = True
         weights = None if w_in is None else w_in[kept]
         return cls(pts[kept], empty, empty.copy(), vertex_map, stats, weights,
@@ -327,12 +330,14 @@ def _vertex_map(n, dup_of, submerged):
     return vertex_map, rep[roots[perm]]
 
 
-def _finish_stats(stats, n, vertex_map, dup_of, submerged, ntriangles, t0):
+def _finished_stats(stats, n, vertex_map, dup_of, ntriangles, seconds) -> dict:
+    """``stats`` with the counts of a finished triangulation added."""
     stats["duplicates"] = int((dup_of >= 0).sum())
     stats["submerged"] = int((vertex_map < 0).sum())
     stats["vertices"] = int(vertex_map.max() + 1) if n else 0
     stats["triangles"] = int(ntriangles)
-    stats["seconds"] = time.perf_counter() - t0
+    stats["seconds"] = seconds
+    return stats
 
 
 def _mark_collinear_duplicates(pts, order, dup_of):

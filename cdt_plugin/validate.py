@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._core.checks import first_nonfinite_row
 from .errors import InputShapeError, NonFiniteCoordinateError, TooFewPointsError
 
 
@@ -23,14 +24,14 @@ def as_points(points, name: str = "points") -> np.ndarray:
         raise InputShapeError(f"{name} must have shape (n, 2), got {arr.shape}")
     if arr.shape[0] == 0:
         raise TooFewPointsError(f"{name} is empty: at least one point is needed")
-    # a whole-array check first: reductions along axis 1 of an (n, 2) array are slow
-    if not np.isfinite(arr).all():
+    arr = np.ascontiguousarray(arr)
+    if first_nonfinite_row(arr) >= 0:
         bad = np.flatnonzero(~(np.isfinite(arr[:, 0]) & np.isfinite(arr[:, 1])))
         i = int(bad[0])
         raise NonFiniteCoordinateError(
             f"{name} has NaN or infinite coordinates at row(s) {_rows(bad)} "
             f"(row {i} is ({float(arr[i, 0])!r}, {float(arr[i, 1])!r}))")
-    return np.ascontiguousarray(arr)
+    return arr
 
 
 def as_weights(weights, n: int) -> np.ndarray | None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .checks import first_nonfinite_row
 from .kernel import orient
 
 
@@ -65,21 +66,17 @@ def ring_segments(ring_start, r0, r1, keep):
 def polygon_rings(xy, begin, end):
     """The vertices ``xy`` (n, 2) checked (``bad``: the first row with a NaN or
     infinite coordinate, -1 when none) and every ring ``begin[r]..end[r] - 1``
-    turned into segments. Returns ``(x, y, bad, degenerate, segments,
-    segment_ring)``; a degenerate ring (:func:`ring_is_degenerate`) gives no
-    segments."""
-    n = xy.shape[0]
-    x = np.empty(n)
-    y = np.empty(n)
-    bad = -1
-    for i in range(n):
-        x[i] = xy[i, 0]
-        y[i] = xy[i, 1]
-        if bad < 0 and not (np.isfinite(x[i]) and np.isfinite(y[i])):
-            bad = i
+    turned into segments. Returns ``(bad, degenerate, how many are degenerate,
+    segments, segment_ring)``; a degenerate ring (:func:`ring_is_degenerate`)
+    gives no segments."""
+    bad = first_nonfinite_row(xy)
     degenerate = np.zeros(begin.shape[0], np.bool_)
+    n_degenerate = 0
     if bad < 0:
+        x = xy[:, 0]
+        y = xy[:, 1]
         for r in range(begin.shape[0]):
             degenerate[r] = ring_is_degenerate(x, y, begin[r], end[r])
+            n_degenerate += degenerate[r]
     segs, ring_of = segments_of_rings(begin, end, ~degenerate, 0)
-    return x, y, bad, degenerate, segs, ring_of
+    return bad, degenerate, n_degenerate, segs, ring_of

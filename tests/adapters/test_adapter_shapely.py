@@ -61,18 +61,40 @@ def test_polygon_with_holes_area_union_and_regions():
     assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
 
 
-def test_vectorised_reader_equals_geo_interface():
-    geoms = [_holed(),
-             shapely.MultiPolygon([_holed(), shapely.box(20, 0, 21, 1)]),
-             shapely.Polygon([(0, 0, 1), (1, 0, 2), (1, 1, 3), (0, 1, 4)]),
-             shapely.Polygon(_circle(0, 0, 1, 9, cw=True))]
-    for g in geoms:
-        a, b = sa.plc_from_shapely(g), PLC.from_geo_interface(g)
-        for f in ("vertices", "segments", "segment_ring", "ring_polygon", "ring_is_hole"):
-            assert np.array_equal(getattr(a, f), getattr(b, f)), f
-        assert (a.z is None) == (b.z is None)
-        if a.z is not None:
-            assert np.array_equal(a.z, b.z)
+def _reader_cases():
+    return [_holed(),
+            shapely.MultiPolygon([_holed(), shapely.box(20, 0, 21, 1)]),
+            shapely.Polygon([(0, 0, 1), (1, 0, 2), (1, 1, 3), (0, 1, 4)]),
+            shapely.Polygon(_circle(0, 0, 1, 9, cw=True)),
+            shapely.Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(1, 1), (2, 2), (3, 3), (1, 1)]]),
+            shapely.MultiPolygon([shapely.Polygon(), shapely.box(0, 0, 1, 1)])]
+
+
+def _assert_same_plc(a, b):
+    for f in ("vertices", "segments", "segment_ring", "ring_polygon", "ring_is_hole"):
+        assert np.array_equal(getattr(a, f), getattr(b, f)), f
+    assert a.degenerate_rings == b.degenerate_rings
+    assert (a.z is None) == (b.z is None)
+    if a.z is not None:
+        assert np.array_equal(a.z, b.z)
+
+
+def test_coordinate_reader_equals_geo_interface():
+    # a shapely Polygon/MultiPolygon is read through its coordinate arrays; its
+    # GeoJSON mapping must give the very same PLC
+    for g in _reader_cases():
+        _assert_same_plc(PLC.from_geo_interface(g), PLC.from_geo_interface(g.__geo_interface__))
+
+
+def test_vectorised_reader_equals_one_by_one():
+    # from 16 polygons on, the adapter reads them as flat ring arrays: same PLCs, same meshes
+    many = [g for g in _reader_cases() if g.is_valid] * 4
+    assert len(many) >= sa._VECTORISED_FROM
+    for tri, g in zip(sa.triangulate(many, intersections="split"), many):
+        one = cdt_plugin.triangulate(g, intersections="split")
+        assert np.array_equal(tri.vertices, one.vertices)
+        assert np.array_equal(tri.triangles, one.triangles)
+        assert np.array_equal(tri.regions, one.regions)
 
 
 def test_multipolygon_regions():
