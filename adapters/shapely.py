@@ -480,7 +480,7 @@ def constrained_delaunay_triangles(geometry, **kwargs):
     --------
     >>> import shapely
     >>> constrained_delaunay_triangles(shapely.Polygon([(10, 10), (20, 40), (90, 90), (90, 10), (10, 10)]))
-    <GEOMETRYCOLLECTION (POLYGON ((90 10, 10 10, 20 40, 90 10)), POLYGON ((90 10...>
+    <GEOMETRYCOLLECTION (POLYGON ((10 10, 20 40, 90 10, 10 10)), POLYGON ((20 40...>
     >>> constrained_delaunay_triangles(shapely.MultiPoint([(50, 30), (51, 30), (60, 30)]))
     <GEOMETRYCOLLECTION EMPTY>
     """
