@@ -210,7 +210,8 @@ class _Builder:
             ring_polygon, ring_is_hole = ring_polygon[kept], ring_is_hole[kept]
         if self.has_lines:
             segs, seg_ring = self._in_input_order(segs, seg_ring, ~degenerate, begin, end)
-        return PLC(xy, segs, None, None, seg_ring, ring_polygon, ring_is_hole, z, names)
+        return PLC(xy, segs, segment_ring=seg_ring, ring_polygon=ring_polygon,
+                   ring_is_hole=ring_is_hole, z=z, degenerate_rings=names)
 
     def _in_input_order(self, ring_segs, ring_of, kept, begin, end):
         """Rings' and lines' segments interleaved as the input gave them."""
