@@ -64,17 +64,35 @@ class PLC:
         >>> len(plc.vertices), len(plc.segments), plc.ring_is_hole.tolist()
         (7, 7, [False, True])
         """
-        builder = _Builder()
-        if not builder.add_geometry(geometry):
-            builder.add(_mapping(geometry))
-        return builder.finish()
+        return _read_geometry(geometry, required=True)
 
 
-def _mapping(geometry):
-    gi = getattr(geometry, "__geo_interface__", geometry)
-    if not isinstance(gi, dict) or "type" not in gi:
+def _read_geometry(obj, required):
+    """The PLC of a geometry: a shapely-style polygon through its coordinate
+    arrays, anything else through its GeoJSON-like mapping. None for input
+    that is no geometry, unless ``required``."""
+    builder = _Builder()
+    if not builder.add_geometry(obj):
+        gi = _mapping(obj, required)
+        if gi is None:
+            return None
+        builder.add(gi)
+    return builder.finish()
+
+
+def _mapping(obj, required=True):
+    """The GeoJSON-like mapping of ``obj`` (its ``__geo_interface__``, read
+    once: shapely builds it anew on every access). Input that is no geometry
+    gives None, or an error when ``required``; a malformed
+    ``__geo_interface__`` is always an error."""
+    if isinstance(obj, dict):
+        gi, malformed = (obj if "type" in obj else None), False
+    else:
+        gi = getattr(obj, "__geo_interface__", None)
+        malformed = gi is not None and not (isinstance(gi, dict) and "type" in gi)
+    if malformed or (gi is None and required):
         raise InputShapeError(f"expected a geometry with __geo_interface__ or a GeoJSON-like "
-                              f"mapping, got {type(geometry).__name__}")
+                              f"mapping, got {type(obj).__name__}")
     return gi
 
 
@@ -241,11 +259,10 @@ def as_plc(vertices, segments=None, holes=None, regions=None) -> PLC:
         plc = dataclasses.replace(vertices, vertices=pts,
                                   segments=_as_segments(vertices.segments, len(pts)))
     else:
-        builder = _Builder()
-        if builder.add_geometry(vertices) or _add_mapping(builder, vertices):
+        plc = _read_geometry(vertices, required=False)   # its vertices checked, segments valid
+        if plc is not None:
             if segments is not None:
                 raise CDTError("pass segments either inside the PLC/geometry or as an array, not both")
-            plc = builder.finish()        # its vertices are checked and its segments valid
             if len(plc.vertices) == 0:
                 raise TooFewPointsError("the input has no vertices")
         else:
@@ -257,25 +274,6 @@ def as_plc(vertices, segments=None, holes=None, regions=None) -> PLC:
     if regions is not None:
         plc.regions = _as_regions(regions)
     return plc
-
-
-def _add_mapping(builder, obj) -> bool:
-    """Add the GeoJSON-like mapping of a geometry (its ``__geo_interface__``,
-    read once: shapely builds it anew on every access); False for input that
-    is no geometry."""
-    if isinstance(obj, dict):
-        gi = obj if "type" in obj else None
-    elif isinstance(obj, np.ndarray):
-        gi = None
-    else:
-        gi = getattr(obj, "__geo_interface__", None)
-        if gi is not None and (not isinstance(gi, dict) or "type" not in gi):
-            raise InputShapeError(f"expected a geometry with __geo_interface__ or a GeoJSON-like "
-                                  f"mapping, got {type(obj).__name__}")
-    if gi is None:
-        return False
-    builder.add(gi)
-    return True
 
 
 _NO_SEGMENTS = np.empty((0, 2), np.int64)
