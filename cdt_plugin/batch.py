@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._core.construct import ALGORITHM_CODES
-from ._core.pipeline import mesh_geometries
+from ._core.pipeline import mesh_geometries, refinement_arg
 from ._core.rings import polygon_rings
 from .cdt import check_options, triangulate_plc
 from .errors import CDTError
@@ -166,7 +166,7 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
             T, G, R, S, failed = mesh_geometries(
                 x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1,
                 route["split"], route["max_steiner"], ALGORITHM_CODES[route["algorithm"]],
-                route["refinement"], len(xy) + nsteiner)
+                refinement_arg(route["refinement"]), len(xy) + nsteiner)
             parts.append((G, T, R))
             if len(S):
                 steiner_xy.append(S)

@@ -18,7 +18,7 @@ from ._core.ordering import SMALL_SORT, brio_order, lexicographic_order
 from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUPLICATES, K_FLIPS,
                              K_FROZEN, K_INTERSECTIONS, K_MERGED_OVERLAPS, K_ON_SEGMENTS,
                              K_REF_COMPLETE, K_REF_FLIPS, K_REF_LIMIT, K_REF_SPLITS, K_REF_STEINER,
-                             K_ZERO_SEGMENTS, cdt_route)
+                             K_ZERO_SEGMENTS, cdt_route, refinement_arg)
 from ._core.segments import intersection_point
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
                            ROUTE_OVERLAP, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT)
@@ -176,7 +176,7 @@ def triangulate_plc(plc: PLC, *, keep_hull=False, split=False, algorithm="divide
         x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
         plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
         holes, regions, use_seeds, ALGORITHM_CODES[algorithm], order, horizontal, split,
-        bool(keep_hull), max_steiner, refinement)
+        bool(keep_hull), max_steiner, refinement_arg(refinement))
     if status == ROUTE_COLLINEAR:
         return _collinear_result(plc, algorithm, t0)
     if status not in (ROUTE_OK, ROUTE_REFINE_LIMIT):

@@ -32,9 +32,9 @@ from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
-from numba import njit
 
 from ._core.certify import edge_lifted_values
+from ._core.jit import kernel
 from .errors import CDTError, InputShapeError
 from .io import as_index
 from ._core.predicates import orient2d
@@ -205,7 +205,7 @@ def mesh_neighbors(triangles) -> tuple[np.ndarray, int]:
     return nb.reshape(k, 3), int((run_len > 2).sum())
 
 
-@njit(cache=True)
+@kernel
 def _orientation_signs(x, y, triangles):
     """Exact orientation sign of every triangle (+1 counter-clockwise, 0 flat)."""
     out = np.empty(triangles.shape[0], np.int64)

@@ -4,12 +4,12 @@ analogue, and the uniqueness test of Theorem 2.11."""
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from .jit import kernel
 from .predicates import incircle, incircle_weighted, orient2d
 
 
-@njit(cache=True)
+@kernel
 def opposite_vertex(triangles, neighbors, k, m):
     """The vertex of triangle ``m`` opposite its shared edge with ``k``."""
     for j in range(3):
@@ -18,7 +18,7 @@ def opposite_vertex(triangles, neighbors, k, m):
     return -1
 
 
-@njit(cache=True)
+@kernel
 def edge_lifted_values(vx, vy, vw, weighted, triangles, neighbors):
     """For every interior edge (listed once): the sign of the exact lifted test of
     the far vertex against the near triangle (> 0: not locally Delaunay,
@@ -46,7 +46,7 @@ def edge_lifted_values(vx, vy, vw, weighted, triangles, neighbors):
     return out[:n]
 
 
-@njit(cache=True)
+@kernel
 def locate_in_arrays(vx, vy, triangles, neighbors, px, py, start=0):
     """Triangle containing point (px, py) (closed), by a visibility walk over
     ``neighbors`` from triangle ``start``; -1 if outside the triangulation."""
@@ -78,7 +78,7 @@ def locate_in_arrays(vx, vy, triangles, neighbors, px, py, start=0):
     return -1
 
 
-@njit(cache=True)
+@kernel
 def locate_all(vx, vy, triangles, neighbors, px, py):
     """:func:`locate_in_arrays` for many points, each walk starting where the
     previous one ended (nearby points in a row walk a few steps)."""
@@ -91,7 +91,7 @@ def locate_all(vx, vy, triangles, neighbors, px, py):
     return out
 
 
-@njit(cache=True)
+@kernel
 def submerged_ok(vx, vy, vw, triangles, neighbors, sx, sy, sw):
     """For each submerged point: 1 if its lifted point lies on or above the lifted
     triangulation (so leaving it out is right), else 0."""

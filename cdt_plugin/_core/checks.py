@@ -7,10 +7,11 @@ each) than the whole check; the Python side (:mod:`cdt_plugin.validate`,
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from .jit import kernel
 
 
-@njit(cache=True)
+@kernel
 def first_nonfinite_row(xy):
     """The first row of ``xy`` (n, 2) with a NaN or infinite coordinate, or -1."""
     for i in range(xy.shape[0]):
@@ -19,7 +20,7 @@ def first_nonfinite_row(xy):
     return -1
 
 
-@njit(cache=True)
+@kernel
 def first_segment_out_of_range(segs, n):
     """The first row of ``segs`` (m, 2) naming a vertex outside ``0..n-1``, or -1."""
     for i in range(segs.shape[0]):

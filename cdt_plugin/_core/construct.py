@@ -11,11 +11,11 @@ plus the flip algorithm.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 from .divide import build_divide_sorted
 from .flips import flip_to_delaunay
 from .insertion import insert_vertices
+from .jit import kernel
 from .kernel import orient
 from .locate import same_point
 from .mesh import IDX, make_first_triangle
@@ -28,7 +28,7 @@ FLIP = 2
 ALGORITHM_CODES = {"divide": DIVIDE, "incremental": INCREMENTAL, "flip": FLIP}
 
 
-@njit(cache=True)
+@kernel
 def seed_triangle(x, y, order):
     """Positions in ``order`` of the 2nd and 3rd vertex of a first, non-degenerate
     triangle (the 1st is ``order[0]``); -1 where none exists (all points equal,
@@ -49,7 +49,7 @@ def seed_triangle(x, y, order):
     return k1, -1
 
 
-@njit(cache=True)
+@kernel
 def seed_first(order, k1, k2):
     """``order`` with the seed triangle's vertices (positions 0, k1, k2) in front."""
     out = np.empty(order.shape[0], np.int64)
@@ -64,7 +64,7 @@ def seed_first(order, k1, k2):
     return out
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def build(x, y, w, weighted, inf, order, hull_only, dup_of, submerged, counts, extra, with_cons):
     """Triangulate ``order[0:3]`` (a non-degenerate triangle), then insert the rest.
     ``extra`` reserves room for that many more vertices (Steiner points);
@@ -86,7 +86,7 @@ def build(x, y, w, weighted, inf, order, hull_only, dup_of, submerged, counts, e
     return status, tri, twin, cons, ntri
 
 
-@njit(cache=True)
+@kernel
 def gather_coords(x, y, w, order, extra):
     """The coordinates of the points ``order``, then ``extra + 1`` zeros (room
     for Steiner points and the infinite vertex)."""
@@ -99,7 +99,7 @@ def gather_coords(x, y, w, order, extra):
     return xi, yi, wi
 
 
-@njit(cache=True)
+@kernel
 def horizontal_order(xi, yi, m, horizontal_in, mesh_of):
     """The (y, -x) order of mesh vertices ``0..m-1`` that divide and conquer's
     horizontal cuts use: sorted here, or ``horizontal_in`` (input ids, sorted by
@@ -112,7 +112,7 @@ def horizontal_order(xi, yi, m, horizontal_in, mesh_of):
     return out
 
 
-@njit(cache=True)
+@kernel(inline="always")   # (one caller: the route)
 def build_mesh(xi, yi, wi, weighted, m, inf, algorithm, horizontal, extra, with_cons, counts):
     """The Delaunay triangulation of mesh vertices ``0..m-1`` (seed triangle
     first for the incremental routes, lexicographic order for divide and
@@ -133,7 +133,7 @@ def build_mesh(xi, yi, wi, weighted, m, inf, algorithm, horizontal, extra, with_
     return status, tri, twin, cons, ntri, dup, sub
 
 
-@njit(cache=True)
+@kernel
 def to_input_ids(order, dup_int, sub_int, dup_of, submerged):
     """Record the duplicates and submerged points found among the mesh
     vertices ``0..m-1`` (point ``order[i]`` is vertex ``i``) by input id."""

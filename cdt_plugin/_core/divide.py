@@ -21,41 +21,41 @@ The finished subdivision is converted to the half-edge triangle store of
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from .jit import kernel
 from .kernel import lifted_test, orient
 from .mesh import IDX
 from .ordering import lexicographic_order
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def rot(e):
     return (e & ~3) | ((e + 1) & 3)
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def sym(e):
     return e ^ 2
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def rot_inv(e):
     return (e & ~3) | ((e + 3) & 3)
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def lnext(onext, e):
     """The next edge counter-clockwise around the left face of ``e``."""
     return rot(onext[rot_inv(e)])
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def oprev(onext, e):
     """The next edge clockwise around the origin of ``e``."""
     return rot(onext[rot(e)])
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def splice(onext, a, b):
     """Guibas and Stolfi's splice: joins or separates the origin rings of
     ``a`` and ``b`` (and, dually, their left faces)."""
@@ -69,7 +69,7 @@ def splice(onext, a, b):
     onext[beta] = t
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def make_edge(onext, org, free, nfree, top, a, b):
     """A new isolated edge ``a -> b``; returns ``(edge, nfree, top)``."""
     if nfree > 0:
@@ -88,7 +88,7 @@ def make_edge(onext, org, free, nfree, top, a, b):
     return e, nfree, top
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def delete_edge(onext, org, free, nfree, e):
     """Disconnect ``e`` from the subdivision and recycle its quad-edge."""
     splice(onext, e, oprev(onext, e))
@@ -99,12 +99,12 @@ def delete_edge(onext, org, free, nfree, e):
     return nfree + 1
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def ccw(x, y, a, b, c):
     return orient(x, y, a, b, c) > 0
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def in_circle(x, y, w, a, b, c, d):
     """Whether ``d`` lies in the (perturbed) circumdisk of counter-clockwise
     ``(a, b, c)``; a repeated vertex is never inside."""
@@ -113,7 +113,7 @@ def in_circle(x, y, w, a, b, c, d):
     return lifted_test(x, y, w, False, a, b, c, d) > 0
 
 
-@njit(cache=True, _nrt=False)
+@kernel(_nrt=False)
 def select(a, b, lo, hi, k):
     """Reorder slots ``lo..hi-1`` of ``a`` (and ``b`` along with it) so that the
     values before slot ``k`` are smaller than those from ``k`` on (quickselect
@@ -162,14 +162,14 @@ def select(a, b, lo, hi, k):
             j -= 1
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def vertex_less(x, y, a, b, axis):
     if axis == 0:
         return x[a] < x[b] or (x[a] == x[b] and y[a] < y[b])
     return y[a] < y[b] or (y[a] == y[b] and x[a] > x[b])
 
 
-@njit(cache=True, _nrt=False)
+@kernel(_nrt=False)
 def hull_ends(onext, org, x, y, e, axis):
     """The counter-clockwise hull edge out of the first vertex and the clockwise
     hull edge out of the last vertex, in the frame of ``axis``, of the
@@ -188,7 +188,7 @@ def hull_ends(onext, org, x, y, e, axis):
     return onext[fmin], fmax
 
 
-@njit(cache=True, _nrt=False)
+@kernel(_nrt=False)
 def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results):
     """Delaunay triangulation of the distinct vertices ``u`` (at least two, in
     lexicographic order, which is also the order of their ids) by divide and
@@ -268,7 +268,7 @@ def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results):
     return results[0], top
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def connect(onext, org, free, nfree, top, a, b):
     """A new edge from the destination of ``a`` to the origin of ``b``, with
     the left faces of ``a`` and ``b`` on its left."""
@@ -278,7 +278,7 @@ def connect(onext, org, free, nfree, top, a, b):
     return e, nfree, top
 
 
-@njit(cache=True, _nrt=False)
+@kernel(_nrt=False)
 def merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo):
     """Merge two adjacent triangulations along their seam (Guibas and Stolfi)."""
     # the lower common tangent
@@ -325,7 +325,7 @@ def merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo):
     return ldo, rdo, nfree, top
 
 
-@njit(cache=True, _nrt=False)
+@kernel(_nrt=False)
 def to_triangles(onext, org, nquad, ldo, inf, tri, twin, half):
     """Write the subdivision as triangles and ghost triangles (``mesh`` layout);
     returns the number of triangles written. ``half`` (all -1, one slot per
@@ -384,7 +384,7 @@ def to_triangles(onext, org, nquad, ldo, inf, tri, twin, half):
     return ntri
 
 
-@njit(cache=True)
+@kernel
 def mark_duplicates(x, y, m, dup):
     """Distinct vertices of lexicographically sorted ``0..m-1``; ``dup[k]`` is set to
     the first vertex equal to ``k`` when ``k`` repeats it."""
@@ -408,7 +408,7 @@ def build_divide(x, y, w, m, inf, dup, cap, with_cons):
     return build_divide_sorted(x, y, w, m, inf, dup, cap, with_cons, horizontal)
 
 
-@njit(cache=True)
+@kernel
 def build_divide_sorted(x, y, w, m, inf, dup, cap, with_cons, horizontal):
     """:func:`build_divide` after the sort: duplicates marked, the work arrays
     made, the subdivision built and converted."""

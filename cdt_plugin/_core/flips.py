@@ -4,13 +4,14 @@ none is left. Used after the lexicographic triangulation and after vertices move
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from .arrays import copy_rows
+from .jit import kernel
 from .kernel import edge_is_illegal
 from .mesh import DEAD, flip, prv
 
 
-@njit(cache=True)
+@kernel
 def flip_to_delaunay(tri, twin, cons, x, y, w, weighted, inf, ntri, max_flips=-1):
     """Run the flip algorithm with an edge stack over every edge of the
     triangulation; edges on segments (``cons``) are never flipped, which makes
@@ -29,7 +30,7 @@ def flip_to_delaunay(tri, twin, cons, x, y, w, weighted, inf, ntri, max_flips=-1
     return flip_from_stack(tri, twin, cons, x, y, w, weighted, inf, stack, sp, np.int64(max_flips))
 
 
-@njit(cache=True)
+@kernel
 def flip_from_stack(tri, twin, cons, x, y, w, weighted, inf, stack, sp, max_flips):
     """The flip loop: pop an edge, flip it if it is not locally Delaunay (and not
     a segment), push the four outer edges of its quadrilateral.
@@ -58,13 +59,13 @@ def flip_from_stack(tri, twin, cons, x, y, w, weighted, inf, stack, sp, max_flip
         flips += 1
         if sp + 4 > stack.shape[0]:
             bigger = np.empty(2 * stack.shape[0] + 8, np.int64)
-            bigger[:sp] = stack[:sp]
+            copy_rows(bigger, stack, sp)
             stack = bigger
         sp = push_outer_edges(stack, sp, e, f)
     return flips
 
 
-@njit(cache=True, inline="always")
+@kernel
 def push_outer_edges(stack, sp, e, f):
     """After ``flip(e)`` (``f`` its old twin): push the four outer edges of the
     quadrilateral (the stack must have room). Returns the new stack size."""

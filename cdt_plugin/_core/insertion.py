@@ -4,15 +4,16 @@ Sec. 2.8 including the 3-1 flip that submerges a vertex)."""
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from .arrays import copy_rows
+from .jit import kernel
 from .kernel import edge_is_illegal, lifted_test, orient
 from .locate import locate
 from .mesh import DEAD, flip, nxt, prv, remove_degree3, split_edge, split_triangle
 from .status import INSIDE, LOCATE_FAILED, LOCATION_FAILED, OK, ON_VERTEX, SUBMERGED
 
 
-@njit(cache=True)
+@kernel
 def legalize(tri, twin, cons, x, y, w, weighted, inf, p, stack, sp, hull_only, submerged, counts):
     """Flip the edges on ``stack`` (each opposite the new vertex ``p``) until they
     are all locally (weighted) Delaunay. ``counts[0]`` counts 2-2 flips,
@@ -67,7 +68,7 @@ def legalize(tri, twin, cons, x, y, w, weighted, inf, p, stack, sp, hull_only, s
         sp += 2
 
 
-@njit(cache=True)
+@kernel
 def submerged_at(tri, twin, x, y, w, inf, code, e, q):
     """For weighted input: whether ``q``, located at ``(code, e)``, lies on or
     above the lifted triangulation (Sec. 2.8), so that it is not a vertex of the
@@ -87,7 +88,7 @@ def submerged_at(tri, twin, x, y, w, inf, code, e, q):
     return lifted_test(x, y, w, True, a, b, c, q) < 0
 
 
-@njit(cache=True)
+@kernel
 def insert_vertex(tri, twin, cons, x, y, w, weighted, inf, q, last, ntri, hull_only,
                   submerged, counts, stack):
     """Insert vertex ``q``: locate it from triangle ``last``, split, flip.
@@ -129,7 +130,7 @@ def insert_vertex(tri, twin, cons, x, y, w, weighted, inf, q, last, ntri, hull_o
     return code, q, ntri, last
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
                     hull_only, dup_of, submerged, counts):
     """Insert ``order[first:]`` one by one. Exact duplicates are not inserted:
@@ -140,7 +141,7 @@ def insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
                                 np.empty(order.shape[0] + 8, np.int64))
 
 
-@njit(cache=True, _nrt=False)   # allocates nothing: no reference counting either
+@kernel(_nrt=False)   # allocates nothing: no reference counting either
 def insert_vertices_loop(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
                          hull_only, dup_of, submerged, counts, stack):
     """The loop of :func:`insert_vertices`, with its flip stack passed in."""
@@ -156,7 +157,7 @@ def insert_vertices_loop(tri, twin, cons, x, y, w, weighted, inf, order, first, 
     return OK, ntri
 
 
-@njit(cache=True)
+@kernel
 def redundant_vertices(tri, twin, x, y, w, inf, ntri):
     """Weighted input, after insertion: repair what the incremental flips left.
 
@@ -205,7 +206,7 @@ def redundant_vertices(tri, twin, x, y, w, inf, ntri):
         if v >= 0:
             if n == out.shape[0]:
                 bigger = np.empty(2 * n, np.int64)
-                bigger[:n] = out[:n]
+                copy_rows(bigger, out, n)
                 out = bigger
             out[n] = v
             n += 1

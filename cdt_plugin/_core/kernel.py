@@ -15,24 +15,24 @@ Delaunay triangulation of the real ones, whatever the input order.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from .jit import kernel
 from .predicates import incircle, incircle_weighted, orient2d
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def lex_less(x, y, i, j):
     """Whether vertex ``i`` precedes vertex ``j`` in lexicographic order."""
     return x[i] < x[j] or (x[i] == x[j] and y[i] < y[j])
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def orient(x, y, a, b, c):
     """Exact orientation of real vertices ``a, b, c`` (> 0 counter-clockwise)."""
     return orient2d(x[a], y[a], x[b], y[b], x[c], y[c])
 
 
-@njit(cache=True)
+@kernel
 def perturbed_incircle_sign(x, y, a, b, c, d):
     """Sign of the lifted test of ``d`` against ``(a, b, c)`` when the exact value
     is zero, under the symbolic weights ``eps^rank`` (Sec. 2.9).
@@ -80,7 +80,7 @@ def perturbed_incircle_sign(x, y, a, b, c, d):
     return 0
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def lifted_test(x, y, w, weighted, a, b, c, d):
     """Exact sign of the (weighted) in-circle test, > 0: ``d`` lies strictly in
     the circumdisk (below the lifted plane) of counter-clockwise ``(a, b, c)``.
@@ -97,7 +97,7 @@ def lifted_test(x, y, w, weighted, a, b, c, d):
     return perturbed_incircle_sign(x, y, np.int64(a), np.int64(b), np.int64(c), np.int64(d))
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def edge_is_illegal(x, y, w, weighted, inf, a, b, p, d):
     """Whether edge ``a-b`` of triangle ``(a, b, p)``, opposite ``d`` across it, is
     not locally (weighted) Delaunay (Def. 2.4), with ghost triangles handled.

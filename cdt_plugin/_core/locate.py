@@ -1,20 +1,19 @@
 """Point location by walking (visibility walk over real and ghost triangles)."""
 from __future__ import annotations
 
-from numba import njit
-
+from .jit import kernel
 from .kernel import orient
 from .mesh import DEAD, ghost_hull_edge, is_ghost, nxt, prv
 
 from .status import INSIDE, ON_EDGE, ON_VERTEX  # noqa: F401  (the codes locate returns)
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def same_point(x, y, i, j):
     return x[i] == x[j] and y[i] == y[j]
 
 
-@njit(cache=True)
+@kernel
 def strictly_between(x, y, u, v, q):
     """For ``q`` on the line ``u v``: whether it lies strictly between them."""
     if x[u] != x[v]:
@@ -22,7 +21,7 @@ def strictly_between(x, y, u, v, q):
     return (y[u] < y[q] < y[v]) or (y[v] < y[q] < y[u])
 
 
-@njit(cache=True)
+@kernel
 def beyond_second(x, y, u, v, q):
     """For ``q`` on the line ``u v`` outside the segment: whether it is past ``v``."""
     if x[u] != x[v]:
@@ -30,7 +29,7 @@ def beyond_second(x, y, u, v, q):
     return (y[q] > y[v]) if y[u] < y[v] else (y[q] < y[v])
 
 
-@njit(cache=True)
+@kernel
 def classify_in_solid(tri, x, y, t, q, o0, o1, o2):
     """Where ``q`` lies in solid triangle ``t`` given the three edge orientations
     (all >= 0): strictly inside, on one edge, or on a vertex."""
@@ -53,7 +52,7 @@ def classify_in_solid(tri, x, y, t, q, o0, o1, o2):
     return ON_VERTEX, -1  # unreachable for a valid triangle
 
 
-@njit(cache=True)
+@kernel
 def locate_in_ghost(tri, x, y, inf, t, q):
     """Test ``q`` against ghost ``t``. Returns ``(code, half-edge)``, or
     ``(-1, half-edge to cross)`` when ``q`` is elsewhere."""
@@ -76,7 +75,7 @@ def locate_in_ghost(tri, x, y, inf, t, q):
     return -1, prv(e)       # cross inf -> u into the previous ghost
 
 
-@njit(cache=True)
+@kernel
 def locate(tri, twin, x, y, inf, q, start, ntri):
     """Locate vertex ``q``'s position starting from triangle ``start``.
 
@@ -105,7 +104,7 @@ def locate(tri, twin, x, y, inf, q, start, ntri):
     return locate_by_scan(tri, x, y, inf, q, ntri)
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def solid_step(tri, x, y, t, q, step, came):
     """One step of the visibility walk in solid triangle ``t`` (entered through
     half-edge ``came``): ``(ek, -1, -1)`` when ``q`` lies beyond edge ``ek``,
@@ -134,7 +133,7 @@ def solid_step(tri, x, y, t, q, step, came):
     return -1, code, e
 
 
-@njit(cache=True)
+@kernel
 def locate_by_scan(tri, x, y, inf, q, ntri):
     """Brute-force location over every live triangle (the walk's safety net)."""
     for t in range(ntri):

@@ -16,32 +16,34 @@ These functions only rewire indices; they know nothing of coordinates.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from .arrays import copy_rows
+from .jit import kernel
 
 DEAD = -2
 IDX = np.int32  # storage dtype of vertex and half-edge indices
 
 
-@njit(cache=True, inline="always")
+@kernel
 def nxt(e):
     """The next half-edge of ``e`` inside its triangle (counter-clockwise)."""
     return e - 2 if e % 3 == 2 else e + 1
 
 
-@njit(cache=True, inline="always")
+@kernel
 def prv(e):
     """The previous half-edge of ``e`` inside its triangle."""
     return e + 2 if e % 3 == 0 else e - 1
 
 
-@njit(cache=True, inline="always")
+@kernel
 def link(twin, e, f):
     """Make ``e`` and ``f`` twins of each other."""
     twin[e] = f
     twin[f] = e
 
 
-@njit(cache=True, inline="always")
+@kernel
 def set_triangle(tri, t, a, b, c):
     """Write the vertices of triangle ``t`` as ``(a, b, c)`` (counter-clockwise)."""
     tri[3 * t] = a
@@ -49,13 +51,13 @@ def set_triangle(tri, t, a, b, c):
     tri[3 * t + 2] = c
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def is_ghost(tri, t, inf):
     """Whether triangle ``t`` has the infinite vertex."""
     return tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def ghost_hull_edge(tri, t, inf):
     """The half-edge ``u -> v`` of ghost triangle ``t`` that avoids ``inf``.
 
@@ -69,7 +71,7 @@ def ghost_hull_edge(tri, t, inf):
     return -1
 
 
-@njit(cache=True)
+@kernel
 def make_first_triangle(tri, twin, a, b, c, inf):
     """Triangle 0 = (a, b, c) counter-clockwise, closed by three ghosts 1, 2, 3."""
     set_triangle(tri, 0, a, b, c)
@@ -90,7 +92,7 @@ def make_first_triangle(tri, twin, a, b, c, inf):
     return np.int64(4)   # (np.int64: a literal would make each callee compile twice)
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def flip(tri, twin, cons, e):
     """Flip the edge of half-edge ``e`` (Sec. 2.5 edge flip).
 
@@ -127,7 +129,7 @@ def flip(tri, twin, cons, e):
     return 3 * t1 + 1
 
 
-@njit(cache=True)
+@kernel
 def split_triangle(tri, twin, cons, t, p, ntri):
     """Split triangle ``t = (a, b, c)`` at new vertex ``p`` into three (1-3 flip).
 
@@ -160,7 +162,7 @@ def split_triangle(tri, twin, cons, t, p, ntri):
     return ntri + 2
 
 
-@njit(cache=True)
+@kernel
 def split_edge(tri, twin, cons, e, p, ntri):
     """Split the edge of half-edge ``e = a -> b`` at new vertex ``p`` (2-4 flip).
 
@@ -207,7 +209,7 @@ def split_edge(tri, twin, cons, e, p, ntri):
     return ntri + 2
 
 
-@njit(cache=True)
+@kernel
 def remove_degree3(tri, twin, o1, o2, o3):
     """Remove a vertex of degree three (3-1 flip, Sec. 2.8 weighted flips).
 
@@ -232,7 +234,7 @@ def remove_degree3(tri, twin, o1, o2, o3):
     return 3 * t1
 
 
-@njit(cache=True)
+@kernel
 def grow_store(tri, twin, cons, x, y, w, inf, nv, at_least):
     """The store with room for about twice the vertices (or ``at_least``, if
     more): coordinates copied up to ``nv``, the infinite vertex moved to the new
@@ -240,9 +242,9 @@ def grow_store(tri, twin, cons, x, y, w, inf, nv, at_least):
     Returns ``(tri, twin, cons, x, y, w, inf)``."""
     new_inf = max(2 * inf + 16, at_least)
     nx, ny, nw = np.zeros(new_inf + 1), np.zeros(new_inf + 1), np.zeros(new_inf + 1)
-    nx[:nv] = x[:nv]
-    ny[:nv] = y[:nv]
-    nw[:nv] = w[:nv]
+    copy_rows(nx, x, nv)
+    copy_rows(ny, y, nv)
+    copy_rows(nw, w, nv)
     cap = 3 * (2 * new_inf + 2)
     ntri_arr = np.full(cap, -1, IDX)
     ntwin = np.full(cap, -1, IDX)
@@ -251,5 +253,5 @@ def grow_store(tri, twin, cons, x, y, w, inf, nv, at_least):
         v = tri[e]
         ntri_arr[e] = new_inf if v == inf else v
         ntwin[e] = twin[e]
-    ncons[:cons.shape[0]] = cons
+    copy_rows(ncons, cons, cons.shape[0])
     return ntri_arr, ntwin, ncons, nx, ny, nw, new_inf

@@ -9,12 +9,13 @@ keeps memory access local.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from .jit import kernel
 
 HILBERT_BITS = 16
 
 
-@njit(cache=True)
+@kernel
 def hilbert_index(ix, iy, order):
     """Index of cell ``(ix, iy)`` along the Hilbert curve on a ``2^order`` grid."""
     d = 0
@@ -32,7 +33,7 @@ def hilbert_index(ix, iy, order):
     return d
 
 
-@njit(cache=True)
+@kernel
 def hilbert_keys(x, y, idx, bits):
     """Hilbert keys of the points ``idx`` on a ``2^bits`` grid over their
     bounding box."""
@@ -73,27 +74,30 @@ def brio_order(x: np.ndarray, y: np.ndarray, seed: int = 0) -> np.ndarray:
     return brio_sort(x, y, perm)
 
 
-@njit(cache=True)
+@kernel
 def brio_sort(x, y, perm):
     """Sort the random permutation ``perm`` into BRIO rounds: the last half of
     the points, the half before it, ... down to at most 64 points, each round
     but the first along a Hilbert curve over its own bounding box."""
     n = perm.shape[0]
-    out = np.empty(n, np.int64)
+    out = perm.copy()
+    pos = np.empty(n, np.int64)
+    tmp = np.empty(n, np.int64)
     hi = n
-    while hi > 0:
-        lo = hi // 2 if hi > 64 else 0
+    while hi > 64:
+        # (the first round, at most 64 points, stays random: points along a
+        # curve (a polygon's ring) inserted in curve order flip O(n) edges each)
+        lo = hi // 2
         chunk = perm[lo:hi]
-        if lo == 0:
-            # the first round stays random: points along a curve (a polygon's
-            # ring) inserted in curve order flip O(n) edges each
-            out[:hi] = chunk
-            break
         # the finest grid: points along curves (rings) crowd a coarse grid's cells,
         # and inside a cell their order is random, which makes long walks
-        bits = HILBERT_BITS
-        keys = hilbert_keys(x, y, chunk, bits)
-        out[lo:hi] = chunk[np.argsort(keys, kind="mergesort")]
+        keys = hilbert_keys(x, y, chunk, HILBERT_BITS)
+        m = hi - lo
+        for p in range(m):
+            pos[p] = p
+        sort_ids(pos, 0, m, keys, keys, tmp)      # ties keep the random order
+        for p in range(m):
+            out[lo + p] = chunk[pos[p]]
         hi = lo
     return out
 
@@ -112,25 +116,78 @@ def lexicographic_order(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return order
 
 
-@njit(cache=True)
+@kernel
 def lexicographic_order_compiled(x, y):
-    """:func:`lexicographic_order` in one compiled call (the ties make the
-    result the same whatever sort the first pass uses)."""
-    order = np.argsort(x).astype(np.int64)
-    sort_ties(x, y, order)
+    """:func:`lexicographic_order` in one compiled call."""
+    n = x.shape[0]
+    order = np.arange(n)
+    sort_ids(order, 0, n, x, y, np.empty(n, np.int64))
     return order
 
 
-@njit(cache=True)
+@kernel
 def sort_ties(x, y, order):
     """Sort each run of equal ``x[order]`` by ``y``, then by index, in place."""
     n = order.shape[0]
+    tmp = np.empty(0, np.int64)
     lo = 0
     while lo < n:
         hi = lo + 1
         while hi < n and x[order[hi]] == x[order[lo]]:
             hi += 1
         if hi - lo > 1:
-            run = np.sort(order[lo:hi])
-            order[lo:hi] = run[np.argsort(y[run], kind="mergesort")]
+            if tmp.shape[0] < hi:
+                tmp = np.empty(n, np.int64)
+            sort_ids(order, lo, hi, x, y, tmp)
         lo = hi
+
+
+@kernel
+def before(k1, k2, a, b):
+    """Whether id ``a`` comes before id ``b``: by ``k1``, then ``k2``, then the id."""
+    if k1[a] != k1[b]:
+        return k1[a] < k1[b]
+    if k2[a] != k2[b]:
+        return k2[a] < k2[b]
+    return a < b
+
+
+RUN = 16    # runs this short are sorted by insertion before merging
+
+
+@kernel
+def sort_ids(ids, lo, hi, k1, k2, tmp):
+    """Sort ``ids[lo:hi]`` in place by ``(k1[id], k2[id], id)``: a merge sort
+    (runs of :data:`RUN` by insertion, then merged in passes between ``ids``
+    and ``tmp``, which holds at least ``hi`` items). Our own: numba's generic
+    sorts compile for seconds on first use, this one in a fraction."""
+    for start in range(lo, hi, RUN):
+        end = min(start + RUN, hi)
+        for i in range(start + 1, end):
+            v = ids[i]
+            j = i - 1
+            while j >= start and before(k1, k2, v, ids[j]):
+                ids[j + 1] = ids[j]
+                j -= 1
+            ids[j + 1] = v
+    src, dst = ids, tmp
+    in_tmp = False
+    width = RUN
+    while width < hi - lo:
+        for start in range(lo, hi, 2 * width):
+            mid = min(start + width, hi)
+            end = min(start + 2 * width, hi)
+            i, j = start, mid
+            for k in range(start, end):
+                if j >= end or (i < mid and not before(k1, k2, src[j], src[i])):
+                    dst[k] = src[i]
+                    i += 1
+                else:
+                    dst[k] = src[j]
+                    j += 1
+        src, dst = dst, src
+        in_tmp = not in_tmp
+        width *= 2
+    if in_tmp:
+        for k in range(lo, hi):
+            ids[k] = src[k]

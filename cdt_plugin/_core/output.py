@@ -13,13 +13,13 @@ output ids, ``remap`` mesh to output ids.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from .jit import kernel
 from .kernel import edge_is_illegal, orient
 from .mesh import DEAD, is_ghost, nxt, prv
 
 
-@njit(cache=True)
+@kernel
 def solid_triangles(tri, twin, ntri, inf):
     """The real (non-ghost, live) triangles and their neighbours, from the
     half-edge store: neighbour ``j`` is opposite vertex ``j`` (-1: hull)."""
@@ -42,7 +42,7 @@ def solid_triangles(tri, twin, ntri, inf):
     return triangles, neighbors, tid
 
 
-@njit(cache=True)
+@kernel
 def rotate_min_first(triangles, neighbors):
     """List every triangle from its smallest vertex id (neighbours alike), in place."""
     for i in range(triangles.shape[0]):
@@ -59,7 +59,7 @@ def rotate_min_first(triangles, neighbors):
             neighbors[i, 0], neighbors[i, 1], neighbors[i, 2] = n2, n0, n1
 
 
-@njit(cache=True, inline="always")
+@kernel
 def min_first(a, b, c):
     """The rotation that lists a triangle from its smallest vertex id: output
     triangles then do not depend on the insertion order."""
@@ -68,7 +68,7 @@ def min_first(a, b, c):
     return 1 if b < c else 2
 
 
-@njit(cache=True)
+@kernel
 def cdt_arrays(T, N, cflag, inside, remap):
     """One pass over the real triangles of a constrained triangulation: the
     kept ones (``inside``) in output ids with their neighbours (-1 across the
@@ -114,7 +114,7 @@ def cdt_arrays(T, N, cflag, inside, remap):
     return triangles, neighbors, constrained, segments, segment_ids, keep
 
 
-@njit(cache=True)
+@kernel
 def cdt_vertices(px, py, kept, vertex_map, order, mx, my, m, nv):
     """Output vertices (the kept input points, then the Steiner points ``m..nv-1``
     of the mesh) and the output id of every mesh vertex."""
@@ -133,7 +133,7 @@ def cdt_vertices(px, py, kept, vertex_map, order, mx, my, m, nv):
     return vertices, remap
 
 
-@njit(cache=True)
+@kernel
 def first_defect(tri, twin, ntri, x, y, inf, check_hull):
     """First live triangle that stops the mesh from being a triangulation of a
     convex region after its vertices moved: a real triangle that is not strictly

@@ -10,19 +10,21 @@ optional Delaunay refinement, and the output arrays. A single call to
 Python. Errors come back as a status code (:mod:`.status`) with ``info``; the
 Python side raises the precise :class:`cdt_plugin.CDTError`.
 
-``refinement`` is ``None`` or a tuple ``(min_angle, max_area, conforming,
-split_boundary, max_steiner)``; numba compiles the route once for each, so the
-refinement code is compiled only when first asked for.
+``refinement`` is always the tuple ``(refine, min_angle, max_area,
+conforming, split_boundary, max_steiner)`` (:func:`refinement_arg`), so that
+numba compiles the route once: each distinct argument type (None against a
+tuple) would compile and code-generate the whole route a second time.
 """
 from __future__ import annotations
 
 import math
 
 import numpy as np
-from numba import njit
 
+from .arrays import copy_rows
 from .construct import DIVIDE, FLIP, build_mesh, gather_coords, horizontal_order, seed_first, seed_triangle, to_input_ids
 from .flips import flip_to_delaunay
+from .jit import kernel
 from .mesh import grow_store
 from .ordering import lexicographic_order_compiled
 from .output import cdt_arrays, cdt_vertices, solid_triangles
@@ -35,6 +37,15 @@ from .status import (FINISHED, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OK, ROUTE_COLLI
                      ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP,
                      ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP,
                      ALL_DONE)
+
+NO_REFINEMENT = (False, 0.0, 0.0, False, False, -1)
+
+
+def refinement_arg(refinement: tuple | None) -> tuple:
+    """The route's ``refinement`` argument for the options tuple ``(min_angle,
+    max_area, conforming, split_boundary, max_steiner)`` or None."""
+    return NO_REFINEMENT if refinement is None else (True, *refinement)
+
 
 # what one route counts (``counts``; the Python side names them in ``stats``)
 K_FLIPS = 0
@@ -57,7 +68,7 @@ NCOUNTS = 15
 SMALL_MESH = 1 << 16    # triangles: below this, work arrays are made at once rather than on demand
 
 
-@njit(cache=True)
+@kernel
 def dedup_tasks(segs, nv):
     """Segments (mesh ids) as tasks: zero-length ones dropped, repeated ones
     (either direction) merged into the first. Returns ``(tasks, ntask, mult,
@@ -91,7 +102,7 @@ def dedup_tasks(segs, nv):
     return tasks, ntask, mult, nzero
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def insert_all_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_ends, split,
                         limit, seg_counts, info):
     """Run the segment tasks to the end, growing the store and the walk buffers
@@ -108,7 +119,7 @@ def insert_all_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, s
         if status == NEED_VERTEX_ROOM:
             tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, np.int64(0))
             grown = np.empty((2 * tasks.shape[0] + 16, 3), np.int64)
-            grown[:ntask] = tasks[:ntask]
+            copy_rows(grown, tasks, ntask)
             tasks = grown
         elif status == NEED_EDGE_ROOM:
             buf = make_buffers(2 * ntri)
@@ -116,7 +127,7 @@ def insert_all_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, s
             return status, (tri, twin, cons, x, y, w, inf, ntri, nv)
 
 
-@njit(cache=True)
+@kernel
 def solid_with_flags(tri, twin, cons, ntri, inf):
     """The solid triangles ``T`` with their neighbours ``N``, the index in ``T``
     of each mesh slot (``tid``, -1: ghost or dead) and the segment id (1-based,
@@ -131,7 +142,7 @@ def solid_with_flags(tri, twin, cons, ntri, inf):
     return T, N, tid, cflag
 
 
-@njit(cache=True)
+@kernel
 def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_ring, ring_polygon,
              ring_is_hole, holes, regions, use_seeds, keep_hull, check_holes, info):
     """Which solid triangles are inside the domain, and their region: depth
@@ -184,7 +195,7 @@ def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_ring,
     return inside, region, True
 
 
-@njit(cache=True)
+@kernel
 def slot_labels(tid, inside, region, cap):
     """Refinement's label of every mesh slot: the region of an inside solid
     triangle, else OUT."""
@@ -196,7 +207,7 @@ def slot_labels(tid, inside, region, cap):
     return lab
 
 
-@njit(cache=True)
+@kernel
 def triangle_labels(tid, lab, k):
     """Back from slot labels: ``inside`` and ``region`` (-1 outside) of the
     ``k`` solid triangles."""
@@ -210,7 +221,7 @@ def triangle_labels(tid, lab, k):
     return inside, region
 
 
-@njit(cache=True)
+@kernel
 def area_bounds(max_area, regions, lab):
     """Area bound per triangle label (``label + 1`` indexes it; 0: none): the
     global ``max_area`` (0: none) or a region seed's fourth column where
@@ -232,12 +243,12 @@ def area_bounds(max_area, regions, lab):
     return bounds
 
 
-@njit(cache=True)
+@kernel
 def twice_area(x, y, a, b, c):
     return abs((x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a]))
 
 
-@njit(cache=True)
+@kernel
 def refinement_room(x, y, T, inside, region, area_of_label, cap):
     """About how many Steiner points the area bounds alone will add (the mesh
     is made that large at once instead of growing by doubling); at most ``cap``.
@@ -252,7 +263,7 @@ def refinement_room(x, y, T, inside, region, area_of_label, cap):
     return int(min(0.8 * total, cap))
 
 
-@njit(cache=True)
+@kernel
 def domain_area(x, y, T, inside):
     total = 0.0
     for i in range(T.shape[0]):
@@ -261,7 +272,7 @@ def domain_area(x, y, T, inside):
     return total / 2
 
 
-@njit(cache=True)
+@kernel
 def output_ids(n, dup_of):
     """Output id of every input point (``vertex_map``: duplicates share the id
     of the point they repeat) and the input point kept for each output id
@@ -280,7 +291,7 @@ def output_ids(n, dup_of):
     return vertex_map, kept[:nk]
 
 
-@njit(cache=True)
+@kernel
 def no_mesh():
     """The output of a route that made no mesh (an error, or all points collinear)."""
     e2 = np.empty((0, 2), np.int64)
@@ -290,7 +301,7 @@ def no_mesh():
             e1.copy(), e1.copy(), e1.copy())
 
 
-@njit(cache=True)
+@kernel
 def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
               algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, refinement):
     """Constrained Delaunay triangulation of one PLC, every step in one call.
@@ -303,7 +314,8 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     code; ``order_in`` / ``horizontal_in`` the insertion and (y, -x) orders
     when the caller sorted already (empty: sorted here); ``split`` crossing
     segments are split (else reported); ``keep_hull``; ``max_steiner`` the cap
-    on intersection points (-1: default); ``refinement`` None or its options.
+    on intersection points (-1: default); ``refinement`` the refinement
+    options (:func:`refinement_arg`).
 
     Returns ``(status, info, counts, out)`` with ``out = (vertices, triangles,
     neighbors, constrained, segments, segment_ids, regions, vertex_map, kept,
@@ -320,7 +332,8 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
         order = seed_first(order, k1, k2)
     ms = segs.shape[0]
     extra = 16 + ms // 2 if split else 0
-    if refinement is not None:   # the room refinement starts with, made now rather than by a copy
+    refine = refinement[0]
+    if refine:   # the room refinement starts with, made now rather than by a copy
         extra = max(extra, STEINER_ROOM * n + 64 - n)
     xi, yi, wi = gather_coords(px, py, np.zeros(n), order, extra)
     inf = n + extra
@@ -387,8 +400,8 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
 
     route_status = ROUTE_OK
     sin2_bound = 0.0
-    if refinement is not None:
-        min_angle, max_area, conforming, split_boundary, max_new = refinement
+    if refine:
+        _, min_angle, max_area, conforming, split_boundary, max_new = refinement
         lab = slot_labels(tid, inside, region, tri.shape[0] // 3)
         area_of_label = area_bounds(max_area, regions, lab)
         if max_new < 0:
@@ -426,7 +439,7 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     for i in range(keep.shape[0]):
         out_regions[i] = region[keep[i]]
     below = np.empty(0, np.int64)
-    if refinement is not None:
+    if refine:
         for p in range(piece_ids.shape[0]):
             if piece_ids[p] >= ms:        # a convex-hull piece made a segment by refinement
                 piece_ids[p] = -1
@@ -437,7 +450,7 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
 
 
 # ------------------------------------------------------------------ many geometries
-@njit(cache=True)
+@kernel
 def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1,
                     split, max_steiner, algorithm, refinement, steiner0):
     """:func:`cdt_route` over geometries ``g0:g1`` of flat ring arrays, in one
@@ -454,12 +467,13 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     G = np.empty(cap, np.int64)
     R = np.empty(cap, np.int64)
     S = np.empty((16, 2))
-    ns = 0
-    k = 0
+    ns = np.int64(0)    # (typed, not literal: see copy_rows below)
+    k = np.int64(0)
     failed = np.zeros(g1 - g0, np.bool_)
     no_seeds = np.empty((0, 2))
     no_regions = np.empty((0, 4))
     no_order = np.empty(0, np.int64)
+    no = np.bool_(False)    # (a literal False would compile the route once more)
     keep_all = np.ones(geom_ring_start[g1] - geom_ring_start[g0] + 1, np.bool_)
     for g in range(g0, g1):
         r0 = geom_ring_start[g]
@@ -476,8 +490,8 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
             continue
         segs, ring_of = ring_segments(ring_start, r0, r1, keep_all)
         status, _, _, out = cdt_route(x[v0:v1], y[v0:v1], segs, ring_of, ring_polygon[r0:r1],
-                                      ring_is_hole[r0:r1], no_seeds, no_regions, False, algorithm,
-                                      no_order, no_order, split, False, max_steiner, refinement)
+                                      ring_is_hole[r0:r1], no_seeds, no_regions, no, algorithm,
+                                      no_order, no_order, split, no, max_steiner, refinement)
         if status != ROUTE_OK:
             failed[g - g0] = True
             continue
@@ -489,7 +503,7 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
         nnew = vertices.shape[0] - nk
         if ns + nnew > S.shape[0]:
             grown = np.empty((2 * (ns + nnew), 2))
-            grown[:ns] = S[:ns]
+            copy_rows(grown, S, ns)
             S = grown
         for j in range(nk, vertices.shape[0]):
             glob[j] = steiner0 + ns
@@ -502,9 +516,9 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
             T2 = np.empty((size, 3), np.int64)
             G2 = np.empty(size, np.int64)
             R2 = np.empty(size, np.int64)
-            T2[:k] = T[:k]
-            G2[:k] = G[:k]
-            R2[:k] = R[:k]
+            copy_rows(T2, T, k)
+            copy_rows(G2, G, k)
+            copy_rows(R2, R, k)
             T, G, R = T2, G2, R2
         for t in range(nt):         # batch ids keep the order of output ids: still min first
             for j in range(3):

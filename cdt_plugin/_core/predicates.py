@@ -36,9 +36,12 @@ The weighted test is the lifted orientation test of the seed chapter (Sec. 2.8):
 a weighted point ``v`` has lifted companion ``v+ = (vx, vy, vx^2 + vy^2 - w_v)``;
 it has the float filter and the exact fallback only (no intermediate stages).
 
-Every function but the two staged ones is ``@njit(cache=True, inline='never')``
+Every function but the two staged ones is ``@kernel(inline='never')``
 with an explicit signature (compiled once, float64 only), nopython,
-allocation-free on the fast path and in stages B and C.  The exact fallbacks
+allocation-free on the fast path and in stages B and C.  What follows the
+float filter is compiled once more as a C-callable function that the public
+predicates call by symbol (see "The slow stages" below), so the kernels that
+call a predicate link its filter only.  The exact fallbacks
 live in separate compiled functions (``orient2d_exact``, ``incircle_exact``,
 ``incircle_weighted_exact``).  They first try a scalar route that is exact
 whenever the coordinate differences (and, for the circle tests, the squares and
@@ -68,8 +71,11 @@ Inputs must be finite (the engine validates this before calling).
 """
 from __future__ import annotations
 
+import llvmlite.binding as llvm
 import numpy as np
-from numba import njit, types
+from numba import cfunc, types
+
+from .jit import kernel
 
 __all__ = [
     "EPSILON",
@@ -128,7 +134,7 @@ _F12 = "float64(" + ", ".join(["float64"] * 12) + ")"
 # Error-free transformations (Shewchuk 1997, Sec. 2).
 # ---------------------------------------------------------------------------
 
-@njit(_T2(_f8, _f8), cache=True, inline='never')
+@kernel(_T2(_f8, _f8), inline='never')
 def _fast_two_sum(a, b):
     """x + y == a + b exactly, x = fl(a + b); requires |a| >= |b| (Shewchuk 1997, Thm 6)."""
     x = a + b
@@ -137,7 +143,7 @@ def _fast_two_sum(a, b):
     return x, y
 
 
-@njit(_T2(_f8, _f8), cache=True, inline='never')
+@kernel(_T2(_f8, _f8), inline='never')
 def _two_sum(a, b):
     """x + y == a + b exactly, x = fl(a + b), no precondition (Shewchuk 1997, Thm 7)."""
     x = a + b
@@ -148,7 +154,7 @@ def _two_sum(a, b):
     return x, around + bround
 
 
-@njit(_T2(_f8, _f8), cache=True, inline='never')
+@kernel(_T2(_f8, _f8), inline='never')
 def _two_diff(a, b):
     """x + y == a - b exactly, x = fl(a - b) (Shewchuk 1997, Two-Diff)."""
     x = a - b
@@ -159,7 +165,7 @@ def _two_diff(a, b):
     return x, around + bround
 
 
-@njit(_T2(_f8), cache=True, inline='never')
+@kernel(_T2(_f8), inline='never')
 def _split(a):
     """Dekker split a = hi + lo with hi, lo of at most 26 significant bits (Shewchuk 1997, Thm 17)."""
     c = SPLITTER * a
@@ -168,7 +174,7 @@ def _split(a):
     return hi, a - hi
 
 
-@njit(_T2(_f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_T2(_f8, _f8, _f8, _f8), inline='never')
 def _two_product_presplit(a, b, bhi, blo):
     """x + y == a * b exactly, x = fl(a * b), with b already split (Shewchuk 1997, Thm 18)."""
     x = a * b
@@ -179,7 +185,7 @@ def _two_product_presplit(a, b, bhi, blo):
     return x, alo * blo - err3
 
 
-@njit(_T2(_f8, _f8), cache=True, inline='never')
+@kernel(_T2(_f8, _f8), inline='never')
 def _two_product(a, b):
     """x + y == a * b exactly, x = fl(a * b), via Dekker's split (no FMA) (Shewchuk 1997, Thm 18)."""
     bhi, blo = _split(b)
@@ -193,7 +199,7 @@ def _two_product(a, b):
 # the sign of the sum is the sign of the most significant nonzero component.
 # ---------------------------------------------------------------------------
 
-@njit(_T3(_f8, _f8, _f8), cache=True, inline='never')
+@kernel(_T3(_f8, _f8, _f8), inline='never')
 def _two_one_sum(a1, a0, b):
     """(x2, x1, x0) == (a1, a0) + b exactly (Shewchuk 1997, Two_One_Sum)."""
     i, x0 = _two_sum(a0, b)
@@ -201,7 +207,7 @@ def _two_one_sum(a1, a0, b):
     return x2, x1, x0
 
 
-@njit(_T4(_f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_T4(_f8, _f8, _f8, _f8), inline='never')
 def _two_two_sum(a1, a0, b1, b0):
     """(x3, x2, x1, x0) == (a1, a0) + (b1, b0) exactly (Shewchuk 1997, Two_Two_Sum)."""
     j, z, x0 = _two_one_sum(a1, a0, b0)
@@ -209,7 +215,7 @@ def _two_two_sum(a1, a0, b1, b0):
     return x3, x2, x1, x0
 
 
-@njit(_T5(_f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_T5(_f8, _f8, _f8, _f8, _f8), inline='never')
 def _four_one_sum(a3, a2, a1, a0, b):
     """(x4 .. x0) == (a3 .. a0) + b exactly (Shewchuk 1997, Four_One_Sum)."""
     j, x1, x0 = _two_one_sum(a1, a0, b)
@@ -217,7 +223,7 @@ def _four_one_sum(a3, a2, a1, a0, b):
     return x4, x3, x2, x1, x0
 
 
-@njit(_T3(_f8, _f8, _f8), cache=True, inline='never')
+@kernel(_T3(_f8, _f8, _f8), inline='never')
 def _two_one_diff(a1, a0, b):
     """(x2, x1, x0) == (a1, a0) - b exactly (Shewchuk 1997, Two_One_Diff)."""
     i, x0 = _two_diff(a0, b)
@@ -225,7 +231,7 @@ def _two_one_diff(a1, a0, b):
     return x2, x1, x0
 
 
-@njit(_T4(_f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_T4(_f8, _f8, _f8, _f8), inline='never')
 def _two_two_diff(a1, a0, b1, b0):
     """(x3, x2, x1, x0) == (a1, a0) - (b1, b0) exactly (Shewchuk 1997, Two_Two_Diff)."""
     j, z, x0 = _two_one_diff(a1, a0, b0)
@@ -233,7 +239,7 @@ def _two_two_diff(a1, a0, b1, b0):
     return x3, x2, x1, x0
 
 
-@njit(_f8(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_f8(_f8, _f8, _f8, _f8, _f8, _f8), inline='never')
 def _sum_of_three_two_products(p1, e1, p2, e2, p3, e3):
     """(p1 + e1) + (p2 + e2) + (p3 + e3) exactly, returned as its most significant component.
 
@@ -259,7 +265,7 @@ def _sum_of_three_two_products(p1, e1, p2, e2, p3, e3):
     return x0
 
 
-@njit(_f8(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_f8(_f8, _f8, _f8, _f8, _f8, _f8), inline='never')
 def _sign_of_sum_of_three_products(l1, c1, l2, c2, l3, c3):
     """l1*c1 + l2*c2 + l3*c3 exactly, returned as its most significant component (Shewchuk 1997).
 
@@ -279,7 +285,7 @@ def _sign_of_sum_of_three_products(l1, c1, l2, c2, l3, c3):
 # a reference-count round trip in numba, and these routines are called often.
 # ---------------------------------------------------------------------------
 
-@njit(_i8(_W, _i8, _f8, _f8), cache=True, inline='never')
+@kernel(_i8(_W, _i8, _f8, _f8), inline='never')
 def _diff_expansion(w, h, a, b):
     """Write a - b as an exact expansion at w[h:]; return its length (1 or 2) (Shewchuk 1997)."""
     x, y = _two_diff(a, b)
@@ -291,7 +297,7 @@ def _diff_expansion(w, h, a, b):
     return 1
 
 
-@njit(_i8(_W, _i8, _i8, _f8, _i8), cache=True, inline='never')
+@kernel(_i8(_W, _i8, _i8, _f8, _i8), inline='never')
 def _scale_expansion_zeroelim(w, e, elen, b, h):
     """w[h:] = b * w[e:e+elen] exactly; returns the length <= 2 * elen (Shewchuk 1997, Fig. 13, zeroelim)."""
     bhi, blo = _split(b)
@@ -316,7 +322,7 @@ def _scale_expansion_zeroelim(w, e, elen, b, h):
     return hindex - h
 
 
-@njit(_i8(_W, _i8, _i8, _i8, _i8, _i8), cache=True, inline='never')
+@kernel(_i8(_W, _i8, _i8, _i8, _i8, _i8), inline='never')
 def _fast_expansion_sum_zeroelim(w, e, elen, f, flen, h):
     """w[h:] = w[e:e+elen] + w[f:f+flen] exactly; returns the length <= elen + flen.
 
@@ -391,7 +397,7 @@ def _fast_expansion_sum_zeroelim(w, e, elen, f, flen, h):
     return hi - h
 
 
-@njit(_i8(_W, _i8, _i8, _i8, _i8, _i8, _i8, _i8), cache=True, inline='never')
+@kernel(_i8(_W, _i8, _i8, _i8, _i8, _i8, _i8, _i8), inline='never')
 def _expansion_product(w, e, elen, f, flen, h, t, s):
     """w[h:] = w[e:] * w[f:] exactly: sum over f's components of scale_expansion(e, f_i) (Shewchuk 1997).
 
@@ -408,7 +414,7 @@ def _expansion_product(w, e, elen, f, flen, h, t, s):
     return hlen
 
 
-@njit(_i8(_W, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8), cache=True, inline='never')
+@kernel(_i8(_W, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8), inline='never')
 def _cross_expansion(w, p, plen, q, qlen, r, rlen, s, slen, h, scr):
     """w[h:] = p*q - r*s exactly for expansions of <= 2 components; returns the length <= 16.
 
@@ -439,7 +445,7 @@ _LC_U = 144        # product scratch, >= 2 * 18 * 16 = 576
 _LC_SIZE = _LC_U + 576
 
 
-@njit(_i8(_W, _i8, _i8, _i8, _i8, _i8, _i8, _b1, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8), cache=True, inline='never')
+@kernel(_i8(_W, _i8, _i8, _i8, _i8, _i8, _i8, _b1, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8, _i8), inline='never')
 def _lift_cross_term(w, x, xlen, y, ylen, wd, wdlen, use_w,
                      p, plen, q, qlen, r, rlen, s, slen, h, scr):
     """w[h:] = (x^2 + y^2 - wd) * (p*q - r*s) exactly; returns the length <= 576.
@@ -530,7 +536,7 @@ _RB_FIN = _RB_AB + 80
 _RB_SIZE = _RB_FIN + 120
 
 
-@njit(_f8(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _b1), cache=True, inline='never')
+@kernel(_f8(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _b1), inline='never')
 def _incircle_exact_of_doubles(adx, ady, awd, bdx, bdy, bwd, cdx, cdy, cwd, use_w):
     """Exact (weighted) incircle determinant of rows [x, y, x^2 + y^2 - wd] whose entries are doubles.
 
@@ -584,7 +590,7 @@ def _incircle_exact_of_doubles(adx, ady, awd, bdx, bdy, bwd, cdx, cdy, cwd, use_
 # Exact fallbacks.
 # ---------------------------------------------------------------------------
 
-@njit(_F6, cache=True, inline='never')
+@kernel(_F6, inline='never')
 def orient2d_exact(ax, ay, bx, by, cx, cy):
     """Exact orient2d by expansion arithmetic (Shewchuk 1997): sign of det[[ax-cx, ay-cy], [bx-cx, by-cy]].
 
@@ -616,7 +622,7 @@ def orient2d_exact(ax, ay, bx, by, cx, cy):
     return w[8 + hlen - 1]
 
 
-@njit(_f8(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _b1), cache=True, inline='never')
+@kernel(_f8(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _b1), inline='never')
 def _incircle_exact_core(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw, use_w):
     """Exact (weighted) incircle determinant, translated to d (Shewchuk 1997; seed Sec. 2.8).
 
@@ -705,7 +711,7 @@ def _incircle_exact_core(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw, use_w):
     return w[fin + finlen - 1]
 
 
-@njit(_F8, cache=True, inline='never')
+@kernel(_F8, inline='never')
 def incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
     """Exact incircle by expansion arithmetic (Shewchuk 1997); the fallback of :func:`incircle`.
 
@@ -715,7 +721,7 @@ def incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
     return _incircle_exact_core(ax, ay, 0.0, bx, by, 0.0, cx, cy, 0.0, dx, dy, 0.0, False)
 
 
-@njit(_F12, cache=True, inline='never')
+@kernel(_F12, inline='never')
 def incircle_weighted_exact(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
     """Exact lifted orientation (power) test (Shewchuk 1997; seed Sec. 2.8, z = x^2 + y^2 - w).
 
@@ -747,7 +753,7 @@ ICC_ERRBOUND_B = (4.0 + 256.0 * EPSILON) * EPSILON
 ICC_ERRBOUND_C = 256.0 * EPSILON * EPSILON
 
 
-@njit(_FI(_f8, _f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_FI(_f8, _f8, _f8, _f8, _f8, _f8, _f8), inline='never')
 def _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum):
     """Shewchuk's orient2dadapt: stages B, C and D; returns (value, stage).
 
@@ -818,7 +824,7 @@ def _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum):
     return w[src + srclen - 1], 4
 
 
-@njit(_T4(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_T4(_f8, _f8, _f8, _f8, _f8, _f8), inline='never')
 def _lift_minor_dd(x, y, p, q, r, s):
     """(h, g, c, r) with h + g + c ~= (x^2 + y^2) * (p*q - r*s), a double-double product.
 
@@ -850,7 +856,7 @@ def _lift_minor_dd(x, y, p, q, r, s):
     return h, g, c, rough
 
 
-@njit(_T2(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_T2(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), inline='never')
 def _incircle_dd_sum(ha, ga, ca, hb, gb, cb, hc, gc, cc):
     """(v1, lo) ~= the sum of the three rows' (h, g, c) (see _incircle_dd)."""
     u1, u0 = _two_sum(ha, hb)
@@ -859,7 +865,7 @@ def _incircle_dd_sum(ha, ga, ca, hb, gb, cb, hc, gc, cc):
     return v1, lo
 
 
-@njit(_T2(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_T2(_f8, _f8, _f8, _f8, _f8, _f8), inline='never')
 def _incircle_dd(adx, ady, bdx, bdy, cdx, cdy):
     """(v1, lo): the incircle determinant of the (rounded) differences in double-double.
 
@@ -874,7 +880,7 @@ def _incircle_dd(adx, ady, bdx, bdy, cdx, cdy):
     return _incircle_dd_sum(ha, ga, ca, hb, gb, cb, hc, gc, cc)
 
 
-@njit(_F12, cache=True, inline='never')
+@kernel(_F12, inline='never')
 def _incircle_tail_terms(adx, ady, bdx, bdy, cdx, cdy,
                          adxtail, adytail, bdxtail, bdytail, cdxtail, cdytail):
     """The first-order tail terms of the incircle determinant in floating point (Shewchuk's stage C).
@@ -896,7 +902,7 @@ def _incircle_tail_terms(adx, ady, bdx, bdy, cdx, cdy,
     return (rowa + rowb) + rowc
 
 
-@njit(_FI(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_FI(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), inline='never')
 def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     """incircle stages B and C after Shewchuk's incircleadapt; returns (value, stage).
 
@@ -968,7 +974,7 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     return 0.0, 4  # undecided: the caller runs incircle_exact
 
 
-@njit(_T3(_f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_T3(_f8, _f8, _f8, _f8, _f8, _f8), inline='never')
 def _orient2d_filter(ax, ay, bx, by, cx, cy):
     """(det, errbound, detsum): Shewchuk's orient2d in floating point with its ccwerrboundA test.
 
@@ -986,7 +992,7 @@ def _orient2d_filter(ax, ay, bx, by, cx, cy):
     return det, CCW_ERRBOUND_A * detsum, detsum
 
 
-@njit(_T3(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), cache=True, inline='never')
+@kernel(_T3(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), inline='never')
 def _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy):
     """(det, errbound, permanent): Shewchuk's incircle in floating point with its iccerrboundA test."""
     adx = ax - dx
@@ -1020,7 +1026,7 @@ def _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy):
 # The staged variants are for tests and benchmarks only: compiled lazily (on
 # first use), so that importing the engine does not pay for them.
 
-@njit(cache=True)
+@kernel
 def _orient2d_staged(ax, ay, bx, by, cx, cy):
     """(orient2d value, deciding stage 1..4): :func:`orient2d`, also reporting the stage."""
     det, errbound, detsum = _orient2d_filter(ax, ay, bx, by, cx, cy)
@@ -1029,7 +1035,7 @@ def _orient2d_staged(ax, ay, bx, by, cx, cy):
     return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)
 
 
-@njit(cache=True)
+@kernel
 def _incircle_staged(ax, ay, bx, by, cx, cy, dx, dy):
     """(incircle value, deciding stage 1..4): :func:`incircle`, also reporting the stage."""
     det, errbound, permanent = _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy)
@@ -1042,10 +1048,50 @@ def _incircle_staged(ax, ay, bx, by, cx, cy, dx, dy):
 
 
 # ---------------------------------------------------------------------------
+# The slow stages, compiled once and called by symbol.
+# ---------------------------------------------------------------------------
+# numba links a callee's code into every caller and code-generates it there
+# again. The stages after the float filter are most of the predicates' code
+# (about a third of everything the routes compile) and rarely run, so they are
+# compiled once as C-callable functions, registered with LLVM under a symbol
+# name, and the public predicates call them by that name: a caller links the
+# filter only. (The symbol is registered at import, before any cached caller
+# is loaded.)
+
+def _by_symbol(name: str, signature, py_func):
+    """Compile ``py_func`` as a C-callable function registered as ``name``;
+    returns a function that compiled code calls by that name."""
+    compiled = cfunc(signature, cache=True)(py_func)
+    llvm.add_symbol(name, compiled.address)
+    return types.ExternalFunction(name, signature)
+
+
+def _orient2d_slow(ax, ay, bx, by, cx, cy, detsum):
+    return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)[0]
+
+
+def _incircle_slow(ax, ay, bx, by, cx, cy, dx, dy, permanent):
+    det, stage = _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
+    if stage == 4:
+        return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+    return det
+
+
+def _incircle_weighted_slow(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
+    return incircle_weighted_exact(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw)
+
+
+_orient2d_slow_call = _by_symbol("cdt_plugin_orient2d_slow", _f8(*[_f8] * 7), _orient2d_slow)
+_incircle_slow_call = _by_symbol("cdt_plugin_incircle_slow", _f8(*[_f8] * 9), _incircle_slow)
+_incircle_weighted_slow_call = _by_symbol("cdt_plugin_incircle_weighted_slow", _f8(*[_f8] * 12),
+                                          _incircle_weighted_slow)
+
+
+# ---------------------------------------------------------------------------
 # Public filtered predicates.
 # ---------------------------------------------------------------------------
 
-@njit(_F6, cache=True, inline='never')
+@kernel(_F6, inline='never')
 def orient2d(ax, ay, bx, by, cx, cy):
     """Orientation of (a, b, c), exact in sign (Shewchuk 1997, orient2d with ccwerrboundA).
 
@@ -1061,10 +1107,10 @@ def orient2d(ax, ay, bx, by, cx, cy):
     det, errbound, detsum = _orient2d_filter(ax, ay, bx, by, cx, cy)
     if det >= errbound or -det >= errbound:
         return det
-    return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)[0]
+    return _orient2d_slow_call(ax, ay, bx, by, cx, cy, detsum)
 
 
-@njit(_F8, cache=True, inline='never')
+@kernel(_F8, inline='never')
 def incircle(ax, ay, bx, by, cx, cy, dx, dy):
     """In-circle test, exact in sign (Shewchuk 1997, incircle with iccerrboundA).
 
@@ -1079,13 +1125,10 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy):
     det, errbound, permanent = _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy)
     if det > errbound or -det > errbound:
         return det
-    det, stage = _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
-    if stage == 4:
-        return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
-    return det
+    return _incircle_slow_call(ax, ay, bx, by, cx, cy, dx, dy, permanent)
 
 
-@njit(_F12, cache=True, inline='never')
+@kernel(_F12, inline='never')
 def incircle_weighted(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
     """Power (weighted in-circle) test: lifted orientation, exact in sign (Shewchuk 1997 filter style).
 
@@ -1132,7 +1175,7 @@ def incircle_weighted(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
     errbound = ICCW_ERRBOUND_A * permanent
     if det > errbound or -det > errbound:
         return det
-    return incircle_weighted_exact(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw)
+    return _incircle_weighted_slow_call(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw)
 
 
 # ---------------------------------------------------------------------------
@@ -1140,13 +1183,13 @@ def incircle_weighted(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
 # tests that show the adversarial inputs defeat plain floating point.
 # ---------------------------------------------------------------------------
 
-@njit(_F6, cache=True, inline='never')
+@kernel(_F6, inline='never')
 def orient2d_fast(ax, ay, bx, by, cx, cy):
     """Plain floating-point orient2d, NOT robust (Shewchuk 1997's orient2dfast): for comparison only."""
     return (ax - cx) * (by - cy) - (ay - cy) * (bx - cx)
 
 
-@njit(_F8, cache=True, inline='never')
+@kernel(_F8, inline='never')
 def incircle_fast(ax, ay, bx, by, cx, cy, dx, dy):
     """Plain floating-point incircle, NOT robust (Shewchuk 1997's incirclefast): for comparison only."""
     adx = ax - dx

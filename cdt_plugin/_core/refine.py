@@ -39,10 +39,11 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
+from .arrays import copy_rows
 from .flips import flip_to_delaunay, push_outer_edges
 from .insertion import legalize
+from .jit import kernel
 from .kernel import edge_is_illegal, orient
 from .locate import solid_step
 from .predicates import incircle, orient2d
@@ -62,9 +63,14 @@ C_ATTEMPTS = 5      # bad triangles taken from the queue (live ones)
 C_DEFERRED = 6      # of which waited for encroached segments to be split
 C_UNREPAIRED = 7    # segment splits whose flip repair ran out of stack (a final pass flips)
 
+# a piece queued to be split even if nothing encroaches it by then (NumPy scalars, not
+# literals: a literal argument would compile queue_piece once per value)
+FORCED = np.int64(1)
+NOT_FORCED = np.int64(0)
+
 
 # ---------------------------------------------------------------- geometry
-@njit(cache=True)
+@kernel
 def sin2_min_angle(x, y, a, b, c):
     """Squared sine of the smallest angle of triangle ``a b c`` (the quality
     key: smaller is worse), and twice its area."""
@@ -90,7 +96,7 @@ def sin2_min_angle(x, y, a, b, c):
     return d * d / den, d
 
 
-@njit(cache=True)
+@kernel
 def area_bound(area_of_label, label):
     """The area bound of triangles labelled ``label`` (``area_of_label[label + 1]``;
     0, none, past its end)."""
@@ -98,13 +104,13 @@ def area_bound(area_of_label, label):
     return area_of_label[i] if i < area_of_label.shape[0] else 0.0
 
 
-@njit(cache=True)
+@kernel
 def shortest_edge2(x, y, a, b, c):
     return min((x[b] - x[a]) ** 2 + (y[b] - y[a]) ** 2, (x[c] - x[b]) ** 2 + (y[c] - y[b]) ** 2,
                (x[a] - x[c]) ** 2 + (y[a] - y[c]) ** 2)
 
 
-@njit(cache=True)
+@kernel
 def is_bad(x, y, a, b, c, sin2_bound, area_bound):
     """Whether the triangle breaks the angle or the area bound; and its key."""
     key, d = sin2_min_angle(x, y, a, b, c)
@@ -115,7 +121,7 @@ def is_bad(x, y, a, b, c, sin2_bound, area_bound):
     return angle_bad, area_bad, np.floor(2.0 * np.log2(shortest_edge2(x, y, a, b, c)))
 
 
-@njit(cache=True)
+@kernel
 def encroaches(x, y, a, b, px, py, lens):
     """Whether the point encroaches ``a b``: it sees the piece at an angle of
     more than 90 degrees (strictly inside the diametral circle; ``lens == 0``)
@@ -132,7 +138,7 @@ def encroaches(x, y, a, b, px, py, lens):
     return lens == 0.0 or dot * dot >= lens * (ax * ax + ay * ay) * (bx * bx + by * by)
 
 
-@njit(cache=True)
+@kernel
 def steiner_point(x, y, a, b, c, offconstant):
     """Circumcentre of counter-clockwise ``a b c``, pulled in to the off-centre
     on the bisector of the shortest edge when ``offconstant > 0`` and the
@@ -187,7 +193,7 @@ NBUCKETS = 4400    # keys floor(2 log2(edge^2)) of finite doubles lie in -2148..
 BUCKET0 = 2200     # the bucket of key 0
 
 
-@njit(cache=True)
+@kernel
 def bucket_of(key):
     if not key > -BUCKET0:          # -inf (a zero-length edge) and NaN first
         return 0
@@ -196,7 +202,7 @@ def bucket_of(key):
     return int(key) + BUCKET0
 
 
-@njit(cache=True)
+@kernel
 def queue_reset(Q, qs):
     """Empty the queue."""
     head, tail = Q[3], Q[4]
@@ -209,7 +215,7 @@ def queue_reset(Q, qs):
     qs[3] = 0
 
 
-@njit(cache=True)
+@kernel
 def queue_triangle(Q, qs, key, t, a, b, c):
     """Put triangle ``t = (a, b, c)`` at the back of bucket ``key``. Returns
     False when the queue is full (nothing queued)."""
@@ -239,7 +245,7 @@ def queue_triangle(Q, qs, key, t, a, b, c):
     return True
 
 
-@njit(cache=True)
+@kernel
 def queue_pop(Q, qs):
     """Take the oldest entry of the smallest non-empty bucket (the queue must
     not be empty); returns its index in ``Q[0]``, valid until the next push."""
@@ -258,23 +264,23 @@ def queue_pop(Q, qs):
     return s
 
 
-@njit(cache=True)
+@kernel
 def queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
     """Queue triangle ``t`` if it is inside the domain and breaks a bound.
     Returns False when the queue is full."""
     L = lab[t]
     if L == OUT:
         return True
-    a = tri[3 * t]
-    b = tri[3 * t + 1]
-    c = tri[3 * t + 2]
+    a = np.int64(tri[3 * t])     # (int64 as in refine_loop: one compilation of the tests)
+    b = np.int64(tri[3 * t + 1])
+    c = np.int64(tri[3 * t + 2])
     angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_bound(area_of_label, L))
     if angle_bad or area_bad:
         return queue_triangle(Q, qs, key, t, a, b, c)
     return True
 
 
-@njit(cache=True)
+@kernel
 def queue_piece(tri, sq, sn, g, forced):
     """Put the segment piece of half-edge ``g`` on the split stack (``forced``:
     split it even if no triangle vertex encroaches it by then). Returns the
@@ -289,7 +295,7 @@ def queue_piece(tri, sq, sn, g, forced):
 
 
 # ------------------------------------------------------------------ tests
-@njit(cache=True)
+@kernel
 def piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, h):
     """Whether constrained half-edge ``h`` is encroached: a triangle vertex
     beside it (inside the domain, or anywhere with ``conforming``) lies strictly
@@ -312,7 +318,7 @@ def piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, h):
 PRECISION_FLOOR = 2.0 ** -44   # an edge shorter than this times its coordinates is at the limit
 
 
-@njit(cache=True)
+@kernel
 def below_precision(x, y, u, v):
     """Whether edge ``u v`` is shorter than :data:`PRECISION_FLOOR` times its
     largest coordinate: splitting it, or refining a triangle with it, only adds
@@ -324,7 +330,7 @@ def below_precision(x, y, u, v):
     return (x[u] - x[v]) ** 2 + (y[u] - y[v]) ** 2 < m * m
 
 
-@njit(cache=True)
+@kernel
 def at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
     """Shewchuk's rule (as in Triangle): leave a skinny triangle alone when its
     shortest edge joins Steiner vertices on two segments that share an endpoint
@@ -359,7 +365,7 @@ def at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
 # ------------------------------------------------------------- operations
 
 
-@njit(cache=True)
+@kernel
 def walk_to(tri, twin, cons, x, y, t, q, limit):
     """Visibility walk from triangle ``t`` to vertex ``q`` that never crosses a
     segment. Returns ``(code, e)`` as :func:`locate` does, or
@@ -376,7 +382,7 @@ def walk_to(tri, twin, cons, x, y, t, q, limit):
     return WALK_FAILED, -1
 
 
-@njit(cache=True)
+@kernel
 def cavity_encroached(tri, twin, cons, x, y, inf, h, on_edge, q, mark, stamp, bstack, enc, lens):
     """The segment pieces that new vertex ``q`` (located at half-edge ``h``)
     would encroach: those bounding its cavity, the triangles whose circumdisk
@@ -420,7 +426,7 @@ def cavity_encroached(tri, twin, cons, x, y, inf, h, on_edge, q, mark, stamp, bs
     return n
 
 
-@njit(cache=True)
+@kernel
 def param_on(x, y, A, B, v):
     """Parameter of vertex ``v`` along segment ``A -> B`` (0 at A, 1 at B)."""
     if v == A:
@@ -435,7 +441,7 @@ def param_on(x, y, A, B, v):
     return ((x[v] - x[A]) * dx + (y[v] - y[A]) * dy) / n
 
 
-@njit(cache=True)
+@kernel
 def place_on_piece(x, y, seg_ends, sid, u, v, shell_at, q):
     """Write into vertex ``q`` the split point of piece ``u v`` of segment
     ``sid``: the midpoint, or with ``shell_at`` (``u`` or ``v``) the point at
@@ -461,7 +467,7 @@ def place_on_piece(x, y, seg_ends, sid, u, v, shell_at, q):
     y[q] = y[A] + tm * (y[B] - y[A])
 
 
-@njit(cache=True)
+@kernel
 def shell_centre(tri, twin, cons, lab, e):
     """Triangle's rule: when exactly one end of piece ``e`` meets another
     segment inside a domain triangle beside it (the two span an angle there),
@@ -478,7 +484,7 @@ def shell_centre(tri, twin, cons, lab, e):
     return -1
 
 
-@njit(cache=True)
+@kernel
 def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0, stack, counts,
                 fc, no_sub):
     """Split the segment piece of half-edge ``e`` at new vertex ``q``, then
@@ -493,7 +499,7 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
     c = tri[prv(e)]
     d = tri[prv(f)]
     place_on_piece(x, y, seg_ends, sid, u, v, shell_centre(tri, twin, cons, lab, e), q)
-    ok = not below_precision(x, y, u, v)
+    ok = not below_precision(x, y, np.int64(u), np.int64(v))
     if ok and c != inf:
         ok = orient(x, y, c, u, q) > 0 and orient(x, y, v, c, q) > 0
     if ok and d != inf:
@@ -531,7 +537,7 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
     return True, ntri, slot
 
 
-@njit(cache=True)
+@kernel
 def flip_edges_at(tri, twin, cons, x, y, inf, q, slot, c, d, stack, counts):
     """Flip the edges from ``q`` (in triangle ``slot``) to ``c`` and ``d``
     if they are not locally Delaunay, and then every edge around a flip that
@@ -579,14 +585,14 @@ def flip_edges_at(tri, twin, cons, x, y, inf, q, slot, c, d, stack, counts):
     return True, slot
 
 
-@njit(cache=True)
+@kernel
 def _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub):
     fc[0] = 0
     legalize(tri, twin, cons, x, y, x, np.bool_(False), inf, q, stack, sp, np.bool_(False), no_sub, fc)
     counts[C_FLIPS] += fc[0]
 
 
-@njit(cache=True)
+@kernel
 def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts, fc, no_sub):
     """Insert vertex ``q`` located at ``(code, h)`` (inside a triangle or on a
     non-segment edge) and flip. Returns ``(slot of a triangle at q, ntri)``."""
@@ -614,7 +620,7 @@ def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts
 
 
 # ------------------------------------------------------------- main loop
-@njit(cache=True, _nrt=False)
+@kernel(_nrt=False)
 def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
                 offconstant, lens, area_of_label, conforming, max_new, counts, buffers):
     """Refine until no piece is encroached and no triangle is bad (or is
@@ -633,7 +639,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
     queue_reset(Q, qs)
     bstack, stack, enc, fc, no_sub = buffers.bstack, buffers.stack, buffers.enc, buffers.fc, buffers.no_sub
     cap_tri = tri.shape[0] // 3
-    sn = 0
+    sn = np.int64(0)   # (typed: a literal argument compiles the callee once more)
     stamp = 0
     for t in range(mark.shape[0]):
         stamp = max(stamp, mark[t])
@@ -651,7 +657,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             for e in range(3 * ntri):
                 if cons[e] > 0 and e < twin[e] and piece_needs_split(tri, twin, x, y, inf, lab,
                                                                      conforming, lens, e):
-                    sn = queue_piece(tri, sq, sn, e, 0)
+                    sn = queue_piece(tri, sq, sn, e, NOT_FORCED)
                     if sn < 0:
                         return PIECES_FULL, ntri, nv
             continue
@@ -711,7 +717,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 for i in range(nenc):
                     g = enc[i]
                     if cons[g] > 0:
-                        sn = queue_piece(tri, sq, sn, g, 1)
+                        sn = queue_piece(tri, sq, sn, g, FORCED)
                         if sn < 0:
                             return PIECES_FULL, ntri, nv
                         pushed += 1
@@ -750,7 +756,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             for k in range(3):
                 g = 3 * t + k
                 if cons[g] > 0 and piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, g):
-                    sn = queue_piece(tri, sq, sn, g, 0)
+                    sn = queue_piece(tri, sq, sn, g, NOT_FORCED)
                     if sn < 0:
                         return PIECES_FULL, ntri, nv
             e = twin[prv(e)]
@@ -758,7 +764,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 break
 
 
-@njit(cache=True)
+@kernel
 def hull_pieces(tri, twin, cons, lab, ntri, inf, first_id):
     """Make every convex-hull edge of an inside triangle a segment (ids from
     ``first_id``), so refinement splits it like any boundary segment. Returns
@@ -778,7 +784,7 @@ def hull_pieces(tri, twin, cons, lab, ntri, inf, first_id):
     return out[:n]
 
 
-@njit(cache=True)
+@kernel
 def freeze_boundary(tri, twin, cons, lab, ntri):
     """``split_boundary=False``: freeze the pieces with the outside on one side."""
     for e in range(3 * ntri):
@@ -787,7 +793,7 @@ def freeze_boundary(tri, twin, cons, lab, ntri):
             cons[twin[e]] = -cons[twin[e]]
 
 
-@njit(cache=True)
+@kernel(inline="always")   # (one caller: the route)
 def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_angle, area_of_label,
                  conforming, split_boundary, max_new, room):
     """Refine the store whose triangle labels are ``lab``, with room for at
@@ -829,7 +835,7 @@ def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_ang
     return status, counts, lab, seg_ends, (tri, twin, cons, x, y, w, inf, ntri, nv)
 
 
-@njit(cache=True)
+@kernel
 def with_hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends):
     """``seg_ends`` followed by the hull edges that :func:`hull_pieces` makes segments."""
     hull = hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends.shape[0] + 1)
@@ -842,7 +848,7 @@ RefineBuffers = namedtuple("RefineBuffers",
                            "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub")
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def refine_run(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
                offconstant, lens, area_of_label, conforming, max_new, counts, heap, pieces):
     """:func:`refine_loop` with its work arrays: a queue of ``heap`` bad
@@ -868,17 +874,17 @@ def refine_run(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, s
             return status, ntri, nv, heap, pieces
 
 
-@njit(cache=True)
+@kernel
 def _grown(a, n, fill):
     """``a`` lengthened to ``n`` with ``fill`` (``a`` itself when long enough)."""
     if a.shape[0] >= n:
         return a
     b = np.full(n, fill, a.dtype)
-    b[: a.shape[0]] = a
+    copy_rows(b, a, a.shape[0])
     return b
 
 
-@njit(cache=True)
+@kernel
 def count_below(vertices, triangles, sin2_bound):
     """Indices of the triangles whose smallest angle is below the bound, by
     the test the refinement itself uses."""

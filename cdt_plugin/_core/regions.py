@@ -10,13 +10,13 @@ hole seed points; region seed points paint their flood region.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 from .certify import locate_in_arrays
+from .jit import kernel
 from .mesh import DEAD, is_ghost
 
 
-@njit(cache=True)
+@kernel
 def segment_depths(tri, twin, cons, ntri, inf, mult):
     """Depth of every triangle (ghosts 0): the fewest segments crossed to reach
     it from outside the hull, and the segment id crossed to enter its component
@@ -87,7 +87,7 @@ def segment_depths(tri, twin, cons, ntri, inf, mult):
         npend = keep
 
 
-@njit(cache=True)
+@kernel
 def flood(neighbors, cflag, start, label, value):
     """Paint ``label = value`` over the triangles reachable from ``start``
     without crossing a segment (``cflag[t, j] != 0``: the edge opposite vertex
@@ -95,7 +95,7 @@ def flood(neighbors, cflag, start, label, value):
     flood_with(neighbors, cflag, start, label, value, np.empty(label.shape[0], np.int64))
 
 
-@njit(cache=True)
+@kernel
 def flood_with(neighbors, cflag, start, label, value, stack):
     """:func:`flood` with a caller's stack (room for every triangle)."""
     label[start] = value
@@ -113,7 +113,7 @@ def flood_with(neighbors, cflag, start, label, value, stack):
             sp += 1
 
 
-@njit(cache=True)
+@kernel
 def flood_seeds(vx, vy, triangles, neighbors, cflag, px, py, allowed, label, values):
     """Flood from each seed point ``(px[i], py[i])`` in turn, painting
     ``values[i]`` from the triangle that contains it, if that triangle is

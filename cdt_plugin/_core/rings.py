@@ -4,13 +4,13 @@ the next, for single geometries and batches alike."""
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 from .checks import first_nonfinite_row
+from .jit import kernel
 from .kernel import orient
 
 
-@njit(cache=True)
+@kernel
 def ring_is_degenerate(x, y, a, b):
     """Whether the ring of vertices ``a..b-1`` encloses nothing: fewer than three
     distinct points, or all of them on one line (exact)."""
@@ -27,7 +27,7 @@ def ring_is_degenerate(x, y, a, b):
     return True
 
 
-@njit(cache=True)
+@kernel
 def segments_of_rings(begin, end, keep, v0):
     """The segments of the rings ``begin[r]..end[r] - 1`` whose ``keep`` flag is
     set (each vertex to the next of its ring; vertex ids less ``v0``) and the
@@ -54,7 +54,7 @@ def segments_of_rings(begin, end, keep, v0):
     return segs, ring_of
 
 
-@njit(cache=True)
+@kernel
 def ring_segments(ring_start, r0, r1, keep):
     """:func:`segments_of_rings` of the consecutive rings ``r0:r1`` of flat ring
     arrays (ring ``r`` is ``ring_start[r]..ring_start[r + 1] - 1``), in vertex
@@ -62,7 +62,7 @@ def ring_segments(ring_start, r0, r1, keep):
     return segments_of_rings(ring_start[r0:r1], ring_start[r0 + 1:r1 + 1], keep, ring_start[r0])
 
 
-@njit(cache=True)
+@kernel
 def polygon_rings(xy, begin, end):
     """The vertices ``xy`` (n, 2) checked (``bad``: the first row with a NaN or
     infinite coordinate, -1 when none) and every ring ``begin[r]..end[r] - 1``

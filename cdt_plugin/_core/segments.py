@@ -17,9 +17,9 @@ constrained half-edge.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 from .borrow import unowned
+from .jit import kernel
 from .kernel import orient
 from .insertion import insert_vertex
 from .locate import ON_VERTEX, locate
@@ -31,7 +31,7 @@ from .status import (ALL_DONE, BUFFERS_TOO_SMALL, CROSSING, DONE, LOCATE_FAILED,
 
 
 
-@njit(cache=True)
+@kernel
 def forward(x, y, a, b, v):
     """For ``v`` exactly on the line ``a b``: whether it lies ahead of ``a``
     towards ``b`` (strictly)."""
@@ -40,7 +40,7 @@ def forward(x, y, a, b, v):
     return (y[v] > y[a]) if y[b] > y[a] else (y[v] < y[a])
 
 
-@njit(cache=True)
+@kernel
 def vertex_edge(tri, twin, x, y, inf, v, hint, ntri):
     """A half-edge whose origin is vertex ``v``, found by locating ``v``."""
     code, e = locate(tri, twin, x, y, inf, v, hint, ntri)
@@ -49,7 +49,7 @@ def vertex_edge(tri, twin, x, y, inf, v, hint, ntri):
     return e
 
 
-@njit(cache=True)
+@kernel
 def vertex_edges(tri, ntri, nv):
     """A half-edge leaving each vertex ``0..nv-1`` (-1: none), from one pass
     over the triangles: a start for the look around a segment's first end."""
@@ -61,7 +61,7 @@ def vertex_edges(tri, ntri, nv):
     return vedge
 
 
-@njit(cache=True)
+@kernel
 def by_smaller_end(pairs, m, nv):
     """Rows ``0..m-1`` of the vertex pairs ``pairs`` grouped by their smaller
     vertex (a counting sort; rows in order inside a group): those of vertex
@@ -81,7 +81,7 @@ def by_smaller_end(pairs, m, nv):
     return start, group
 
 
-@njit(cache=True)
+@kernel
 def mark_present(tri, twin, cons, ntri, nv, tasks, ntask):
     """Constrain at once every task ``a b`` that is an unconstrained edge
     already (most segments of a fine boundary are Delaunay edges), by one pass
@@ -111,7 +111,7 @@ def mark_present(tri, twin, cons, ntri, nv, tasks, ntask):
     return kept
 
 
-@njit(cache=True)
+@kernel
 def edge_from(tri, twin, x, y, inf, v, hint, ntri, vedge):
     """A half-edge leaving ``v``: ``vedge[v]`` while it still does (flips and
     splits reassign half-edges), else found by locating ``v``."""
@@ -122,7 +122,7 @@ def edge_from(tri, twin, x, y, inf, v, hint, ntri, vedge):
     return vertex_edge(tri, twin, x, y, inf, np.int64(v), hint, ntri)
 
 
-@njit(cache=True)
+@kernel
 def first_crossing(tri, twin, x, y, inf, a, b, e0):
     """Look around ``a`` (``e0`` leaves ``a``) for the way towards ``b``.
 
@@ -152,7 +152,7 @@ def first_crossing(tri, twin, x, y, inf, a, b, e0):
     return -1, -1
 
 
-@njit(cache=True)
+@kernel
 def crossed_edges(tri, twin, cons, x, y, a, b, h, qu, qw, qh, slots):
     """Walk from crossing half-edge ``h`` (``u -> w``) towards ``b``, recording
     every crossed edge (``qu, qw, qh``: endpoints and half-edge) and every
@@ -184,7 +184,7 @@ def crossed_edges(tri, twin, cons, x, y, a, b, h, qu, qw, qh, slots):
         h = nxt(g) if o > 0 else prv(g)
 
 
-@njit(cache=True)
+@kernel
 def find_edge_near(tri, twin, x, y, inf, u, w, hint, ntri):
     """Half-edge ``u -> w`` (locating ``u`` from triangle ``hint``), or -1."""
     e0 = vertex_edge(tri, twin, x, y, inf, np.int64(u), hint, ntri)
@@ -199,7 +199,7 @@ def find_edge_near(tri, twin, x, y, inf, u, w, hint, ntri):
             return -1
 
 
-@njit(cache=True)
+@kernel
 def flip_in_segment(tri, twin, cons, x, y, inf, ntri, a, b, qu, qw, qh, k, hint):
     """Flip the crossed edges until none crosses segment ``a b`` (Sloan 1993):
     a crossed edge with a convex quadrilateral is flipped, and its new diagonal
@@ -244,7 +244,7 @@ def flip_in_segment(tri, twin, cons, x, y, inf, ntri, a, b, qu, qw, qh, k, hint)
     return True
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge):
     """Make ``a -> b`` (or its first piece, up to a vertex on it) a constrained
     edge with id ``sid``, then restore the constrained Delaunay property around
@@ -293,7 +293,7 @@ def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge)
     return DONE, end, slots[0]
 
 
-@njit(cache=True)
+@kernel
 def crosses(x, y, p0, p1, q0, q1):
     """Whether segments ``p0 p1`` and ``q0 q1`` cross at a point inside both
     (signs compared, not multiplied: a product of tiny values underflows)."""
@@ -301,12 +301,12 @@ def crosses(x, y, p0, p1, q0, q1):
             and opposite(orient(x, y, p0, p1, q0), orient(x, y, p0, p1, q1)))
 
 
-@njit(cache=True, inline="always")
+@kernel
 def opposite(a, b):
     return (a > 0 and b < 0) or (a < 0 and b > 0)
 
 
-@njit(cache=True)
+@kernel
 def crossing_point(x, y, a, b, u, v, s0, s1, t0, t1):
     """Where piece ``a b`` of segment ``s0 s1`` crosses piece ``u v`` of segment
     ``t0 t1`` (the pieces cross inside both). Computed on the input segments
@@ -318,7 +318,7 @@ def crossing_point(x, y, a, b, u, v, s0, s1, t0, t1):
     return intersection_point(x, y, np.int64(a), np.int64(b), np.int64(u), np.int64(v))
 
 
-@njit(cache=True)
+@kernel
 def intersection_point(x, y, p0, p1, q0, q1):
     """The crossing point of segments ``p0 p1`` and ``q0 q1`` (known to cross),
     as accurately as double precision allows: parametrised along the segment
@@ -343,7 +343,7 @@ def intersection_point(x, y, p0, p1, q0, q1):
     return px, py
 
 
-@njit(cache=True, inline="always")
+@kernel
 def push_task(tasks, ntask, a, b, sid):
     """Queue segment piece ``a b`` of segment ``sid`` (nothing if ``a == b``)."""
     if a == b:
@@ -356,7 +356,7 @@ def push_task(tasks, ntask, a, b, sid):
 
 
 
-@njit(cache=True)
+@kernel
 def make_buffers(n):
     """Work arrays for :func:`insert_one`, sized for walks through ``n`` triangles:
     the crossed-edge queue (endpoints, half-edge), the crossed triangles, and a
@@ -365,7 +365,7 @@ def make_buffers(n):
             np.empty(n + 3, np.int64), np.empty(3 * (n + 3), np.int64))
 
 
-@njit(cache=True)
+@kernel
 def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_ends,
                     split, max_steiner, counts, info, stack, buf):
     """Process the segment tasks ``tasks[:ntask]`` (rows ``a, b, sid``; LIFO).

@@ -12,7 +12,8 @@ import pytest
 from cdt_plugin._core.construct import DIVIDE, FLIP, INCREMENTAL
 from cdt_plugin._core.pipeline import (K_DUPLICATE_SEGMENTS, K_DUPLICATES, K_FLIPS,
                                        K_INTERSECTIONS, K_MERGED_OVERLAPS, K_REF_COMPLETE,
-                                       K_ZERO_SEGMENTS, cdt_route, mesh_geometries)
+                                       K_ZERO_SEGMENTS, NO_REFINEMENT, cdt_route,
+                                       mesh_geometries, refinement_arg)
 from cdt_plugin._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE,
                                      ROUTE_OK, ROUTE_OVERLAP, ROUTE_REFINE_LIMIT,
                                      ROUTE_STEINER_LIMIT)
@@ -39,7 +40,7 @@ def route(points, segs=(), rings=None, algorithm=DIVIDE, split=False, keep_hull=
     status, info, counts, out = cdt_route(
         P[:, 0].copy(), P[:, 1].copy(), S, seg_ring, ring_polygon, ring_is_hole, holes,
         NO_REGIONS, len(holes) > 0, algorithm, NO_IDS, NO_IDS, split, keep_hull, max_steiner,
-        refinement)
+        refinement_arg(refinement))
     names = ("vertices", "triangles", "neighbors", "constrained", "pieces", "piece_ids",
              "regions", "vertex_map", "kept", "below")
     return int(status), info, counts, SimpleNamespace(**dict(zip(names, out)))
@@ -226,7 +227,7 @@ def test_mesh_geometries_equals_the_route_per_geometry():
     x, y = xy[:, 0].copy(), xy[:, 1].copy()
     T, G, R, S, failed = mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon,
                                          ring_is_hole, 0, len(geom_rings), False, -1, DIVIDE,
-                                         None, len(xy))
+                                         NO_REFINEMENT, len(xy))
     assert failed.tolist() == [False, False, True, False, False]
     assert len(S) == 0
     assert sorted(set(G.tolist())) == [0, 1, 4]
@@ -267,6 +268,6 @@ def test_mesh_geometries_refuses_a_degenerate_ring_like_triangulate():
     xy = np.array(shell + hole, float)
     T, G, R, S, failed = mesh_geometries(xy[:, 0].copy(), xy[:, 1].copy(), np.array([0, 4, 7]),
                                          np.array([0, 2]), np.array([0, 0]),
-                                         np.array([False, True]), 0, 1, False, -1, DIVIDE, None,
-                                         len(xy))
+                                         np.array([False, True]), 0, 1, False, -1, DIVIDE,
+                                         NO_REFINEMENT, len(xy))
     assert failed[0] or len(T) == 0

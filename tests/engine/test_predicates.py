@@ -1122,3 +1122,36 @@ def test_incircle_weighted_hypothesis_plane(xy, coef, k, shift):
     for i in (2, 5, 8, 11):
         shifted[i] = shifted[i] + shift
     assert np.sign(incircle_weighted(*shifted)) == incircle_weighted_ref(*shifted)
+
+
+# ---------------------------------------------------------------------------
+# The slow stages are called by symbol (compiled once, registered at import):
+# a new process that loads the compiled route from the cache must reach them.
+# ---------------------------------------------------------------------------
+
+def test_slow_stages_reached_from_a_new_process_on_the_cached_route():
+    import json
+    import subprocess
+    import sys
+
+    import cdt_plugin
+    from helpers import verify
+
+    # a 5 x 5 grid: the corners of every square are cocircular and the points of
+    # a row collinear, so incircle and orient2d both need their exact stages
+    g = np.array([(x, y) for x in range(5) for y in range(5)], float) * 0.1
+    here = cdt_plugin.delaunay(g)
+    verify(g, here)
+    cases = [(0, 0, .1, 0, .1, .1, 0, .1), (.1, .1, .2, .2, .30000000000000004, .3)]
+    code = ("import json, numpy as np, cdt_plugin\n"
+            "from cdt_plugin._core.predicates import incircle, orient2d\n"
+            "g = np.array([(x, y) for x in range(5) for y in range(5)], float) * 0.1\n"
+            f"c = {cases!r}\n"
+            "print(json.dumps([cdt_plugin.delaunay(g).triangles.tolist(),\n"
+            "                  incircle(*c[0]), orient2d(*c[1])]))\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    triangles, cocircular, near_line = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert triangles == here.triangles.tolist()
+    assert _sgn(cocircular) == incircle_ref(*cases[0]) == 0
+    assert _sgn(near_line) == orient2d_ref(*cases[1]) != 0
