@@ -10,9 +10,13 @@ code-generated again. So, in the kernels:
 
 * call kernels with typed values, not literals: ``f(a, 0)`` and ``f(a, 1)``
   compile ``f`` twice (``np.int64(0)``, ``np.bool_(False)`` or a variable do not);
-* a wrapper with a single caller is ``inline="always"``, so that its callees are
-  not code-generated once more for it; small helpers with many callers are not
-  (inlining re-runs numba's front end at every call site; LLVM inlines them);
+* the intermediate stages with a single caller (``build_mesh``, ``build``,
+  ``insert_vertices``, ``insert_all_segments``, ``insert_one``, ``refine_store``,
+  ``refine_run``) are ``inline="always"``, so that the kernels below them are
+  not code-generated once more for them. Nothing else is: numba copies and
+  re-types an inlined function's IR at each call site, which costs more than
+  compiling it once (inlining every kernel with a single caller made first use
+  50% slower), and LLVM inlines small helpers anyway;
 * copy with loops (:func:`.arrays.copy_rows`), not slice assignment, which
   compiles numba's broadcasting and its string-formatted errors;
 * the exact predicates' slow stages are called by symbol (:mod:`.predicates`),
