@@ -809,7 +809,10 @@ def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_ang
     if min_angle > 0:
         theta = math.radians(min_angle)
         sin2_bound = math.sin(theta) ** 2
-        offconstant = 0.475 * math.sqrt((1.0 + math.cos(theta)) / (1.0 - math.cos(theta)))
+        # Triangle's off-centre constant, 0.475 cot(theta / 2); 0 (plain circumcentres) when
+        # theta is so small that cos(theta) rounds to 1: the off-centre lies past the circumcentre
+        cos_theta = math.cos(theta)
+        offconstant = 0.475 * math.sqrt((1.0 + cos_theta) / (1.0 - cos_theta)) if cos_theta < 1.0 else 0.0
     # diametral lenses for quality meshing, circles for conforming Delaunay
     lens = 0.0 if conforming else math.cos(2 * math.radians(min_angle)) ** 2
     room = max(room, STEINER_ROOM * nv0 + 64)   # at least the usual few Steiner points per vertex

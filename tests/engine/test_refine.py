@@ -219,6 +219,18 @@ def test_bad_options():
             cdt_plugin.triangulate(SQUARE, ring(4), **kw)
 
 
+@settings(max_examples=25, deadline=None)
+@given(st.one_of(st.floats(5e-324, 1e-6), st.sampled_from([5e-324, 1e-300, 1e-9, 1e-7])),
+       st.lists(st.floats(0.2, 3.0), min_size=3, max_size=12))
+def test_tiny_min_angles_refine_with_circumcentres(angle, radii):
+    """min_angle=1e-9 raised ZeroDivisionError: cos(theta) rounds to 1 there, and the
+    off-centre constant divided by 1 - cos(theta). Any angle in (0, 60) must refine."""
+    v = _star(radii, len(radii))
+    s = ring(len(v))
+    tri = cdt_plugin.triangulate(v, s, min_angle=angle)
+    verify_refined(v, s, tri, min_angle=angle)
+
+
 def test_large_offsets_mesh_as_well():
     v = np.array(SQUARE + HOLE, float)
     s = ring(4) + ring(4, 4)
