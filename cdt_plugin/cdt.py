@@ -61,7 +61,9 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
     regions : (r, 2..4) array, optional
         Region seeds ``x, y[, attribute[, max_area]]``: each paints its
         segment-bounded region; ``tri.regions`` gives the seed index per
-        triangle and ``tri.region_attributes`` the attribute.
+        triangle and ``tri.region_attributes`` the attribute. A positive
+        ``max_area`` bounds the area of the region's triangles (Steiner points
+        are added, as with the ``max_area`` option, which need not be given).
     intersections : {"raise", "split"}
         Crossing or collinear-overlapping segments raise
         :class:`SegmentIntersectionError` / :class:`OverlappingSegmentsError`
@@ -99,8 +101,10 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
     max_steiner : int, optional
         Cap on Steiner points (intersections with ``"split"`` plus refinement);
         refinement that reaches it raises :class:`RefinementLimitError`
-        carrying the partial mesh. The default cap is generous and only there
-        to stop runaway refinement.
+        carrying the partial mesh. The default cap stops runaway refinement:
+        100 per input vertex plus 100,000, and with ``max_area`` 8 per
+        ``max_area`` of the domain's area, at most 1,000,000 more (pass a
+        larger ``max_steiner`` for finer meshes).
 
     Steiner points are ``tri.steiner``; each segment piece names its input
     segment in ``tri.segment_ids`` (-1 for a piece of the convex hull when the
@@ -128,7 +132,8 @@ def check_options(*, intersections="raise", algorithm="auto", min_angle=None, ma
                   conforming_delaunay=False, split_boundary=True, max_steiner=None) -> dict:
     """Validate :func:`triangulate`'s options before any work starts; returns
     them in the form :func:`triangulate_plc` takes (``refinement`` is None or
-    the tuple the compiled route takes)."""
+    the tuple the compiled route takes; ``refinement_options`` that tuple
+    whatever the options, for a PLC whose region seeds bound their areas)."""
     if intersections not in INTERSECTIONS:
         raise CDTError(f"intersections must be one of {INTERSECTIONS}, got {intersections!r}")
     algorithm = resolve_algorithm(algorithm, False)
@@ -139,19 +144,22 @@ def check_options(*, intersections="raise", algorithm="auto", min_angle=None, ma
     if max_steiner is not None and not (np.isfinite(max_steiner) and max_steiner >= 0
                                         and max_steiner == int(max_steiner)):
         raise CDTError(f"max_steiner must be a whole number >= 0, got {max_steiner!r}")
-    refinement = None
-    if min_angle or max_area is not None or conforming_delaunay:
-        refinement = (float(min_angle or 0.0), float(max_area or 0.0), bool(conforming_delaunay),
-                      bool(split_boundary), -1 if max_steiner is None else int(max_steiner))
-    return {"split": intersections == "split", "algorithm": algorithm, "refinement": refinement,
+    refinement_options = (float(min_angle or 0.0), float(max_area or 0.0), bool(conforming_delaunay),
+                          bool(split_boundary), -1 if max_steiner is None else int(max_steiner))
+    refine = bool(min_angle or max_area is not None or conforming_delaunay)
+    return {"split": intersections == "split", "algorithm": algorithm,
+            "refinement": refinement_options if refine else None,
+            "refinement_options": refinement_options,
             "max_steiner": -1 if max_steiner is None else int(max_steiner)}
 
 
 def triangulate_plc(plc: PLC, *, keep_hull=False, split=False, algorithm="divide", refinement=None,
-                    max_steiner=-1, t0=None) -> Triangulation:
+                    refinement_options=None, max_steiner=-1, t0=None) -> Triangulation:
     """:func:`triangulate` of a checked PLC with checked options: one call of
     the compiled route, then the result wrapped (or the route's stop raised)."""
     t0 = time.perf_counter() if t0 is None else t0
+    if refinement is None and plc.regions is not None and (plc.regions[:, 3] > 0).any():
+        refinement = refinement_options   # a region seed's max_area refines on its own (Triangle's -a)
     if plc.degenerate_rings and not split:
         p, r = plc.degenerate_rings[0]
         raise InvalidGeometryError(

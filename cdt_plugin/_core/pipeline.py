@@ -65,6 +65,11 @@ K_REF_COMPLETE = 13
 K_REF_LIMIT = 14
 NCOUNTS = 15
 
+# the default cap on refinement's Steiner points: 100 per vertex + 100,000, and with
+# max_area about 4 per bound area of the domain, at most AREA_STEINER_CAP more (a bound
+# far below the domain's size stops there with RefinementLimitError, not after millions)
+AREA_STEINER_CAP = 1_000_000
+
 SMALL_MESH = 1 << 16    # triangles: below this, work arrays are made at once rather than on demand
 
 
@@ -407,7 +412,7 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
         if max_new < 0:
             max_new = 100 * nv + 100_000
             if max_area > 0:
-                max_new += int(min(8 * domain_area(xi, yi, T, inside) / max_area, 1e9))
+                max_new += int(min(8 * domain_area(xi, yi, T, inside) / max_area, AREA_STEINER_CAP))
         counts[K_REF_LIMIT] = max_new
         budget = max(max_new - counts[K_INTERSECTIONS], 0)
         room = STEINER_ROOM * nv + 64

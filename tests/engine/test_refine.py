@@ -117,6 +117,28 @@ def test_region_max_area():
     assert a[tri.regions == 0].max() <= 0.05 and a[tri.regions == 1].max() <= 0.001
 
 
+def test_region_max_area_alone_refines():
+    """A region seed's max_area did nothing unless max_area= or min_angle= was given
+    too (the README's own example). It bounds its region on its own; a region
+    without a bound, and the rest of the domain, are left as they are."""
+    v = [[0, 0], [1, 0], [2, 0], [2, 1], [1, 1], [0, 1]]
+    s = [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0], [1, 4]]
+    tri = cdt_plugin.triangulate(v, s, regions=[[0.5, 0.5, 1, np.nan], [1.5, 0.5, 2, 0.01]])
+    verify_refined(v, s, tri, max_area=None)
+    a = areas(tri.vertices, tri.triangles)
+    left, right = tri.regions == 0, tri.regions == 1
+    assert a[right].max() <= 0.01 and right.sum() >= 100
+    # no Steiner point inside the unbounded square (some on the edge the squares share)
+    assert len(tri.steiner) > 0 and (tri.vertices[tri.steiner, 0] >= 1).all()
+    assert tri.stats["refinement_steiner"] == len(tri.steiner)
+    # through the batch path's one-by-one route as well (seeds go one by one)
+    from cdt_plugin.batch import triangulate_rings
+    xy = np.array([[0, 0], [2, 0], [2, 1], [0, 1.0]])
+    out = triangulate_rings(xy, [0, 4], [0, 1], [0], [False], regions=[[1.0, 0.5, 0, 0.01]])
+    assert len(out.vertices) > len(xy)                      # Steiner vertices follow the input
+    assert areas(out.vertices, out.triangles).max() <= 0.01
+
+
 def test_points_only_refines_the_hull():
     rng = np.random.default_rng(3)
     pts = rng.random((60, 2))
@@ -340,6 +362,21 @@ def test_needle_stops_at_the_cap_with_a_valid_partial_mesh():
     # at 20 degrees the same polygon meshes: the needle's own triangles are reported
     tri = cdt_plugin.triangulate(plc.vertices, plc.segments, max_area=0.5)
     verify_refined(plc.vertices, plc.segments, tri, max_area=0.5)
+
+
+def test_area_bound_far_below_the_domain_stops_at_the_default_cap():
+    """max_area=1e-7 on a unit square ran on to 7.8 million Steiner points (41 s): the
+    default cap held for angle bounds only. It now holds for area bounds too (at most a
+    million more points for them), and the partial mesh comes with the error."""
+    v = [(0, 0), (1, 0), (1, 1), (0, 1), (0.2, 0.5), (0.8, 0.5)]
+    s = ring(4) + [[4, 5]]
+    with pytest.raises(RefinementLimitError, match="max_steiner=1100600") as err:
+        cdt_plugin.triangulate(v, s, max_area=1e-8)
+    part = err.value.triangulation
+    assert len(part.steiner) == 1_100_600
+    rep = check_triangulation(part.vertices, part.triangles, segments=part.segments,
+                              domain="segments", require_all_vertices=False)
+    assert rep.ok, str(rep)
 
 
 def check_split_refined(tri):
