@@ -68,3 +68,9 @@ class RefinementLimitError(CDTError):
     def __init__(self, message: str, triangulation=None):
         super().__init__(message)
         self.triangulation = triangulation
+
+
+class PrecisionWarning(UserWarning):
+    """Input numbers that float64 cannot hold exactly (integers beyond 2**53) were
+    rounded; the message names the rows. Rounded points may coincide, and are then
+    merged as duplicates (``vertex_map``)."""

@@ -18,7 +18,7 @@ from .errors import (CDTError, InputShapeError, NonFiniteCoordinateError, Segmen
                      TooFewPointsError)
 from ._core.checks import first_segment_out_of_range
 from ._core.rings import polygon_rings
-from .validate import as_points
+from .validate import as_array, as_points, real_array
 
 
 @dataclass
@@ -115,7 +115,7 @@ class _Builder:
 
     def _add_vertices(self, coords, closed=False) -> int:
         """Append the (x, y[, z]) rows (a ring's closing point dropped); returns how many."""
-        arr = np.asarray(coords, dtype=np.float64)
+        arr = real_array(coords, "coordinates")
         if arr.size == 0:
             return 0
         if arr.ndim != 2 or arr.shape[1] < 2:
@@ -280,17 +280,24 @@ _NO_SEGMENTS = np.empty((0, 2), np.int64)
 
 
 def _as_segments(segments, n) -> np.ndarray:
-    arr = np.asarray(segments)
+    arr = as_array(segments, "segments")
     if arr.size == 0:
         return np.empty((0, 2), np.int64)
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise InputShapeError(f"segments must have shape (m, 2), got {arr.shape}")
+    if arr.dtype.kind == "u" and arr.max() > np.iinfo(np.int64).max:   # would wrap to negatives
+        i = int(np.flatnonzero((arr > np.iinfo(np.int64).max).any(axis=1))[0])
+        raise SegmentIndexError(f"segment {i} = {arr[i].tolist()} names a vertex outside 0..{n - 1}")
     if arr.dtype.kind not in "iu":
-        as_int = np.asarray(arr, dtype=np.float64)
+        as_int = real_array(arr, "segments")
         bad = np.flatnonzero((as_int != np.round(as_int)).any(axis=1) | ~np.isfinite(as_int).all(axis=1))
         if bad.size:
             raise SegmentIndexError(f"segment {int(bad[0])} has non-integer vertex indices "
                                     f"{arr[bad[0]].tolist()}")
+        arr = np.where((as_int >= 0) & (as_int < n), as_int, -1)   # (no int64 overflow below)
+        if (arr < 0).any():
+            i = int(np.flatnonzero((arr < 0).any(axis=1))[0])
+            raise SegmentIndexError(f"segment {i} = {as_int[i].tolist()} names a vertex outside 0..{n - 1}")
     arr = np.ascontiguousarray(arr, dtype=np.int64)
     if first_segment_out_of_range(arr, n) >= 0:
         bad = np.flatnonzero((arr[:, 0] < 0) | (arr[:, 0] >= n) | (arr[:, 1] < 0) | (arr[:, 1] >= n))
@@ -302,7 +309,7 @@ def _as_segments(segments, n) -> np.ndarray:
 
 
 def _as_xy(points, name) -> np.ndarray:
-    arr = np.asarray(points, dtype=np.float64)
+    arr = real_array(points, name)
     if arr.size == 0:
         return np.empty((0, 2))
     arr = arr.reshape(-1, 2) if arr.ndim == 1 and arr.size == 2 else arr
@@ -314,7 +321,7 @@ def _as_xy(points, name) -> np.ndarray:
 
 
 def _as_regions(regions) -> np.ndarray:
-    arr = np.asarray(regions, dtype=np.float64)
+    arr = real_array(regions, "regions")
     if arr.size == 0:
         return np.empty((0, 4))
     if arr.ndim == 1:

@@ -4,8 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
+import warnings
+
 from ._core.checks import first_nonfinite_row
-from .errors import InputShapeError, NonFiniteCoordinateError, TooFewPointsError
+from .errors import InputShapeError, NonFiniteCoordinateError, PrecisionWarning, TooFewPointsError
+
+EXACT_INT = 2 ** 53     # every integer up to this is a float64, not every one beyond
 
 
 def _rows(idx: np.ndarray, limit: int = 5) -> str:
@@ -14,12 +18,63 @@ def _rows(idx: np.ndarray, limit: int = 5) -> str:
     return shown + more
 
 
-def as_points(points, name: str = "points") -> np.ndarray:
-    """``points`` as a C-contiguous (n, 2) float64 array with n >= 1, all finite."""
+def real_array(data, name: str) -> np.ndarray:
+    """``data`` as a float64 array. Ragged rows, complex values and anything but
+    numbers raise :class:`InputShapeError` naming the place; integers that float64
+    cannot hold exactly (beyond 2**53) are rounded with a :class:`PrecisionWarning`
+    naming the rows."""
+    raw = as_array(data, name)
+    kind = raw.dtype.kind
+    if kind == "f":
+        return raw.astype(np.float64, copy=False)
+    if kind == "c":
+        bad = np.flatnonzero((raw.imag != 0).reshape(len(raw), -1).any(axis=1)) if raw.ndim else [0]
+        raise InputShapeError(f"{name} must be real numbers, got complex values"
+                              + (f" (imaginary parts at row(s) {_rows(np.asarray(bad))})" if len(bad) else ""))
+    if kind in "iu":
+        _warn_if_rounded(raw, name)
     try:
-        arr = np.asarray(points, dtype=np.float64)
+        return raw.astype(np.float64)
     except (TypeError, ValueError) as exc:
         raise InputShapeError(f"{name} must be numbers convertible to float64: {exc}") from None
+
+
+def as_array(data, name: str) -> np.ndarray:
+    """``np.asarray(data)``; ragged rows raise :class:`InputShapeError` naming the row."""
+    try:
+        return np.asarray(data)
+    except ValueError:
+        raise InputShapeError(f"{name} must be rows of equal length: {_ragged_place(data)}") from None
+
+
+def _ragged_place(data) -> str:
+    """Where nested sequences stop having one length (for the error message)."""
+    try:
+        lengths = [len(row) for row in data]
+    except TypeError:
+        return "numbers and sequences are mixed"
+    i = next((i for i, k in enumerate(lengths) if k != lengths[0]), None)
+    if i is None:
+        return "rows of rows have different lengths"
+    return f"row {i} has {lengths[i]} entries, row 0 has {lengths[0]}"
+
+
+def _warn_if_rounded(raw: np.ndarray, name: str) -> None:
+    big = (raw > EXACT_INT) | (raw < -EXACT_INT)
+    if not big.any():
+        return
+    values = raw[big]
+    inexact = [int(v) for v in values.tolist() if int(float(v)) != int(v)]
+    if inexact:
+        rows = np.flatnonzero(big.reshape(len(raw), -1).any(axis=1)) if raw.ndim > 1 else np.flatnonzero(big)
+        warnings.warn(f"{name}: {len(inexact)} integer(s) beyond 2**53 rounded to float64 at row(s) "
+                      f"{_rows(rows)} (e.g. {inexact[0]} -> {float(inexact[0])!r}); points that round "
+                      "to the same value are merged as duplicates", PrecisionWarning, stacklevel=4)
+
+
+def as_points(points, name: str = "points") -> np.ndarray:
+    """``points`` as a C-contiguous (n, 2) float64 array with n >= 1, all finite."""
+    arr = real_array(points, name)
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise InputShapeError(f"{name} must have shape (n, 2), got {arr.shape}")
     if arr.shape[0] == 0:
@@ -38,10 +93,7 @@ def as_weights(weights, n: int) -> np.ndarray | None:
     """``weights`` as a finite float64 array of length ``n`` (or None)."""
     if weights is None:
         return None
-    try:
-        w = np.asarray(weights, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InputShapeError(f"weights must be numbers convertible to float64: {exc}") from None
+    w = real_array(weights, "weights")
     if w.shape != (n,):
         raise InputShapeError(f"weights must have shape ({n},) to match the points, got {w.shape}")
     bad = np.flatnonzero(~np.isfinite(w))

@@ -194,10 +194,26 @@ def test_ring_given_twice_encloses_nothing():
     ([[0, 1], [-1, 2]], "segment 1"),
     ([[0.5, 1]], "non-integer"),
     ([[0, 1, 2]], r"\(m, 2\)"),
+    ([[0, 1], [1, 2, 3]], "segments must be rows of equal length: row 1 has 3 entries"),
+    (np.array([[0, 1], [1, 2 ** 64 - 1]], np.uint64), r"segment 1 = \[1, 18446744073709551615\]"),
+    ([[0, 1], [1, 1e20]], r"segment 1 = \[1.0, 1e\+20\] names a vertex outside"),
+    ([[0, 1], [1, 2j]], "complex"),
 ])
 def test_bad_segments(segs, msg):
     with pytest.raises((SegmentIndexError, cdt_plugin.InputShapeError), match=msg):
         cdt_plugin.triangulate(SQUARE, segs)
+
+
+def test_bad_coordinates_name_the_place():
+    """Ragged GeoJSON rings and complex vertices raised numpy's ValueError or lost
+    their imaginary part without a word."""
+    ring_ = [[0, 0], [4, 0], [4, 4, 1, 2], [0, 4], [0, 0]]
+    with pytest.raises(cdt_plugin.InputShapeError, match="coordinates must be rows of equal length: row 2"):
+        cdt_plugin.triangulate({"type": "Polygon", "coordinates": [ring_]})
+    with pytest.raises(cdt_plugin.InputShapeError, match="complex"):
+        cdt_plugin.triangulate(np.array(SQUARE) + 0.5j, ring(SQUARE))
+    with pytest.raises(cdt_plugin.InputShapeError, match="holes must be rows of equal length"):
+        cdt_plugin.triangulate(SQUARE, ring(SQUARE), holes=[[1, 1], [2]])
 
 
 def test_bad_options():

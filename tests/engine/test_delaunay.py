@@ -1,6 +1,8 @@
 """Engine tests for cdt_plugin.delaunay: every result goes through the exact checker."""
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -337,10 +339,46 @@ def test_move_that_inverts_triangles_rebuilds_or_raises():
     (np.zeros((4, 3)), InputShapeError, r"\(n, 2\)"),
     ([1.0, 2.0], InputShapeError, r"\(n, 2\)"),
     ([["a", "b"]], InputShapeError, "float64"),
+    ([[0, 0], [1, 0, 5], [0, 1]], InputShapeError, "row 1 has 3 entries, row 0 has 2"),
+    ([[0, 0], 1, [0, 1]], InputShapeError, "rows of equal length"),
+    (np.array([[0, 0], [1, 0], [0, 1 + 2j]]), InputShapeError, r"complex values \(imaginary parts at row\(s\) 2\)"),
 ])
 def test_bad_points(bad, err, msg):
     with pytest.raises(err, match=msg):
         cdt_plugin.delaunay(bad)
+
+
+def test_integers_beyond_2_53_are_rounded_with_a_warning():
+    """int64 coordinates beyond 2**53 were rounded to float64 silently, and points
+    that round together merged as duplicates without a word."""
+    big = 2 ** 53
+    pts = np.array([[big, 0], [big + 1, 0], [0, big], [big, big]], np.int64)
+    with pytest.warns(cdt_plugin.PrecisionWarning, match=r"row\(s\) 1 .*9007199254740993 -> 9007199254740992.0"):
+        tri = cdt_plugin.delaunay(pts)
+    assert tri.vertex_map.tolist() == [0, 0, 1, 2]        # rows 0 and 1 are one float64 point
+    verify(pts.astype(float), tri)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                    # exact integers: no warning
+        cdt_plugin.delaunay(np.array([[big, 0], [big + 2, 0], [0, 1]], np.int64))
+    with pytest.raises(InputShapeError, match="complex"):
+        cdt_plugin.delaunay(rng.random((3, 2)), weights=np.array([0, 1j, 0]))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.one_of(
+    st.lists(st.one_of(st.floats(-10, 10), st.integers(-2 ** 60, 2 ** 60), st.complex_numbers(max_magnitude=5),
+                       st.text(max_size=2)), min_size=1, max_size=3),
+    st.floats(-1, 1)), min_size=1, max_size=8))
+def test_any_nested_input_meshes_or_raises_a_cdt_error(rows):
+    """Ragged rows, complex numbers, strings, huge integers: a triangulation or a
+    CDTError (with at most a PrecisionWarning), never numpy's own exception."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cdt_plugin.PrecisionWarning)
+        try:
+            tri = cdt_plugin.delaunay(rows)
+        except CDTError:
+            return
+    verify(np.asarray(rows, float), tri)
 
 
 def test_bad_options():
