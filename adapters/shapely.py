@@ -57,7 +57,8 @@ def triangulate(geometry, *, repair=False, **options):
         and holes exactly, whatever their winding; ``tri.regions`` is the index of
         the polygon (within the geometry) each triangle lies in. An array, list or
         tuple of geometries gives a list of Triangulations in the same (flattened)
-        order; ``None`` entries give ``None``.
+        order, a pandas Series or GeoSeries a Series of them with its index;
+        ``None`` entries give ``None``.
     repair : bool or {"linework", "structure"}
         ``False`` (default): a polygon that GEOS finds invalid (bow-tie,
         self-touching ring, hole crossing or outside its shell, ...) raises
@@ -103,7 +104,12 @@ def triangulate(geometry, *, repair=False, **options):
     method = _repair_method(repair)
     if _is_array_input(geometry):
         arr = np.asarray(geometry, dtype=object).ravel()
-        return _triangulate_many(arr, method, options, indexed=True)
+        out = _triangulate_many(arr, method, options, indexed=True)
+        if hasattr(geometry, "iloc"):     # a pandas Series: a Series of Triangulations, same index
+            values = np.empty(len(out), dtype=object)
+            values[:] = out
+            return _like_input(values, geometry)
+        return out
     if geometry is None:
         raise InputShapeError("expected a shapely geometry, got None")
     return _triangulate_many(np.array([geometry], dtype=object), method, options, indexed=False)[0]
@@ -217,7 +223,25 @@ def _repair_method(repair):
 
 
 def _is_array_input(geometry) -> bool:
-    return isinstance(geometry, (list, tuple, np.ndarray))
+    """A collection of geometries (list, tuple, NumPy array, pandas Series,
+    GeoSeries, GeometryArray: anything with ``__array__``), not one geometry."""
+    if geometry is None or isinstance(geometry, shapely.Geometry):
+        return False
+    return isinstance(geometry, (list, tuple, np.ndarray)) or hasattr(geometry, "__array__")
+
+
+def _like_input(values: np.ndarray, geometry):
+    """Element-wise results in the input's container, as shapely's functions give
+    them: a pandas Series (or GeoSeries) keeps its index, a GeoSeries of
+    geometries also its class and CRS; anything else gets the NumPy array."""
+    index = getattr(geometry, "index", None)
+    if index is None or not hasattr(geometry, "iloc"):
+        return values
+    geometries = len(values) == 0 or all(v is None or isinstance(v, shapely.Geometry) for v in values)
+    if hasattr(geometry, "crs") and geometries:
+        return type(geometry)(values, index=index, crs=geometry.crs)
+    import pandas as pd        # (installed: the input is a pandas object)
+    return pd.Series(values, index=index, dtype=object)
 
 
 def _triangulate_many(arr, method, options, indexed):
@@ -464,7 +488,8 @@ def constrained_delaunay_triangles(geometry, **kwargs):
 
     Returns
     -------
-    GeometryCollection or array of GeometryCollections (same shape as the input)
+    GeometryCollection or array of GeometryCollections (same shape as the input;
+    a pandas Series or GeoSeries in gives one out, with its index)
         * GeometryCollection of clockwise triangle Polygons (closed 4-point
           shells, z kept for 3D input), given polygonal input (Polygon,
           MultiPolygon, or the polygonal members of a GeometryCollection);
@@ -511,4 +536,4 @@ def constrained_delaunay_triangles(geometry, **kwargs):
             out[i] = to_shapely(tri, z=_vertex_z(tri, plc) if plc.z is not None else None)
     if scalar:
         return out[0]
-    return out.reshape(shape)
+    return _like_input(out.reshape(shape), geometry)

@@ -288,3 +288,36 @@ def test_batch_meshes_a_millimetre_ring_at_utm_scale():
     batch = sa.triangulate_batch([sliver])
     assert batch.errors == {} and len(batch.triangles) == 1
     assert_valid(batch.vertices, batch.triangles, segments=[[0, 1], [1, 2], [2, 0]], domain="segments")
+
+
+def test_series_and_geoseries_element_wise_with_their_index():
+    """A pandas Series or GeoSeries was read as one geometry: the shapely drop-in
+    returned only the first geometry's triangles, triangulate and triangulate_batch
+    crashed. They are element-wise, as shapely's functions are, and keep the index
+    (a GeoSeries also its CRS)."""
+    pd = pytest.importorskip("pandas")
+    gpd = pytest.importorskip("geopandas")
+    geoms = [shapely.box(0, 0, 1, 1), None, _holed()]
+    s = pd.Series(geoms, index=[10, 20, 30])
+    g = gpd.GeoSeries(geoms, index=[10, 20, 30], crs="EPSG:3857")
+    single = [sa.constrained_delaunay_triangles(x) for x in geoms]
+    for series in (s, g, g.values):
+        out = sa.constrained_delaunay_triangles(series)
+        assert [None if o is None else len(o.geoms) for o in out] == \
+            [None if o is None else len(o.geoms) for o in single]
+        assert all(o is None or o.equals(e) for o, e in zip(out, single))
+    out = sa.constrained_delaunay_triangles(g)
+    assert isinstance(out, gpd.GeoSeries) and out.index.tolist() == [10, 20, 30] and out.crs == g.crs
+    out = sa.constrained_delaunay_triangles(s)
+    assert isinstance(out, pd.Series) and out.index.tolist() == [10, 20, 30]
+    ref = shapely.constrained_delaunay_triangles(s)        # GEOS: the same container
+    assert type(ref) is type(out) and ref.index.tolist() == out.index.tolist()
+    tris = sa.triangulate(g)
+    assert isinstance(tris, pd.Series) and tris.index.tolist() == [10, 20, 30] and tris[20] is None
+    for geom, tri in zip(geoms, tris):
+        if geom is not None:
+            assert np.array_equal(tri.triangles, sa.triangulate(geom).triangles)
+            _assert_covers(tri, geom)
+    batch = sa.triangulate_batch(s)
+    assert len(batch) == 3 and np.array_equal(np.unique(batch.geometry), [0, 2])
+    assert len(batch.triangles) == len(tris[10].triangles) + len(tris[30].triangles)
