@@ -13,6 +13,7 @@ route ahead of time, for Docker images, CI and Dask workers.
 """
 from __future__ import annotations
 
+import glob
 import logging
 import os
 import time
@@ -78,6 +79,75 @@ class _CompileNotice(event.Listener):
 
 _notice = _CompileNotice()
 event.register("numba:compile", _notice)
+
+
+# ------------------------------------------------------------ a cache older than the sources
+# numba checks a cached function against its own source file only: a cached route keeps
+# the machine code of kernels from other files that have changed since (an upgrade, an
+# edit), and would run it. The sources' sizes and times are kept beside the cache; when
+# they differ, the engine's cache files are removed before any is loaded.
+_MARK = "cdt_plugin-sources.txt"
+_PACKAGE = os.path.dirname(os.path.abspath(__file__))
+_KERNEL_FILES = ("_core", "report.py")     # where the kernels are
+
+
+def _source_stamp() -> str:
+    names = sorted(n for n in os.listdir(os.path.join(_PACKAGE, "_core")) if n.endswith(".py"))
+    files = [os.path.join("_core", n) for n in names] + ["report.py"]
+    lines = []
+    for rel in files:
+        st = os.stat(os.path.join(_PACKAGE, rel))
+        lines.append(f"{rel} {st.st_size} {st.st_mtime_ns}")
+    return "\n".join(lines) + "\n"
+
+
+def _cache_path(py_file: str) -> str | None:
+    """The directory numba caches ``py_file``'s functions in (its own locators)."""
+    from numba.core import caching
+    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")   # (named so before 0.61)
+    for cls in impl._locator_classes:
+        locator = cls.from_function(_cache_path, py_file)
+        if locator is not None:
+            return locator.get_cache_path()
+    return None
+
+
+def drop_stale_cache() -> bool:
+    """Remove the engine's numba cache files when the sources changed since they were
+    written (see above). Returns whether it removed them. Best effort: a cache it
+    cannot read or write is left to numba."""
+    try:
+        stamp = _source_stamp()
+        core = _cache_path(os.path.join(_PACKAGE, "_core", "pipeline.py"))
+        top = _cache_path(os.path.join(_PACKAGE, "report.py"))
+        if core is None:
+            return False
+        mark = os.path.join(core, _MARK)
+        try:
+            with open(mark) as fh:
+                if fh.read() == stamp:
+                    return False
+        except OSError:
+            pass
+        stale = glob.glob(os.path.join(core, "*.nb[ic]"))
+        if top is not None:
+            stale += glob.glob(os.path.join(top, "report.*.nb[ic]"))
+        for path in stale:
+            try:
+                os.remove(path)
+            except OSError:
+                pass
+        os.makedirs(core, exist_ok=True)
+        tmp = f"{mark}.{os.getpid()}"
+        with open(tmp, "w") as fh:
+            fh.write(stamp)
+        os.replace(tmp, mark)        # (atomic: processes starting together read a whole mark)
+        return bool(stale)
+    except Exception:                # never stop an import over the cache
+        return False
+
+
+drop_stale_cache()
 
 
 # ------------------------------------------------------------ every route, ahead of time
