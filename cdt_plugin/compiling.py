@@ -88,7 +88,6 @@ event.register("numba:compile", _notice)
 # they differ, the engine's cache files are removed before any is loaded.
 _MARK = "cdt_plugin-sources.txt"
 _PACKAGE = os.path.dirname(os.path.abspath(__file__))
-_KERNEL_FILES = ("_core", "report.py")     # where the kernels are
 
 
 def _source_stamp() -> str:

@@ -285,27 +285,27 @@ def _as_segments(segments, n) -> np.ndarray:
         return np.empty((0, 2), np.int64)
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise InputShapeError(f"segments must have shape (m, 2), got {arr.shape}")
-    if arr.dtype.kind == "u" and arr.max() > np.iinfo(np.int64).max:   # would wrap to negatives
-        i = int(np.flatnonzero((arr > np.iinfo(np.int64).max).any(axis=1))[0])
-        raise SegmentIndexError(f"segment {i} = {arr[i].tolist()} names a vertex outside 0..{n - 1}")
     if arr.dtype.kind not in "iu":
-        as_int = real_array(arr, "segments")
-        bad = np.flatnonzero((as_int != np.round(as_int)).any(axis=1) | ~np.isfinite(as_int).all(axis=1))
+        arr = real_array(arr, "segments")
+        bad = np.flatnonzero((arr != np.round(arr)).any(axis=1) | ~np.isfinite(arr).all(axis=1))
         if bad.size:
             raise SegmentIndexError(f"segment {int(bad[0])} has non-integer vertex indices "
                                     f"{arr[bad[0]].tolist()}")
-        arr = np.where((as_int >= 0) & (as_int < n), as_int, -1)   # (no int64 overflow below)
-        if (arr < 0).any():
-            i = int(np.flatnonzero((arr < 0).any(axis=1))[0])
-            raise SegmentIndexError(f"segment {i} = {as_int[i].tolist()} names a vertex outside 0..{n - 1}")
+    # floats and unsigned integers are compared as given: int64 would wrap the largest
+    if arr.dtype.kind != "i" and ((arr < 0) | (arr >= n)).any():
+        _raise_out_of_range(arr, n)
     arr = np.ascontiguousarray(arr, dtype=np.int64)
     if first_segment_out_of_range(arr, n) >= 0:
-        bad = np.flatnonzero((arr[:, 0] < 0) | (arr[:, 0] >= n) | (arr[:, 1] < 0) | (arr[:, 1] >= n))
-        i = int(bad[0])
-        raise SegmentIndexError(
-            f"segment {i} = {arr[i].tolist()} names a vertex outside 0..{n - 1}"
-            + (f" ({bad.size} such segments)" if bad.size > 1 else ""))
+        _raise_out_of_range(arr, n)
     return arr
+
+
+def _raise_out_of_range(arr, n):
+    bad = np.flatnonzero(((arr < 0) | (arr >= n)).any(axis=1))
+    i = int(bad[0])
+    raise SegmentIndexError(
+        f"segment {i} = {arr[i].tolist()} names a vertex outside 0..{n - 1}"
+        + (f" ({bad.size} such segments)" if bad.size > 1 else ""))
 
 
 def _as_xy(points, name) -> np.ndarray:

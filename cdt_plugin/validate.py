@@ -2,9 +2,9 @@
 precise :class:`CDTError` subclass naming the offending rows."""
 from __future__ import annotations
 
-import numpy as np
-
 import warnings
+
+import numpy as np
 
 from ._core.checks import first_nonfinite_row
 from .errors import InputShapeError, NonFiniteCoordinateError, PrecisionWarning, TooFewPointsError
@@ -28,9 +28,9 @@ def real_array(data, name: str) -> np.ndarray:
     if kind == "f":
         return raw.astype(np.float64, copy=False)
     if kind == "c":
-        bad = np.flatnonzero((raw.imag != 0).reshape(len(raw), -1).any(axis=1)) if raw.ndim else [0]
+        bad = _rows_where(raw.imag != 0)
         raise InputShapeError(f"{name} must be real numbers, got complex values"
-                              + (f" (imaginary parts at row(s) {_rows(np.asarray(bad))})" if len(bad) else ""))
+                              + (f" (imaginary parts at row(s) {_rows(bad)})" if len(bad) else ""))
     if kind in "iu":
         _warn_if_rounded(raw, name)
     try:
@@ -59,6 +59,12 @@ def _ragged_place(data) -> str:
     return f"row {i} has {lengths[i]} entries, row 0 has {lengths[0]}"
 
 
+def _rows_where(mask: np.ndarray) -> np.ndarray:
+    """The rows (first index) where ``mask`` holds anywhere."""
+    mask = np.atleast_1d(mask)
+    return np.flatnonzero(mask.reshape(len(mask), -1).any(axis=1))
+
+
 def _warn_if_rounded(raw: np.ndarray, name: str) -> None:
     big = (raw > EXACT_INT) | (raw < -EXACT_INT)
     if not big.any():
@@ -66,9 +72,8 @@ def _warn_if_rounded(raw: np.ndarray, name: str) -> None:
     values = raw[big]
     inexact = [int(v) for v in values.tolist() if int(float(v)) != int(v)]
     if inexact:
-        rows = np.flatnonzero(big.reshape(len(raw), -1).any(axis=1)) if raw.ndim > 1 else np.flatnonzero(big)
         warnings.warn(f"{name}: {len(inexact)} integer(s) beyond 2**53 rounded to float64 at row(s) "
-                      f"{_rows(rows)} (e.g. {inexact[0]} -> {float(inexact[0])!r}); points that round "
+                      f"{_rows(_rows_where(big))} (e.g. {inexact[0]} -> {float(inexact[0])!r}); points that round "
                       "to the same value are merged as duplicates", PrecisionWarning, stacklevel=4)
 
 
