@@ -393,7 +393,7 @@ def _polygon_rings(geoms):
     """Flat ring arrays of a 1-D array of Polygons / MultiPolygons (empty parts
     dropped): ``xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole,
     bad_geom, has_z``. ``z`` is None when no geometry has Z; ``bad_geom`` marks
-    geometries with a degenerate ring (fewer than three points or zero area)."""
+    geometries with a ring of fewer than three points."""
     n = len(geoms)
     parts, part_geom = shapely.get_parts(geoms, return_index=True)
     keep = ~shapely.is_empty(parts)
@@ -411,19 +411,9 @@ def _polygon_rings(geoms):
     nv = len(vring)
     ring_start = np.searchsorted(vring, np.arange(len(rings) + 1)).astype(np.int64)
     ring_len = np.diff(ring_start)
-    # next vertex along each ring (the last wraps to the first)
-    nxt = np.arange(1, nv + 1)
-    nonempty = ring_len > 0
-    nxt[ring_start[1:][nonempty] - 1] = ring_start[:-1][nonempty]
-    # twice the signed area per ring (for the degenerate-ring check), relative to the
-    # ring's first vertex: raw UTM-scale products cancel, and a valid millimetre-sized
-    # ring could sum to exactly 0.0
-    first = np.repeat(ring_start[:-1], ring_len)
-    x, y = coords[:, 0] - coords[first, 0], coords[:, 1] - coords[first, 1]
-    cross = x * y[nxt] - x[nxt] * y
-    area2 = np.add.reduceat(cross, ring_start[:-1][nonempty]) if nv else np.zeros(0)
+    # (a ring of zero area is found exactly, at any scale, by the route, which
+    # hands its geometry to the single call for the precise error)
     bad_ring = ring_len < 3
-    bad_ring[nonempty] |= area2 == 0.0
     geom_ring_start = np.searchsorted(ring_geom, np.arange(n + 1)).astype(np.int64)
     bad_geom = np.zeros(n, bool)
     bad_geom[ring_geom[bad_ring]] = True

@@ -6,6 +6,7 @@ from .cdt import triangulate
 from .delaunay import delaunay
 from .errors import (
     CDTError,
+    CoordinateRangeError,
     FileFormatError,
     InputShapeError,
     InvalidGeometryError,
@@ -24,6 +25,7 @@ from .triangulation import Triangulation
 
 __all__ = [
     "CDTError",
+    "CoordinateRangeError",
     "PLC",
     "Triangulation",
     "delaunay",

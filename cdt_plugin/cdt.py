@@ -21,12 +21,13 @@ from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUP
                              K_ZERO_SEGMENTS, cdt_route, refinement_arg)
 from ._core.segments import intersection_point
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
-                           ROUTE_OVERLAP, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT)
+                           ROUTE_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT)
 from .delaunay import resolve_algorithm
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError)
 from .plc import PLC, as_plc
 from .triangulation import Triangulation
+from .validate import range_error
 
 INTERSECTIONS = ("raise", "split")
 _NO_IDS = np.empty(0, np.int64)
@@ -230,6 +231,9 @@ def _raise_stop(status, info, plc):
     """The precise error for a route that stopped."""
     if status in (ROUTE_CROSSING, ROUTE_OVERLAP):
         _raise_intersection(status, info, plc)
+    if status == ROUTE_RANGE:
+        P = plc.vertices
+        raise range_error("vertices", P[:, 0], P[:, 1], None, int(info[0]), int(info[1]))
     if status == ROUTE_STEINER_LIMIT:
         raise CDTError(f"max_steiner={int(info[2])} intersection points inserted and segments "
                        f"{info[0] - 1} and {info[1] - 1} still cross; raise max_steiner")

@@ -25,7 +25,7 @@ from ._core.ordering import brio_order, lexicographic_order
 from ._core.status import OK
 from .errors import CDTError
 from .triangulation import Triangulation
-from .validate import as_points, as_weights
+from .validate import as_points, as_weights, exact_range
 
 ALGORITHMS = ("auto", "divide", "incremental", "flip")
 _NO_IDS = np.empty(0, np.int64)
@@ -106,13 +106,14 @@ def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) ->
     w_in = as_weights(weights, n)
     weighted = w_in is not None
     algorithm = resolve_algorithm(algorithm, weighted)
+    sx, sy, sw, _ = exact_range(pts[:, 0], pts[:, 1], w_in)   # exact: a power of two
     x = np.zeros(n + 1)
     y = np.zeros(n + 1)
-    x[:n] = pts[:, 0]
-    y[:n] = pts[:, 1]
+    x[:n] = sx
+    y[:n] = sy
     w = np.zeros(n + 1)
     if weighted:
-        w[:n] = w_in
+        w[:n] = sw
     dup_of = np.full(n, -1, np.int64)
     submerged = np.zeros(n, np.int8)
     active = _merge_weighted_duplicates(pts, w_in, dup_of, submerged) if weighted else None

@@ -52,6 +52,18 @@ class OverlappingSegmentsError(SegmentIntersectionError):
     """Two collinear segments share more than a point (``intersections="raise"``)."""
 
 
+class CoordinateRangeError(CDTError):
+    """The coordinates (or weights) span more binary orders of magnitude than
+    the exact predicates support: from the largest magnitude down to the finest
+    bit of any coordinate at most 2**480 (about 144 decimal digits, e.g. 1e+70
+    beside 1e-70 is fine, 1e+100 beside 1e-100 is not). Any overall scale is
+    supported. The message names the two rows; ``rows`` holds them."""
+
+    def __init__(self, message: str, rows=()):
+        super().__init__(message)
+        self.rows = tuple(rows)
+
+
 class InvalidGeometryError(CDTError):
     """A polygon is not valid (e.g. a hole outside its shell, a ring with fewer
     than three distinct points); the message names the polygon and ring."""

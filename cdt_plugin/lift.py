@@ -21,6 +21,7 @@ import numpy as np
 
 from ._core.certify import locate_all
 from .errors import CDTError
+from .validate import exact_range, near_unit
 
 
 def lift_z(tri, plc_z: np.ndarray, plc_segments: np.ndarray) -> np.ndarray:
@@ -38,7 +39,7 @@ def lift_z(tri, plc_z: np.ndarray, plc_segments: np.ndarray) -> np.ndarray:
     """
     plc_z = np.asarray(plc_z, dtype=np.float64)
     plc_segments = np.asarray(plc_segments, dtype=np.int64).reshape(-1, 2)
-    V = np.asarray(tri.vertices, dtype=np.float64)
+    V, _ = near_unit(np.asarray(tri.vertices, dtype=np.float64))   # interpolation at any scale
     z = np.full(len(V), np.nan)
     vm = np.asarray(tri.vertex_map)
     first = np.flatnonzero(vm >= 0)[::-1]           # reversed: the first occurrence writes last
@@ -93,8 +94,10 @@ def _lift_inside(tri, V, z, inner):
     bz = np.full(len(BV), np.nan)
     bz[base.vertex_map] = z[known]
     T = base.triangles
-    k = locate_all(BV[:, 0].copy(), BV[:, 1].copy(), T, base.neighbors,
-                   V[inner, 0].copy(), V[inner, 1].copy())
+    # located exactly at any scale: both point sets scaled by one power of two
+    x, y, _, _ = exact_range(np.r_[BV[:, 0], V[inner, 0]], np.r_[BV[:, 1], V[inner, 1]])
+    nb = len(BV)
+    k = locate_all(x[:nb].copy(), y[:nb].copy(), T, base.neighbors, x[nb:].copy(), y[nb:].copy())
     found = k >= 0
     z[inner[found]] = _barycentric(BV[T[k[found]]], bz[T[k[found]]], V[inner[found]])
 

@@ -37,6 +37,7 @@ from ._core.certify import edge_lifted_values
 from ._core.jit import kernel
 from .errors import CDTError, InputShapeError
 from .io import as_index
+from .validate import exact_range, near_unit
 from ._core.predicates import orient2d
 
 __all__ = ["Report", "report", "compare", "mesh_report", "triangle_quality", "mesh_neighbors",
@@ -140,6 +141,7 @@ def triangle_quality(vertices, triangles) -> dict[str, np.ndarray]:
     """
     V = np.asarray(vertices, dtype=np.float64)[:, :2]
     T = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    V, e = near_unit(V)     # products of three sides: at a scale near 1, lengths scaled back
     # Sort each triangle's corners by (x, y), so that the same triangle gives
     # bit-identical figures in any mesh and any corner order.
     rot = _lexicographic_corners(V[T])
@@ -166,6 +168,9 @@ def triangle_quality(vertices, triangles) -> dict[str, np.ndarray]:
         inradius = np.where(perimeter > 0, area2 / np.where(perimeter > 0, perimeter, 1.0), 0.0)
         shortest = sides.min(axis=1)
         ratio = np.where(shortest > 0, circumradius / np.where(shortest > 0, shortest, 1.0), np.inf)
+    if e:
+        circumradius, containment, inradius, shortest = (
+            np.ldexp(v, e) for v in (circumradius, containment, inradius, shortest))
     return {"angles": angles, "circumradius": circumradius, "min_containment_radius": containment,
             "inradius": inradius, "shortest_edge": shortest, "radius_edge_ratio": ratio}
 
@@ -237,7 +242,7 @@ def _mesh_certificate(V, T, segments) -> tuple[int, int, bool | None, int]:
     triangles made counter-clockwise, neighbours by shared index pairs, edges in
     ``segments`` exempt. Returns (non-Delaunay, cocircular, unique, flat count,
     number of segments that are mesh edges or None)."""
-    x, y = V[:, 0].copy(), V[:, 1].copy()
+    x, y, _, _ = exact_range(V[:, 0].copy(), V[:, 1].copy(), None, "mesh vertices")
     sign = _orientation_signs(x, y, T) if len(T) else np.zeros(0, np.int64)
     T = np.where((sign < 0)[:, None], T[:, [0, 2, 1]], T)
     N, _ = mesh_neighbors(T)

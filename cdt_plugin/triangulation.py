@@ -12,7 +12,7 @@ from ._core.mesh import DEAD
 from ._core.output import first_defect, rotate_min_first, solid_triangles
 from ._core.predicates import incircle_weighted, orient2d
 from .errors import CDTError, InvertedTriangleError
-from .validate import as_points
+from .validate import as_points, exact_range
 
 
 def _frozen_empty(shape):
@@ -204,8 +204,8 @@ class Triangulation:
     def _edge_signs(self) -> np.ndarray:
         """(triangle, j, sign) for every interior edge that is not a segment."""
         v = self.vertices
-        w = self.weights if self.weights is not None else np.zeros(len(v))
-        s = edge_lifted_values(v[:, 0].copy(), v[:, 1].copy(), w, self.weights is not None,
+        x, y, w, _ = exact_range(v[:, 0].copy(), v[:, 1].copy(), self.weights, "vertices")
+        s = edge_lifted_values(x, y, w if w is not None else np.zeros(len(v)), w is not None,
                                self.triangles, self.neighbors)
         return s[~self.constrained[s[:, 0], s[:, 1]]]
 
@@ -231,8 +231,10 @@ class Triangulation:
         v = self.vertices
         s = self.submerged
         pts, w = self._input_points, self._input_weights
-        return submerged_ok(v[:, 0].copy(), v[:, 1].copy(), self.weights, self.triangles,
-                            self.neighbors, pts[s, 0].copy(), pts[s, 1].copy(), w[s].copy())
+        _, _, _, shift = exact_range(pts[:, 0], pts[:, 1], w)   # one scale for both sets
+        f = 2.0 ** shift
+        return submerged_ok(v[:, 0] * f, v[:, 1] * f, self.weights * f * f, self.triangles,
+                            self.neighbors, pts[s, 0] * f, pts[s, 1] * f, w[s] * f * f)
 
     def is_unique(self) -> bool:
         """Whether this is the only Delaunay triangulation of its points
@@ -271,8 +273,9 @@ class Triangulation:
             # Flip from the moved mesh if no triangle inverted; ghost flips repair
             # a hull that lost its convexity. Accept only an embedded result.
             tri, twin, cons, ntri, inf = (a.copy() if isinstance(a, np.ndarray) else a for a in self._mesh)
-            x = np.append(new[:, 0], 0.0)
-            y = np.append(new[:, 1], 0.0)
+            sx, sy, _, _ = exact_range(new[:, 0], new[:, 1], None, "new_vertices")
+            x = np.append(sx, 0.0)
+            y = np.append(sy, 0.0)
             defect = first_defect(tri, twin, ntri, x, y, inf, False)
             if defect < 0:
                 flips = int(flip_to_delaunay(tri, twin, cons, x, y, x, False, inf, ntri, 20 * ntri + 1000))
@@ -358,6 +361,8 @@ def _lower_chain(pts, w, line, submerged):
     plane in the lifted segment whatever the auxiliary point is)."""
     if len(line) < 3:
         return line
+    x, y, w, _ = exact_range(pts[:, 0], pts[:, 1], w)   # exact: a power of two
+    pts = np.column_stack([x, y])
     a, b = pts[line[0]], pts[line[-1]]
     c = np.array([a[0] - (b[1] - a[1]), a[1] + (b[0] - a[0])])
     ccw = orient2d(a[0], a[1], b[0], b[1], c[0], c[1]) > 0

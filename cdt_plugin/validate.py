@@ -2,12 +2,15 @@
 precise :class:`CDTError` subclass naming the offending rows."""
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
 
 from ._core.checks import first_nonfinite_row
-from .errors import InputShapeError, NonFiniteCoordinateError, PrecisionWarning, TooFewPointsError
+from ._core.scaling import LOW, NO_FIT, TOP, fit_shift
+from .errors import (CoordinateRangeError, InputShapeError, NonFiniteCoordinateError, PrecisionWarning,
+                     TooFewPointsError)
 
 EXACT_INT = 2 ** 53     # every integer up to this is a float64, not every one beyond
 
@@ -105,3 +108,60 @@ def as_weights(weights, n: int) -> np.ndarray | None:
     if bad.size:
         raise NonFiniteCoordinateError(f"weights are NaN or infinite at row(s) {_rows(bad)}")
     return np.ascontiguousarray(w)
+
+
+_NO_WEIGHTS = np.empty(0)
+
+
+def exact_range(x: np.ndarray, y: np.ndarray, w: np.ndarray | None = None, name: str = "points"):
+    """``(x, y, w, shift)``: copies of the coordinates (and weights) times
+    ``2**shift``, the power of two that brings them into the exact predicates'
+    range (:mod:`cdt_plugin._core.scaling`; ``shift`` is 0 and the arrays are
+    the inputs for ordinary coordinates). Raises :class:`CoordinateRangeError`
+    naming the rows when no power of two does."""
+    shift, fine, large = fit_shift(x, y, _NO_WEIGHTS if w is None else w)
+    if shift == NO_FIT:
+        raise range_error(name, x, y, w, int(fine), int(large))
+    if shift == 0:
+        return x, y, w, 0
+    s = 2.0 ** shift
+    return x * s, y * s, None if w is None else w * s * s, int(shift)
+
+
+def near_unit(v: np.ndarray) -> tuple[np.ndarray, int]:
+    """``(v * 2**-e, e)``: float arrays far from unit scale (beyond 2**+-64)
+    brought near 1 by a power of two (exact), so that products of a few
+    coordinates (areas, radii, interpolation weights) neither overflow nor
+    underflow; ``e`` is 0 and ``v`` itself is returned at ordinary scales.
+    Lengths computed from the result are scaled back with ``np.ldexp(l, e)``."""
+    e = int(np.frexp(np.abs(v).max(initial=0.0))[1])
+    if -64 <= e <= 64:
+        return v, 0
+    return np.ldexp(v, -e), e
+
+
+def range_error(name: str, x, y, w, fine: int, large: int) -> CoordinateRangeError:
+    """The error for coordinates no power of two brings into range: the row
+    with the finest bit and the row with the largest magnitude."""
+    def values(i):
+        return [float(x[i]), float(y[i])] + ([] if w is None else [float(w[i])])
+
+    def bits(i):        # (top, low) of row i as in _core.scaling (weights count half)
+        out = []
+        for j, v in enumerate(values(i)):
+            if v:
+                m, e = math.frexp(v)
+                s = int(abs(m) * 2.0 ** 53)
+                low = e - 53 + (s & -s).bit_length() - 1
+                out.append((-(-e // 2), low // 2) if j == 2 else (e, low))
+        return out
+
+    top = max(t for t, _ in bits(large))
+    low = min(b for _, b in bits(fine))
+    weight = " (or weight)" if w is not None else ""
+    return CoordinateRangeError(
+        f"{name} span too many binary orders of magnitude for exact predicates: row {large} "
+        f"{tuple(values(large))} reaches 2**{top} and row {fine} {tuple(values(fine))} has a "
+        f"coordinate{weight} with bits down to 2**{low}; at most 2**{TOP - LOW} from the largest "
+        "magnitude to the finest bit is supported, at any overall scale (round the finest values "
+        "or mesh the parts separately)", rows=(large, fine))

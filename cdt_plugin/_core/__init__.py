@@ -3,6 +3,7 @@
 Imports run one way, from the bottom up:
 
     predicates          exact orient2d / incircle / lifted test (Shewchuk's expansions)
+    scaling             every finite double into the predicates' range by a power of two
     kernel              the tests on mesh vertices: ghosts, symbolic perturbation (Sec. 2.9)
     mesh                the flat half-edge store (topology only) and its growth
     status              every status code, named

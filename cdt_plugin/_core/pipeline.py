@@ -32,10 +32,11 @@ from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_
                      STEINER_ROOM, count_below, refine_store)
 from .regions import flood_seeds, segment_depths
 from .rings import ring_is_degenerate, ring_segments
+from .scaling import NO_FIT, fit_shift, scaled, scaled_area, scaled_seeds, unscale_rows
 from .segments import by_smaller_end, insert_segments, make_buffers
 from .status import (FINISHED, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OK, ROUTE_COLLINEAR,
                      ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP,
-                     ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP,
+                     ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP,
                      ALL_DONE)
 
 NO_REFINEMENT = (False, 0.0, 0.0, False, False, -1)
@@ -329,6 +330,15 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     n = px.shape[0]
     info = np.zeros(4, np.int64)
     counts = np.zeros(NCOUNTS, np.int64)
+    # into the exact predicates' range by a power of two (.scaling); undone on output
+    shift, info[0], info[1] = fit_shift(px, py, np.empty(0))
+    if shift == NO_FIT:
+        return ROUTE_RANGE, info, counts, no_mesh()
+    if shift != 0:
+        px = scaled(px, shift)
+        py = scaled(py, shift)
+    holes = scaled_seeds(holes, shift)
+    regions = scaled_seeds(regions, shift)
     order = order_in if order_in.shape[0] > 0 else lexicographic_order_compiled(px, py)
     k1, k2 = seed_triangle(px, py, order)
     if k2 < 0:
@@ -407,6 +417,7 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     sin2_bound = 0.0
     if refine:
         _, min_angle, max_area, conforming, split_boundary, max_new = refinement
+        max_area = scaled_area(max_area, shift)
         lab = slot_labels(tid, inside, region, tri.shape[0] // 3)
         area_of_label = area_bounds(max_area, regions, lab)
         if max_new < 0:
@@ -450,6 +461,8 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
                 piece_ids[p] = -1
         if sin2_bound > 0:
             below = count_below(vertices, triangles, sin2_bound)
+    if shift != 0:
+        unscale_rows(vertices, shift)
     return route_status, info, counts, (vertices, triangles, neighbors, constrained, pieces,
                                         piece_ids, out_regions, vertex_map, kept, below)
 

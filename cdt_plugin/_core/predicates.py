@@ -67,7 +67,9 @@ In short, coordinates whose products underflow or overflow are outside the
 guaranteed range: roughly |x| > 1e100 or nonzero |x| < 1e-100 for orient2d
 (products of two differences), and already |x| > 1e60 or nonzero |x| < 1e-60 for
 the circle tests (products of four).  Subnormal inputs are outside it too.
-Inputs must be finite (the engine validates this before calling).
+Inputs must be finite (the engine validates this before calling).  Every caller
+in the engine first scales its points by a power of two into a range that is
+safe for all of them (:mod:`.scaling`), which makes every finite double usable.
 """
 from __future__ import annotations
 

@@ -48,6 +48,7 @@ from .kernel import edge_is_illegal, orient
 from .locate import solid_step
 from .predicates import incircle, orient2d
 from .mesh import flip, grow_store, nxt, prv, split_edge, split_triangle
+from .scaling import on_grid
 from .status import (FINISHED, HEAP_FULL, INSIDE, LIMIT, NEED_ROOM, ON_EDGE, ON_VERTEX,  # noqa: F401
                      PIECES_FULL, WALK_BLOCKED, WALK_FAILED)
 
@@ -463,8 +464,8 @@ def place_on_piece(x, y, seg_ends, sid, u, v, shell_at, q):
         tm = tc + (shell / length) * (to - tc)
     else:
         tm = 0.5 * (tu + tv)
-    x[q] = x[A] + tm * (x[B] - x[A])
-    y[q] = y[A] + tm * (y[B] - y[A])
+    x[q] = on_grid(x[A] + tm * (x[B] - x[A]))
+    y[q] = on_grid(y[A] + tm * (y[B] - y[A]))
 
 
 @kernel
@@ -698,8 +699,8 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             if not (np.isfinite(px) and np.isfinite(py)):
                 counts[C_SKIPPED] += 1
                 continue
-            x[q] = px
-            y[q] = py
+            x[q] = on_grid(px)
+            y[q] = on_grid(py)
             code, h = walk_to(tri, twin, cons, x, y, t, q, walk_limit)
             if code == WALK_FAILED or code == ON_VERTEX:
                 counts[C_SKIPPED] += 1
@@ -733,8 +734,8 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                     if not area_bad:
                         counts[C_SKIPPED] += 1
                         continue
-                    x[q] = (x[a] + x[b] + x[c]) / 3.0
-                    y[q] = (y[a] + y[b] + y[c]) / 3.0
+                    x[q] = on_grid((x[a] + x[b] + x[c]) / 3.0)
+                    y[q] = on_grid((y[a] + y[b] + y[c]) / 3.0)
                     code, h = walk_to(tri, twin, cons, x, y, t, q, walk_limit)
                     if code != INSIDE and (code != ON_EDGE or cons[h] != 0):
                         counts[C_SKIPPED] += 1

@@ -7,13 +7,16 @@ import numpy as np
 
 from .checks import first_nonfinite_row
 from .jit import kernel
-from .kernel import orient
+from .predicates import orient2d
+from .scaling import NO_FIT, fit_shift
 
 
 @kernel
 def ring_is_degenerate(x, y, a, b):
     """Whether the ring of vertices ``a..b-1`` encloses nothing: fewer than three
-    distinct points, or all of them on one line (exact)."""
+    distinct points, or all of them on one line (exact, at any scale: the ring
+    is scaled into the predicates' range as the route scales it; a ring that
+    does not fit is left to the route, which reports it)."""
     p1 = -1
     for k in range(a + 1, b):
         if x[k] != x[a] or y[k] != y[a]:
@@ -21,8 +24,12 @@ def ring_is_degenerate(x, y, a, b):
             break
     if p1 < 0:
         return True
+    shift, _, _ = fit_shift(x[a:b], y[a:b], np.empty(0))
+    if shift == NO_FIT:
+        return False
+    s = 2.0 ** shift
     for k in range(p1 + 1, b):
-        if orient(x, y, a, p1, k) != 0:
+        if orient2d(x[a] * s, y[a] * s, x[p1] * s, y[p1] * s, x[k] * s, y[k] * s) != 0:
             return False
     return True
 

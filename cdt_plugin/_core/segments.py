@@ -25,6 +25,7 @@ from .insertion import insert_vertex
 from .locate import ON_VERTEX, locate
 from .flips import flip_from_stack
 from .mesh import DEAD, flip, nxt, prv
+from .scaling import on_grid
 from .status import (ALL_DONE, BUFFERS_TOO_SMALL, CROSSING, DONE, LOCATE_FAILED, LOST,  # noqa: F401
                      NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OVERLAP, SPLIT_AT, STOP_CROSSING, STOP_LIMIT,
                      STOP_OVERLAP, TASK_LOST)
@@ -446,8 +447,8 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
             return NEED_VERTEX_ROOM, ntri, nv, ntask
         px, py = crossing_point(x, y, a, b, u, v2, seg_ends[sid - 1, 0], seg_ends[sid - 1, 1],
                                 seg_ends[other - 1, 0], seg_ends[other - 1, 1])
-        x[nv] = px
-        y[nv] = py
+        x[nv] = on_grid(px)
+        y[nv] = on_grid(py)
         code, p, ntri, hint = insert_vertex(tri, twin, cons, x, y, w, np.bool_(False), inf, nv, hint,
                                             ntri, np.bool_(False), no_weights, flip_counts, stack)
         if code == LOCATE_FAILED:

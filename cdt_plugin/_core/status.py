@@ -51,3 +51,4 @@ ROUTE_STEINER_LIMIT = 4    # intersections: info = (segment id, other segment id
 ROUTE_HOLE_OUTSIDE = 5     # info = (ring,) a hole ring entered from outside its shell
 ROUTE_REFINE_LIMIT = 6     # refinement ran out of Steiner points (the mesh is complete)
 ROUTE_INTERNAL = 7         # info = (stage, code)
+ROUTE_RANGE = 8            # info = (row of the finest bit, row of the largest magnitude): no shift fits

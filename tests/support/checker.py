@@ -154,18 +154,19 @@ def _in_range(*diffs: np.ndarray, lo=_LO, hi=_HI) -> np.ndarray:
 
 
 def _orient_filter(P: np.ndarray, a, b, c) -> Tuple[np.ndarray, np.ndarray]:
-    """Float orient2d signs and a mask of rows where the sign is certain."""
-    acx = P[a, 0] - P[c, 0]
-    bcx = P[b, 0] - P[c, 0]
-    acy = P[a, 1] - P[c, 1]
-    bcy = P[b, 1] - P[c, 1]
+    """Float orient2d signs and a mask of rows where the sign is certain
+    (overflow and NaN, far outside the filter's range, are never sure)."""
     with np.errstate(all="ignore"):
+        acx = P[a, 0] - P[c, 0]
+        bcx = P[b, 0] - P[c, 0]
+        acy = P[a, 1] - P[c, 1]
+        bcy = P[b, 1] - P[c, 1]
         left = acx * bcy
         right = acy * bcx
         det = left - right
         bound = _CCW_ERRBOUND_A * (np.abs(left) + np.abs(right))
-    sure = (np.abs(det) > bound) & _in_range(acx, bcx, acy, bcy)
-    return np.sign(det).astype(np.int64), sure
+        sure = (np.abs(det) > bound) & _in_range(acx, bcx, acy, bcy)
+        return np.sign(np.nan_to_num(det)).astype(np.int64), sure
 
 
 def _orient_signs(P: np.ndarray, ex: "_Lazy", a, b, c, stats: Dict) -> np.ndarray:
@@ -181,10 +182,10 @@ def _orient_signs(P: np.ndarray, ex: "_Lazy", a, b, c, stats: Dict) -> np.ndarra
 def _incircle_signs(P: np.ndarray, w: Optional[np.ndarray], ex: "_Lazy", a, b, c, d,
                     stats: Dict) -> np.ndarray:
     a, b, c, d = (np.asarray(v, dtype=np.int64) for v in (a, b, c, d))
-    adx, ady = P[a, 0] - P[d, 0], P[a, 1] - P[d, 1]
-    bdx, bdy = P[b, 0] - P[d, 0], P[b, 1] - P[d, 1]
-    cdx, cdy = P[c, 0] - P[d, 0], P[c, 1] - P[d, 1]
     with np.errstate(all="ignore"):
+        adx, ady = P[a, 0] - P[d, 0], P[a, 1] - P[d, 1]
+        bdx, bdy = P[b, 0] - P[d, 0], P[b, 1] - P[d, 1]
+        cdx, cdy = P[c, 0] - P[d, 0], P[c, 1] - P[d, 1]
         bdxcdy, cdxbdy = bdx * cdy, cdx * bdy
         cdxady, adxcdy = cdx * ady, adx * cdy
         adxbdy, bdxady = adx * bdy, bdx * ady
@@ -209,7 +210,7 @@ def _incircle_signs(P: np.ndarray, w: Optional[np.ndarray], ex: "_Lazy", a, b, c
                     + (np.abs(adxbdy) + np.abs(bdxady)) * (clift + np.abs(dwc)))
             bound = _WEIGHTED_ERRBOUND * perm
         sure &= np.abs(det) > bound
-    s = np.sign(det).astype(np.int64)
+        s = np.sign(np.nan_to_num(det)).astype(np.int64)
     if not sure.all():
         idx = np.flatnonzero(~sure)
         s[idx] = ex.get().incircle(a[idx], b[idx], c[idx], d[idx])
