@@ -21,7 +21,7 @@ from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUP
                              K_ZERO_SEGMENTS, cdt_route, refinement_arg)
 from ._core.segments import intersection_point
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
-                           ROUTE_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT)
+                           ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT)
 from .delaunay import resolve_algorithm
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError)
@@ -49,6 +49,9 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
         Vertices; or any object with ``__geo_interface__`` (shapely Polygon,
         MultiPolygon, GeometryCollection, LineString, Point...), read from its
         GeoJSON-like mapping: rings give the domain exactly, any winding.
+        With several polygons (also a coverage sharing edges) ``tri.regions``
+        is the polygon each triangle lies in; polygons whose interiors
+        overlap raise :class:`InvalidGeometryError` naming both.
     segments : (m, 2) int array, optional
         Vertex index pairs that must be edges. A vertex lying on a segment
         splits it. Zero-length segments are dropped and repeated segments
@@ -243,6 +246,14 @@ def _raise_stop(status, info, plc):
         raise InvalidGeometryError(
             f"a hole of polygon {p} (ring {r}) lies outside its shell or overlaps another ring; "
             "use intersections='split' to mesh by even-odd depth instead")
+    if status == ROUTE_POLYGONS_OVERLAP:
+        p, q, a, b = (int(v) for v in info)
+        P = plc.vertices
+        what = (f"rings of polygon {p} overlap (a ring given twice, or a hole on its shell)"
+                if p == q else f"polygons {p} and {q} overlap")
+        raise InvalidGeometryError(
+            f"{what}: their interiors meet at the edge {_fmt(P[a])}-{_fmt(P[b])} (GEOS calls such "
+            "a geometry invalid); use intersections='split' to mesh by even-odd depth instead")
     raise CDTError(f"internal error (status {status}, {info.tolist()}); please report this input")
 
 

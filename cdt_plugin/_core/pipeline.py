@@ -25,18 +25,18 @@ from .arrays import copy_rows
 from .construct import DIVIDE, FLIP, build_mesh, gather_coords, horizontal_order, seed_first, seed_triangle, to_input_ids
 from .flips import flip_to_delaunay
 from .jit import kernel
-from .mesh import grow_store
+from .mesh import DEAD, grow_store, nxt
 from .ordering import lexicographic_order_compiled
 from .output import cdt_arrays, cdt_vertices, solid_triangles
 from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, OUT,
                      STEINER_ROOM, count_below, refine_store)
-from .regions import flood_seeds, segment_depths
+from .regions import flood_seeds, polygon_across, segment_depths, segment_rings
 from .rings import ring_is_degenerate, ring_segments
 from .scaling import NO_FIT, fit_shift, scaled, scaled_area, scaled_seeds, unscale_rows
 from .segments import by_smaller_end, insert_segments, make_buffers
 from .status import (FINISHED, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OK, ROUTE_COLLINEAR,
                      ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP,
-                     ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP,
+                     ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP,
                      ALL_DONE)
 
 NO_REFINEMENT = (False, 0.0, 0.0, False, False, -1)
@@ -78,9 +78,10 @@ SMALL_MESH = 1 << 16    # triangles: below this, work arrays are made at once ra
 def dedup_tasks(segs, nv):
     """Segments (mesh ids) as tasks: zero-length ones dropped, repeated ones
     (either direction) merged into the first. Returns ``(tasks, ntask, mult,
-    zero-length count)``: task rows ``a, b, segment id`` (1-based) stacked so
-    that the first segment is on top, and ``mult[sid]`` how many input
-    segments lie on segment ``sid``."""
+    zero-length count, first)``: task rows ``a, b, segment id`` (1-based)
+    stacked so that the first segment is on top, ``mult[sid]`` how many input
+    segments lie on segment ``sid``, and ``first[i]`` the segment that segment
+    ``i`` was merged into (-1: zero length)."""
     m = segs.shape[0]
     start, group = by_smaller_end(segs, m, nv)
     first = np.full(m, -1, np.int64)     # the kept segment each one repeats
@@ -105,7 +106,7 @@ def dedup_tasks(segs, nv):
             tasks[ntask, 1] = segs[i, 1]
             tasks[ntask, 2] = i + 1
             ntask += 1
-    return tasks, ntask, mult, nzero
+    return tasks, ntask, mult, nzero, first
 
 
 @kernel(inline="always")
@@ -149,16 +150,20 @@ def solid_with_flags(tri, twin, cons, ntri, inf):
 
 
 @kernel
-def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_ring, ring_polygon,
-             ring_is_hole, holes, regions, use_seeds, keep_hull, check_holes, info):
+def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_start, seg_rings,
+             ring_polygon, ring_is_hole, holes, regions, use_seeds, keep_hull, check_holes, info):
     """Which solid triangles are inside the domain, and their region: depth
     parity by default, Triangle's rule (everything enclosed, less the hole
-    seeds' regions) with ``use_seeds``; the polygon of the ring a triangle is
-    entered through (rings), or the region seed that paints it. Returns
-    ``(inside, region, ok)``; ``ok`` is False (``info[0]`` = the ring) when a
-    hole ring is entered from outside its shell (``check_holes``)."""
+    seeds' regions) with ``use_seeds``; the polygon a triangle lies in (rings:
+    :func:`.regions.segment_depths`), or the region seed that paints it.
+    Returns ``(inside, region, status)``; with ``check_holes`` (and rings) the
+    status is ROUTE_HOLE_OUTSIDE (``info[0]`` = the ring) when a polygon is
+    entered through a hole ring from outside its shell, ROUTE_POLYGONS_OVERLAP (``info`` = two
+    polygons and the mesh vertices of an edge where they overlap) when the
+    rings cannot bound disjoint polygons."""
     k = T.shape[0]
-    depth_mesh, entry_mesh = segment_depths(tri, twin, cons, ntri, inf, mult)
+    depth_mesh, entry_mesh, label_mesh = segment_depths(tri, twin, cons, ntri, inf, mult,
+                                                        seg_start, seg_rings, ring_polygon)
     has_segments = False
     for e in range(3 * ntri):
         if cons[e] != 0:
@@ -173,19 +178,20 @@ def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_ring,
         depth = depth_mesh[t]
         if has_segments and not keep_hull:
             inside[i] = depth > 0 if use_seeds else depth % 2 == 1
-        if ring_polygon.shape[0] > 0 and entry_mesh[t] > 0:
-            ring = seg_ring[entry_mesh[t] - 1]
-            if ring >= 0:
-                region[i] = ring_polygon[ring]
+        region[i] = label_mesh[t]
     if check_holes and ring_polygon.shape[0] > 0 and not keep_hull:
         for t in range(ntri):       # slot order is the order of T: the error names the first
             i = tid[t]
-            if i < 0 or not inside[i] or entry_mesh[t] <= 0:
+            if i < 0 or not inside[i] or entry_mesh[t] <= 0 or label_mesh[t] < 0:
                 continue
-            ring = seg_ring[entry_mesh[t] - 1]
-            if ring >= 0 and ring_is_hole[ring]:
+            ring = entered_through_hole(label_mesh[t], seg_rings, seg_start[entry_mesh[t]],
+                                        seg_start[entry_mesh[t] + 1], ring_polygon, ring_is_hole)
+            if ring >= 0:
                 info[0] = ring
-                return inside, region, False
+                return inside, region, ROUTE_HOLE_OUTSIDE
+        if not polygons_disjoint(tri, twin, cons, ntri, label_mesh, seg_start, seg_rings,
+                                 ring_polygon, info):
+            return inside, region, ROUTE_POLYGONS_OVERLAP
     if holes.shape[0] > 0:
         label = np.zeros(k, np.int64)
         flood_seeds(x, y, T, N, cflag, holes[:, 0].copy(), holes[:, 1].copy(), inside, label,
@@ -198,7 +204,51 @@ def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_ring,
         flood_seeds(x, y, T, N, cflag, regions[:, 0].copy(), regions[:, 1].copy(),
                     np.ones(k, np.bool_), label, np.arange(regions.shape[0]))
         region = label
-    return inside, region, True
+    return inside, region, ROUTE_OK
+
+
+@kernel
+def entered_through_hole(label, rings, a, b, ring_polygon, ring_is_hole):
+    """The hole ring through which polygon ``label`` was entered from outside
+    when the entry segment carries only hole rings of it (a hole outside its
+    shell), else -1."""
+    hole = -1
+    for k in range(a, b):
+        r = rings[k]
+        if ring_polygon[r] == label:
+            if not ring_is_hole[r]:
+                return -1
+            hole = r
+    return hole
+
+
+@kernel
+def polygons_disjoint(tri, twin, cons, ntri, label, seg_start, seg_rings, ring_polygon, info):
+    """Whether the polygon labels agree across every ring segment (each side
+    is what :func:`.regions.polygon_across` makes of the other). If not,
+    ``info`` holds two polygons that overlap there (the same one twice: its own
+    rings overlap) and the segment piece's mesh vertices."""
+    for e in range(3 * ntri):
+        sid = cons[e]
+        if sid <= 0 or tri[e] == DEAD:
+            continue
+        a = seg_start[sid]
+        b = seg_start[sid + 1]
+        if a == b:
+            continue
+        near = label[e // 3]
+        if polygon_across(near, seg_rings, a, b, ring_polygon) == label[twin[e] // 3]:
+            continue
+        info[0] = near if near >= 0 else ring_polygon[seg_rings[a]]
+        info[1] = info[0]
+        for j in range(a, b):
+            if ring_polygon[seg_rings[j]] != info[0]:
+                info[1] = ring_polygon[seg_rings[j]]
+                break
+        info[2] = tri[e]
+        info[3] = tri[nxt(e)]
+        return False
+    return True
 
 
 @kernel
@@ -379,7 +429,7 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     for s in range(ms):
         seg_ends[s, 0] = mesh_of[segs[s, 0]]
         seg_ends[s, 1] = mesh_of[segs[s, 1]]
-    tasks, ntask, mult, nzero = dedup_tasks(seg_ends, n)
+    tasks, ntask, mult, nzero, first = dedup_tasks(seg_ends, n)
     counts[K_ZERO_SEGMENTS] = nzero
     counts[K_DUPLICATE_SEGMENTS] = ms - nzero - ntask
     limit = max_steiner if max_steiner >= 0 else 10 * ms + 1000
@@ -407,11 +457,15 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
 
     # the domain
     T, N, tid, cflag = solid_with_flags(tri, twin, cons, ntri, inf)
-    inside, region, ok = classify(tri, twin, cons, ntri, inf, xi, yi, T, N, tid, cflag, mult,
-                                  seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
-                                  keep_hull, not split, info)
-    if not ok:
-        return ROUTE_HOLE_OUTSIDE, info, counts, no_mesh()
+    seg_start, seg_rings = segment_rings(first, seg_ring)
+    inside, region, status = classify(tri, twin, cons, ntri, inf, xi, yi, T, N, tid, cflag, mult,
+                                      seg_start, seg_rings, ring_polygon, ring_is_hole,
+                                      holes, regions, use_seeds, keep_hull, not split, info)
+    if status != ROUTE_OK:
+        if status == ROUTE_POLYGONS_OVERLAP:   # the edge's ends as input vertex ids
+            info[2] = order[info[2]]
+            info[3] = order[info[3]]
+        return status, info, counts, no_mesh()
 
     route_status = ROUTE_OK
     sin2_bound = 0.0

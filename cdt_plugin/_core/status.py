@@ -52,3 +52,4 @@ ROUTE_HOLE_OUTSIDE = 5     # info = (ring,) a hole ring entered from outside its
 ROUTE_REFINE_LIMIT = 6     # refinement ran out of Steiner points (the mesh is complete)
 ROUTE_INTERNAL = 7         # info = (stage, code)
 ROUTE_RANGE = 8            # info = (row of the finest bit, row of the largest magnitude): no shift fits
+ROUTE_POLYGONS_OVERLAP = 9  # info = (polygon, other polygon, input vertex, input vertex) of an edge

@@ -122,7 +122,9 @@ def test_refine_leaves_a_hole_alone():
     hole = [(2, 2), (4, 2), (4, 4), (2, 4)]
     segs = [(i, (i + 1) % 4) for i in range(4)] + [(4 + i, 4 + (i + 1) % 4) for i in range(4)]
     s = cdt(outer + hole + [(3, 3.2), (1, 5.5)], segs)
-    depth, _ = segment_depths(s.tri, s.twin, s.cons, s.ntri, s.inf, np.ones(len(segs) + 1, np.int64))
+    depth, _, _ = segment_depths(s.tri, s.twin, s.cons, s.ntri, s.inf, np.ones(len(segs) + 1, np.int64),
+                                 np.zeros(len(segs) + 2, np.int64), np.empty(0, np.int64),
+                                 np.empty(0, np.int64))
     lab = labels(s, inside=lambda t: depth[t] % 2 == 1)
     in_hole = [t for t in solid_slots(s.tri, s.ntri, s.inf) if lab[t] == OUT]
     assert in_hole

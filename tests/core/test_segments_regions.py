@@ -9,7 +9,8 @@ import pytest
 
 from cdt_plugin._core.mesh import nxt
 from cdt_plugin._core.pipeline import dedup_tasks, solid_with_flags
-from cdt_plugin._core.regions import flood_seeds, segment_depths
+from cdt_plugin._core.regions import (NO_POLYGON, POLYGON_CONFLICT, flood_seeds, polygon_across,
+                                      segment_depths, segment_rings)
 from cdt_plugin._core.segments import by_smaller_end, mark_present
 from cdt_plugin._core.status import ALL_DONE, STOP_CROSSING, STOP_OVERLAP
 from checker import orient2d_exact
@@ -143,7 +144,7 @@ def test_by_smaller_end_groups_rows():
 
 def test_dedup_tasks_counts():
     segs = np.array([(0, 1), (1, 2), (2, 2), (1, 0), (2, 3), (3, 2), (0, 1), (4, 4)], np.int64)
-    tasks, ntask, mult, nzero = dedup_tasks(segs, 5)
+    tasks, ntask, mult, nzero, first = dedup_tasks(segs, 5)
     assert nzero == 2 and ntask == 3
     rows = tasks[:ntask].tolist()
     assert rows[-1] == [0, 1, 1]                            # the first segment on top of the stack
@@ -151,9 +152,38 @@ def test_dedup_tasks_counts():
     assert mult[1] == 3 and mult[2] == 1 and mult[5] == 2
     assert mult.sum() == len(segs) - nzero
     assert mult[3] == mult[4] == mult[6] == mult[7] == mult[8] == 0
+    assert first.tolist() == [0, 1, -1, 0, 4, 4, 0, -1]
 
 
 # ------------------------------------------------------------------ regions
+def NO_RINGS(m):
+    """segment_rings of ``m`` segments without rings, and no ring polygons."""
+    return np.zeros(m + 2, np.int64), np.empty(0, np.int64), np.empty(0, np.int64)
+
+
+def test_segment_rings_lists_every_ring_on_a_segment():
+    first = np.array([0, 1, 0, -1, 4, 4])      # 2 merged into 0, 3 dropped, 5 merged into 4
+    seg_ring = np.array([0, 0, 1, 1, -1, 2])
+    start, rings = segment_rings(first, seg_ring)
+    lists = {sid: sorted(rings[start[sid]:start[sid + 1]].tolist()) for sid in range(1, 7)}
+    assert lists == {1: [0, 1], 2: [0], 3: [], 4: [], 5: [2], 6: []}
+    start, rings = segment_rings(first, np.empty(0, np.int64))
+    assert not start.any() and len(rings) == 0
+
+
+@pytest.mark.parametrize("label, polys, want", [
+    (NO_POLYGON, [], NO_POLYGON), (2, [], 2),              # free segments change nothing
+    (NO_POLYGON, [4], 4), (4, [4], NO_POLYGON),            # into a polygon and out again
+    (4, [4, 7], 7), (7, [7, 4], 4),                        # across an edge two polygons share
+    (NO_POLYGON, [4, 7], POLYGON_CONFLICT),                # two polygons at once: they overlap
+    (NO_POLYGON, [4, 4], POLYGON_CONFLICT),                # a ring given twice
+    (5, [4], POLYGON_CONFLICT), (5, [4, 7], POLYGON_CONFLICT)])   # another polygon inside one
+def test_polygon_across(label, polys, want):
+    ring_polygon = np.array([9] + polys + [9], np.int64)     # ring k belongs to polygon polys[k-1]
+    rings = np.arange(len(ring_polygon))
+    assert polygon_across(label, rings, 1, 1 + len(polys), ring_polygon) == want
+
+
 def nested_squares(copies=(1, 1, 1)):
     """Squares of half-width 3, 2, 1 around (0, 0), each given ``copies[k]`` times
     (in both directions alternately), plus a few free points between them."""
@@ -181,7 +211,7 @@ def test_segment_depths_follow_nesting(copies):
     pts, segs = nested_squares(copies)
     s = delaunay_store(pts)
     mesh_segs = s.mesh_of[segs]
-    tasks, ntask, mult, nzero = dedup_tasks(mesh_segs, s.nv)
+    tasks, ntask, mult, nzero, _ = dedup_tasks(mesh_segs, s.nv)
     assert ntask == 12 and nzero == 0
     # insert the 12 distinct segments (input ids) with the pipeline's ids
     first = {}
@@ -194,7 +224,7 @@ def test_segment_depths_follow_nesting(copies):
     relabel = {k + 1: i + 1 for k, i in enumerate(distinct)}
     s.cons[:3 * s.ntri] = [relabel.get(int(c), 0) for c in s.cons[:3 * s.ntri]]
     check_store(s.tri, s.twin, s.cons, s.ntri, s.inf, s.x, s.y)
-    depth, entry = segment_depths(s.tri, s.twin, s.cons, s.ntri, s.inf, mult)
+    depth, entry, label = segment_depths(s.tri, s.twin, s.cons, s.ntri, s.inf, mult, *NO_RINGS(len(segs)))
     mult_of_ring = list(copies)
     seen = set()
     for t in range(s.ntri):
@@ -221,7 +251,7 @@ def test_depth_parity_nested_squares():
     for copies, solid in (((1, 1, 1), {1, 3}), ((1, 2, 1), {1, 2})):
         pts, segs = nested_squares(copies)
         s = delaunay_store(pts)
-        tasks, ntask, mult, _ = dedup_tasks(s.mesh_of[segs], s.nv)
+        tasks, ntask, mult, _, _ = dedup_tasks(s.mesh_of[segs], s.nv)
         assert sorted(mult[mult > 0].tolist()) == sorted(copies[0:1] * 4 + copies[1:2] * 4
                                                          + copies[2:3] * 4)
         status, _, _ = add_segments(s, [tuple(segs[r[2] - 1]) for r in tasks[:ntask][::-1]])
@@ -229,7 +259,7 @@ def test_depth_parity_nested_squares():
         ids = [int(r[2]) for r in tasks[:ntask][::-1]]          # add_segments numbers from 1
         s.cons[:3 * s.ntri] = [ids[c - 1] if c else 0 for c in s.cons[:3 * s.ntri]]
         check_store(s.tri, s.twin, s.cons, s.ntri, s.inf, s.x, s.y)
-        depth, _ = segment_depths(s.tri, s.twin, s.cons, s.ntri, s.inf, mult)
+        depth, _, _ = segment_depths(s.tri, s.twin, s.cons, s.ntri, s.inf, mult, *NO_RINGS(len(segs)))
         for t in solid_slots(s.tri, s.ntri, s.inf):
             vs = s.tri[3 * t:3 * t + 3]
             k = depth_by_position(s.x[vs].mean(), s.y[vs].mean())
