@@ -27,7 +27,7 @@ from .flips import flip_from_stack
 from .mesh import DEAD, flip, nxt, prv
 from .scaling import on_grid
 from .status import (ALL_DONE, BUFFERS_TOO_SMALL, CROSSING, DONE, LOCATE_FAILED, LOST,  # noqa: F401
-                     NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OVERLAP, SPLIT_AT, STOP_CROSSING, STOP_LIMIT,
+                     NEED_EDGE_ROOM, NEED_VERTEX_ROOM, ON_INPUT, OVERLAP, SPLIT_AT, STOP_CROSSING, STOP_LIMIT,
                      STOP_OVERLAP, TASK_LOST)
 
 
@@ -39,6 +39,29 @@ def forward(x, y, a, b, v):
     if x[a] != x[b]:
         return (x[v] > x[a]) if x[b] > x[a] else (x[v] < x[a])
     return (y[v] > y[a]) if y[b] > y[a] else (y[v] < y[a])
+
+
+@kernel
+def on_input_segment(x, y, A, B, a, b, v):
+    """For a piece ``a b`` of input segment ``A B`` whose ends are not both
+    exactly on it (a crossing point rounded off the line): whether vertex
+    ``v`` lies exactly on ``A B`` strictly between ``a`` and ``b``. Such a
+    vertex splits the segment although it may lie off the piece by a rounding
+    error. Positions along the segment are compared on its longer axis, where
+    they are monotone (exact comparisons)."""
+    if orient(x, y, A, B, v) != 0:
+        return False
+    if abs(x[B] - x[A]) >= abs(y[B] - y[A]):
+        lo, hi, t = min(x[a], x[b]), max(x[a], x[b]), x[v]
+    else:
+        lo, hi, t = min(y[a], y[b]), max(y[a], y[b]), y[v]
+    return lo < t < hi
+
+
+@kernel
+def off_input_line(x, y, A, B, a, b):
+    """Whether piece ``a b`` of input segment ``A B`` does not lie on it exactly."""
+    return orient(x, y, A, B, a) != 0 or orient(x, y, A, B, b) != 0
 
 
 @kernel
@@ -124,13 +147,14 @@ def edge_from(tri, twin, x, y, inf, v, hint, ntri, vedge):
 
 
 @kernel
-def first_crossing(tri, twin, x, y, inf, a, b, e0):
+def first_crossing(tri, twin, x, y, inf, a, b, e0, A, B, off_line):
     """Look around ``a`` (``e0`` leaves ``a``) for the way towards ``b``.
 
     Returns ``(kind, e)``: ``(DONE, a->b)`` if the edge exists; ``(SPLIT_AT,
-    a->v)`` if a neighbour ``v`` lies on the open segment; else
-    ``(CROSSING, u->w)``: the first edge the segment crosses, ``u`` right and
-    ``w`` left of ``a -> b``.
+    a->v)`` if a neighbour ``v`` lies on the open segment (or, for a piece
+    ``off_line`` of its input segment ``A B``, on that:
+    :func:`on_input_segment`); else ``(CROSSING, u->w)``: the first edge the
+    segment crosses, ``u`` right and ``w`` left of ``a -> b``.
     """
     e = e0
     for _ in range(tri.shape[0]):
@@ -142,9 +166,13 @@ def first_crossing(tri, twin, x, y, inf, a, b, e0):
             ou = orient(x, y, a, b, u)
             if ou == 0 and forward(x, y, a, b, u):
                 return SPLIT_AT, e
+            if off_line and on_input_segment(x, y, A, B, a, b, u):
+                return SPLIT_AT, e
             ow = orient(x, y, a, b, w)
             if ow == 0 and forward(x, y, a, b, w):
                 return SPLIT_AT, prv(e)  # w -> a; its twin leaves a towards w
+            if off_line and on_input_segment(x, y, A, B, a, b, w):
+                return SPLIT_AT, prv(e)
             if ou < 0 and ow > 0:
                 return CROSSING, nxt(e)
         e = twin[prv(e)]  # next triangle counter-clockwise around a
@@ -154,14 +182,15 @@ def first_crossing(tri, twin, x, y, inf, a, b, e0):
 
 
 @kernel
-def crossed_edges(tri, twin, cons, x, y, a, b, h, qu, qw, qh, slots):
+def crossed_edges(tri, twin, cons, x, y, a, b, h, qu, qw, qh, slots, A, B, off_line):
     """Walk from crossing half-edge ``h`` (``u -> w``) towards ``b``, recording
     every crossed edge (``qu, qw, qh``: endpoints and half-edge) and every
     crossed triangle (``slots``). Stops at ``b`` or at the first vertex on the
     segment. Nothing is modified.
 
     Returns ``(end vertex, crossed edges, triangles, constrained half-edge hit
-    or -1)``.
+    or -1, or -2 when the end is a vertex on the input segment ``A B`` but off
+    this piece: see :func:`first_crossing`)``.
     """
     k = 0
     slots[0] = h // 3
@@ -182,6 +211,8 @@ def crossed_edges(tri, twin, cons, x, y, a, b, h, qu, qw, qh, slots):
         o = orient(x, y, a, b, v)
         if o == 0:
             return v, k, ns, -1
+        if off_line and on_input_segment(x, y, A, B, a, b, v):
+            return v, k, ns, -2
         h = nxt(g) if o > 0 else prv(g)
 
 
@@ -246,21 +277,26 @@ def flip_in_segment(tri, twin, cons, x, y, inf, ntri, a, b, qu, qw, qh, k, hint)
 
 
 @kernel(inline="always")
-def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge):
+def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge, A, B):
     """Make ``a -> b`` (or its first piece, up to a vertex on it) a constrained
-    edge with id ``sid``, then restore the constrained Delaunay property around
-    it with flips that never flip a segment (Lemma 2.14).
+    edge with id ``sid``, a piece of input segment ``A -> B``, then restore the
+    constrained Delaunay property around it with flips that never flip a
+    segment (Lemma 2.14).
 
     Returns ``(kind, info, hint)``: DONE (``info`` = end vertex: ``b`` or a
-    vertex on the segment), OVERLAP (``info`` = the half-edge already on another
-    segment) or CROSSING (``info`` = the constrained half-edge crossed);
-    TASK_LOST on an internal failure, BUFFERS_TOO_SMALL if the walk buffers are too small.
+    vertex on the segment), ON_INPUT (``info`` = a vertex on the input segment
+    but off this piece, whose ends were rounded off it: nothing done, the
+    piece is to be split there), OVERLAP (``info`` = the half-edge already on
+    another segment) or CROSSING (``info`` = the constrained half-edge
+    crossed); TASK_LOST on an internal failure, BUFFERS_TOO_SMALL if the walk
+    buffers are too small.
     """
     qu, qw, qh, slots, stack = buf
     e0 = edge_from(tri, twin, x, y, inf, a, hint, ntri, vedge)
     if e0 < 0:
         return TASK_LOST, -1, hint
-    kind, e = first_crossing(tri, twin, x, y, inf, a, b, e0)
+    off_line = off_input_line(x, y, A, B, a, b)
+    kind, e = first_crossing(tri, twin, x, y, inf, a, b, e0, A, B, off_line)
     if kind == DONE or kind == SPLIT_AT:
         if kind == SPLIT_AT and tri[e] != a:
             e = twin[e]
@@ -274,9 +310,12 @@ def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge)
         return TASK_LOST, -1, hint
     if qu.shape[0] < ntri + 3:  # room for the longest possible walk
         return BUFFERS_TOO_SMALL, -1, hint
-    end, k, ns, hit = crossed_edges(tri, twin, cons, x, y, a, b, e, qu, qw, qh, slots)
+    end, k, ns, hit = crossed_edges(tri, twin, cons, x, y, a, b, e, qu, qw, qh, slots, A, B,
+                                    off_line)
     if hit >= 0:
         return CROSSING, hit, hint
+    if hit == -2:
+        return ON_INPUT, end, hint
     if not flip_in_segment(tri, twin, cons, x, y, inf, ntri, a, end, qu, qw, qh, k, slots[0]):
         return TASK_LOST, -1, hint
     s = find_edge_near(tri, twin, x, y, inf, a, end, slots[0], ntri)
@@ -395,7 +434,8 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
         a = tasks[ntask, 0]
         b = tasks[ntask, 1]
         sid = tasks[ntask, 2]
-        kind, res, hint = insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge)
+        kind, res, hint = insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge,
+                                     seg_ends[sid - 1, 0], seg_ends[sid - 1, 1])
         if kind == BUFFERS_TOO_SMALL:
             ntask += 1
             return NEED_EDGE_ROOM, ntri, nv, ntask
@@ -409,6 +449,14 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
                 tasks[ntask, 1] = b
                 tasks[ntask, 2] = sid
                 ntask += 1
+            continue
+        if kind == ON_INPUT:
+            if ntask + 2 > tasks.shape[0]:
+                ntask += 1
+                return NEED_VERTEX_ROOM, ntri, nv, ntask
+            counts[0] += 1
+            ntask = push_task(tasks, ntask, res, b, sid)
+            ntask = push_task(tasks, ntask, a, res, sid)
             continue
         if kind == OVERLAP:
             if not split:

@@ -21,6 +21,7 @@ DONE = 0              # the segment (or its first piece) is an edge now
 SPLIT_AT = 1          # a vertex lies on the segment: pieces queued
 CROSSING = 2          # the segment crosses a constrained edge (``info`` = half-edge)
 OVERLAP = 3           # the edge is already a piece of another segment
+ON_INPUT = 4          # a vertex on the input segment, off this rounded piece: pieces queued
 TASK_LOST = -1        # internal failure (a vertex could not be found)
 BUFFERS_TOO_SMALL = -2  # the walk buffers are too small: make them larger, try again
 

@@ -99,6 +99,42 @@ def test_vertex_on_segment_splits_it():
     assert (0, 4) in pieces and (1, 4) in pieces
 
 
+def _vertices_on_input_segments(V, S):
+    """(vertex, segment) pairs with the vertex exactly on the open input segment."""
+    from fractions import Fraction
+    P = [(Fraction(x), Fraction(y)) for x, y in np.asarray(V, float).tolist()]
+    out = []
+    for k, (a, b) in enumerate(np.asarray(S).tolist()):
+        for v in range(len(P)):
+            (ax, ay), (bx, by), (vx, vy) = P[a], P[b], P[v]
+            if v in (a, b) or (bx - ax) * (vy - ay) != (by - ay) * (vx - ax):
+                continue
+            if min(ax, bx) <= vx <= max(ax, bx) and min(ay, by) <= vy <= max(ay, by) and P[v] not in (P[a], P[b]):
+                out.append((v, k))
+    return out
+
+
+def _assert_vertices_split_their_segments(V, S, tri):
+    for v, k in _vertices_on_input_segments(V, S):
+        ends = tri.segments[tri.segment_ids == k]
+        assert tri.vertex_map[v] in ends, f"vertex {v} lies on segment {k} but does not split it"
+
+
+@pytest.mark.parametrize("order", [[0, 1], [1, 0]])
+@pytest.mark.parametrize("flip", [False, True])
+def test_vertex_on_a_crossed_segment_splits_it(order, flip):
+    """Vertex 4 lies exactly on segment 2-3, beyond its crossing with 0-1: the
+    piece from the (rounded) crossing point passed it by (pieces 2-5-3)."""
+    V = [[0.25, 0.875], [0.875, 0], [0.75, 1], [0, 0], [0.375, 0.5]]
+    S = [[[0, 1], [2, 3]][i] for i in order]
+    if flip:
+        S = [s[::-1] for s in S]
+    tri = cdt_plugin.triangulate(V, S, intersections="split", keep_hull=True)
+    verify_cdt(V, S, tri, domain="hull", split=True)
+    _assert_vertices_split_their_segments(V, S, tri)
+    assert tri.stats["vertices_on_segments"] == 1
+
+
 def test_hole_touching_shell_at_a_vertex():
     v = SQUARE + [[0, 0], [2, 1], [1, 2]]       # hole shares the corner (0, 0)
     s = ring(SQUARE) + ring([[0, 0], [2, 1], [1, 2]], 4)
@@ -421,3 +457,4 @@ def test_fuzz_segment_soups_on_a_small_grid_split(data):
         assert len(tri.triangles) == 0
         return
     verify_cdt(pts, segs, tri, domain="hull", split=True)
+    _assert_vertices_split_their_segments(pts, segs, tri)
