@@ -72,8 +72,10 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
         Crossing or collinear-overlapping segments raise
         :class:`SegmentIntersectionError` / :class:`OverlappingSegmentsError`
         naming both segments and the point, or (``"split"``) the crossing point
-        is inserted — computed as accurately as double precision allows, so it
-        may lie off the exact segments by a rounding error — and overlaps merged.
+        is inserted — each coordinate the double nearest to the exact crossing
+        (exact when it is a double), the same for any order and direction of
+        the segments, so it may lie off the exact segments by a rounding
+        error — and overlaps merged.
     keep_hull : bool
         Keep every triangle of the convex hull (Triangle's ``-c``).
     algorithm : {"auto", "divide", "incremental", "flip"}

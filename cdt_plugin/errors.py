@@ -40,7 +40,7 @@ class SegmentIntersectionError(CDTError):
     """Two segments cross at a point inside both (``intersections="raise"``).
 
     ``segments`` holds the two input segment indices, ``point`` the crossing
-    (as accurately as double precision allows)."""
+    (each coordinate the double nearest to the exact one)."""
 
     def __init__(self, message: str, segments=(), point=None):
         super().__init__(message)

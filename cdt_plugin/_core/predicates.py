@@ -1050,6 +1050,62 @@ def _incircle_staged(ax, ay, bx, by, cx, cy, dx, dy):
 
 
 # ---------------------------------------------------------------------------
+# An exact construction: the crossing point of two segments.
+# ---------------------------------------------------------------------------
+
+@kernel(_i8(_W, _i8, _f8, _f8, _f8, _f8, _f8, _f8), inline='never')
+def _orient_expansion(w, at, ax, ay, bx, by, cx, cy):
+    """The exact orient2d(a, b, c) as an expansion at ``w[at + 8:]``; uses
+    ``w[at:at + 72]``; returns its length (<= 16)."""
+    n_acx = _diff_expansion(w, at, ax, cx)
+    n_bcx = _diff_expansion(w, at + 2, bx, cx)
+    n_acy = _diff_expansion(w, at + 4, ay, cy)
+    n_bcy = _diff_expansion(w, at + 6, by, cy)
+    return _cross_expansion(w, at, n_acx, at + 6, n_bcy, at + 4, n_acy, at + 2, n_bcx, at + 8, at + 24)
+
+
+@kernel(_T2(_W, _i8, _i8), inline='never')
+def _double_double(w, e, elen):
+    """A double-double ``hi + lo`` within a few units of 2^-106 of the
+    expansion ``w[e:e+elen]`` (components increasing, non-overlapping)."""
+    s = 0.0
+    c = 0.0
+    for k in range(e, e + elen):
+        s, err = _two_sum(s, w[k])
+        c += err
+    return _fast_two_sum(s, c)
+
+
+def _crossing_coordinate(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, axis):
+    """Coordinate ``axis`` (0.0: x, 1.0: y) of the crossing point of lines
+    ``p0 p1`` and ``q0 q1``, rounded to the nearest double (exact when it is a
+    double). With d0 = orient(q0, q1, p0) and d1 = orient(q0, q1, p1) as exact
+    expansions, the coordinate is (p1 d0 - p0 d1) / (d0 - d1); numerator and
+    denominator are taken to double-double precision (relative error ~2^-104)
+    and divided with one correction step, so only a value within ~2^-100 of a
+    midpoint between doubles could round the other way."""
+    w = np.empty(432, np.float64)
+    n0 = _orient_expansion(w, 0, q0x, q0y, q1x, q1y, p0x, p0y)          # d0 at w[8:]
+    n1 = _orient_expansion(w, 72, q0x, q0y, q1x, q1y, p1x, p1y)         # d1 at w[80:]
+    for k in range(80, 80 + n1):
+        w[150 + k - 80] = -w[k]                                          # -d1 at w[150:]
+    nd = _fast_expansion_sum_zeroelim(w, 8, n0, 150, n1, 170)            # d0 - d1 at w[170:]
+    a = p1x if axis == 0.0 else p1y
+    b = p0x if axis == 0.0 else p0y
+    na = _scale_expansion_zeroelim(w, 8, n0, a, 210)                     # p1 d0
+    nb = _scale_expansion_zeroelim(w, 150, n1, b, 250)                   # -p0 d1
+    nn = _fast_expansion_sum_zeroelim(w, 210, na, 250, nb, 300)          # numerator at w[300:]
+    dh, dl = _double_double(w, 170, nd)
+    nh, nl = _double_double(w, 300, nn)
+    if dh == 0.0:
+        return np.nan
+    q = nh / dh
+    ph, pl = _two_product(q, dh)
+    r = ((nh - ph) - pl + nl) - q * dl                                   # N - q D
+    return q + r / dh
+
+
+# ---------------------------------------------------------------------------
 # The slow stages, compiled once and called by symbol.
 # ---------------------------------------------------------------------------
 # numba links a callee's code into every caller and code-generates it there
@@ -1087,6 +1143,30 @@ _orient2d_slow_call = _by_symbol("cdt_plugin_orient2d_slow", _f8(*[_f8] * 7), _o
 _incircle_slow_call = _by_symbol("cdt_plugin_incircle_slow", _f8(*[_f8] * 9), _incircle_slow)
 _incircle_weighted_slow_call = _by_symbol("cdt_plugin_incircle_weighted_slow", _f8(*[_f8] * 12),
                                           _incircle_weighted_slow)
+_crossing_coordinate_call = _by_symbol("cdt_plugin_crossing_coordinate", _f8(*[_f8] * 9),
+                                       _crossing_coordinate)
+
+
+@kernel
+def _before(ax, ay, bx, by):
+    """Whether point a comes before point b in lexicographic (x, y) order."""
+    return ax < bx or (ax == bx and ay < by)
+
+
+@kernel(inline='never')
+def crossing_point(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y):
+    """The crossing point of the lines ``p0 p1`` and ``q0 q1`` (not parallel),
+    each coordinate the double nearest to the exact one (exact when it is a
+    double), the same for either order and direction of the two segments
+    (their canonical order is used); NaN for parallel lines."""
+    if _before(p1x, p1y, p0x, p0y):
+        p0x, p0y, p1x, p1y = p1x, p1y, p0x, p0y
+    if _before(q1x, q1y, q0x, q0y):
+        q0x, q0y, q1x, q1y = q1x, q1y, q0x, q0y
+    if _before(q0x, q0y, p0x, p0y) or (q0x == p0x and q0y == p0y and _before(q1x, q1y, p1x, p1y)):
+        p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y = q0x, q0y, q1x, q1y, p0x, p0y, p1x, p1y
+    return (_crossing_coordinate_call(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, 0.0),
+            _crossing_coordinate_call(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, 1.0))
 
 
 # ---------------------------------------------------------------------------

@@ -25,6 +25,7 @@ from .insertion import insert_vertex
 from .locate import ON_VERTEX, locate
 from .flips import flip_from_stack
 from .mesh import DEAD, flip, nxt, prv
+from .predicates import crossing_point as exact_crossing
 from .scaling import on_grid
 from .status import (ALL_DONE, BUFFERS_TOO_SMALL, CROSSING, DONE, LOCATE_FAILED, LOST,  # noqa: F401
                      NEED_EDGE_ROOM, NEED_VERTEX_ROOM, ON_INPUT, OVERLAP, SPLIT_AT, STOP_CROSSING, STOP_LIMIT,
@@ -360,20 +361,14 @@ def crossing_point(x, y, a, b, u, v, s0, s1, t0, t1):
 
 @kernel
 def intersection_point(x, y, p0, p1, q0, q1):
-    """The crossing point of segments ``p0 p1`` and ``q0 q1`` (known to cross),
-    as accurately as double precision allows: parametrised along the segment
-    whose endpoints are closer to the crossing, and clamped to both boxes."""
-    d0 = orient(x, y, q0, q1, p0)
-    d1 = orient(x, y, q0, q1, p1)
-    if d0 == d1:       # not a crossing (parallel): no point on both; the callers avoid this
+    """The crossing point of segments ``p0 p1`` and ``q0 q1`` (known to cross):
+    each coordinate the double nearest to the exact crossing (exact when it is
+    a double), the same for any order and direction of the two segments
+    (:func:`.predicates.crossing_point`), and within both boxes."""
+    if orient(x, y, q0, q1, p0) == orient(x, y, q0, q1, p1):
+        # not a crossing (parallel): no point on both; the callers avoid this
         return 0.5 * (x[p0] + x[p1]), 0.5 * (y[p0] + y[p1])
-    t = d0 / (d0 - d1)
-    if t <= 0.5:
-        px = x[p0] + t * (x[p1] - x[p0])
-        py = y[p0] + t * (y[p1] - y[p0])
-    else:
-        px = x[p1] + (1.0 - t) * (x[p0] - x[p1])
-        py = y[p1] + (1.0 - t) * (y[p0] - y[p1])
+    px, py = exact_crossing(x[p0], y[p0], x[p1], y[p1], x[q0], y[q0], x[q1], y[q1])
     lo = max(min(x[p0], x[p1]), min(x[q0], x[q1]))
     hi = min(max(x[p0], x[p1]), max(x[q0], x[q1]))
     px = min(max(px, lo), hi)

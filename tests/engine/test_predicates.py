@@ -39,6 +39,7 @@ from cdt_plugin._core.predicates import (
     _incircle_tail_terms,
     _orient2d_staged,
     _two_diff,
+    crossing_point,
     incircle,
     incircle_exact,
     incircle_fast,
@@ -1155,3 +1156,49 @@ def test_slow_stages_reached_from_a_new_process_on_the_cached_route():
     assert triangles == here.triangles.tolist()
     assert _sgn(cocircular) == incircle_ref(*cases[0]) == 0
     assert _sgn(near_line) == orient2d_ref(*cases[1]) != 0
+
+
+# ---------------------------------------------------------------------------
+# The exact construction: crossing points rounded to the nearest double.
+# ---------------------------------------------------------------------------
+def _exact_crossing(p0, p1, q0, q1):
+    """The crossing of lines p0 p1 and q0 q1, in Fractions (None: parallel)."""
+    (ax, ay), (bx, by), (cx, cy), (dx, dy) = (tuple(map(Fraction, p)) for p in (p0, p1, q0, q1))
+    d0 = (cx - ax) * (dy - ay) - (cy - ay) * (dx - ax)
+    d1 = (cx - bx) * (dy - by) - (cy - by) * (dx - bx)
+    if d0 == d1:
+        return None
+    return (bx * d0 - ax * d1) / (d0 - d1), (by * d0 - ay * d1) / (d0 - d1)
+
+
+# (in the predicates' range, as the engine's scaling guarantees: no tiny nonzero values)
+_coord = st.one_of(st.integers(-60, 60).map(float),
+                   st.floats(-1e3, 1e3, allow_nan=False, allow_infinity=False).filter(
+                       lambda v: v == 0 or abs(v) > 1e-30),
+                   st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False).map(lambda v: 1e6 + v))
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(st.tuples(_coord, _coord), min_size=4, max_size=4), st.permutations(range(4)))
+def test_crossing_point_is_the_nearest_double_in_any_order(pts, perm):
+    p0, p1, q0, q1 = pts
+    exact = _exact_crossing(p0, p1, q0, q1)
+    assume(exact is not None)
+    got = crossing_point(*p0, *p1, *q0, *q1)
+    # float(Fraction) rounds to the nearest double
+    assert got == (float(exact[0]), float(exact[1]))
+    segs = [(p0, p1), (q0, q1)]
+    a, b = segs[perm[0] % 2], segs[1 - perm[0] % 2]
+    a = a[::-1] if perm[1] % 2 else a
+    b = b[::-1] if perm[2] % 2 else b
+    assert crossing_point(*a[0], *a[1], *b[0], *b[1]) == got
+
+
+def test_crossing_point_exact_where_representable():
+    # the issue's case: (18, 1) came out as (18, 0.9999999999999982) in one order
+    V = {0: (-7.0, -24.0), 1: (0.0, 25.0), 2: (24.0, -7.0), 3: (24.0, 7.0)}
+    assert crossing_point(*V[2], *V[1], *V[0], *V[3]) == (18.0, 1.0)
+    assert crossing_point(*V[0], *V[3], *V[2], *V[1]) == (18.0, 1.0)
+    third = 1.0 / 3.0
+    assert crossing_point(0.0, 0.0, 1.0, 1.0, 0.0, 1.0, 1.0, 0.0) == (0.5, 0.5)
+    assert crossing_point(0.0, 0.0, 3.0, 1.0, 1.0, 0.0, 1.0, 5.0) == (1.0, third)

@@ -1,0 +1,331 @@
+"""Fuzz driver: random inputs of every family through the engine, each result
+checked from scratch by the exact checker.
+
+Run from the repository root::
+
+    python tests/support/fuzz.py --count 10000            # every family, seed 0
+    python tests/support/fuzz.py --count 500 --family split --seed 7
+
+Each case is drawn from its own seed (``seed * 1_000_003 + case``), so a
+failure prints a one-line reproducer (``--family F --case N --seed S``).
+
+Families and what is checked for each case:
+
+``delaunay``
+    random, gridded (cocircular), clustered and duplicated points, at a random
+    power-of-two scale over the whole double range, any algorithm, sometimes
+    weighted: a valid (weighted) Delaunay triangulation, no input point lost
+    (``vertex_map``), the same triangles for a permuted input and at unit scale.
+``cdt``
+    star-shaped polygons with holes and free points inside: a valid constrained
+    Delaunay triangulation of the domain, every input point kept, the same
+    triangles for permuted vertices, permuted and reversed segments.
+``split``
+    segment soups on a small grid and at random, ``intersections="split"``:
+    valid, every input segment the chain of its pieces (Steiner points on it up
+    to rounding), every input vertex on a segment splitting it, the same
+    triangles for permuted and reversed segments.
+``refine``
+    polygons with holes, ``min_angle`` up to 30 and area bounds: valid,
+    constrained Delaunay, segments chained, every triangle meeting the bounds
+    or listed in ``below_min_angle``.
+
+Any ``CDTError`` other than the documented ones for the family counts as a
+failure, and so does any other exception.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+import cdt_plugin  # noqa: E402
+from cdt_plugin import RefinementLimitError  # noqa: E402
+from cdt_plugin.report import triangle_quality  # noqa: E402
+from checker import canonical_triangles, check_steiner_segments, check_triangulation  # noqa: E402
+from helpers import verify  # noqa: E402
+
+FAMILIES = ("delaunay", "cdt", "split", "refine")
+
+
+class FuzzFailure(AssertionError):
+    pass
+
+
+def _require(ok, what):
+    if not ok:
+        raise FuzzFailure(what)
+
+
+def _check(rep, what):
+    _require(rep.ok, f"{what}: {rep}")
+
+
+# ---------------------------------------------------------------- inputs
+def random_points(rng) -> np.ndarray:
+    n = int(rng.integers(3, 80))
+    kind = rng.integers(4)
+    if kind == 0:
+        P = rng.random((n, 2))
+    elif kind == 1:                       # a grid: cocircular quadruples everywhere
+        k = int(rng.integers(2, 8))
+        P = rng.integers(0, k, (n, 2)).astype(float)
+    elif kind == 2:                       # clusters, with exact duplicates
+        centres = rng.random((3, 2))
+        P = centres[rng.integers(0, 3, n)] + rng.normal(0, 1e-6, (n, 2))
+        P[rng.random(n) < 0.2] = P[0]
+    else:                                 # nearly collinear
+        t = rng.random(n)
+        P = np.column_stack([t, 0.5 * t + rng.integers(-2, 3, n) * 2.0 ** -50])
+    return P
+
+
+def star(rng, n, r0=0.5, r1=1.0) -> np.ndarray:
+    """A star-shaped polygon: ``n`` vertices at radii ``r0..r1``, angular gaps
+    below 60 degrees for ``n >= 9`` (so it contains the disc of radius 0.43)."""
+    angles = (np.arange(n) + 0.5 * rng.random(n)) * 2 * np.pi / n
+    radii = r0 + (r1 - r0) * rng.random(n)
+    return np.column_stack([radii * np.cos(angles), radii * np.sin(angles)])
+
+
+def polygon_with_holes(rng):
+    """A star polygon (radii 0.5..1), up to 4 small square holes in distinct
+    cells of a grid inside radius 0.34, and a few free points: vertices,
+    segments, whether there are holes."""
+    outer = star(rng, int(rng.integers(9, 40)))
+    V = [outer]
+    S = [[(i, (i + 1) % len(outer)) for i in range(len(outer))]]
+    cells = rng.permutation(16)[: int(rng.integers(0, 5))]
+    for c in cells:
+        cx, cy = -0.25 + 0.125 * (c % 4) + 0.0625, -0.25 + 0.125 * (c // 4) + 0.0625
+        h = 0.01 + 0.04 * rng.random()
+        sq = np.array([[cx - h, cy - h], [cx + h, cy - h], [cx + h, cy + h], [cx - h, cy + h]])
+        base = sum(len(v) for v in V)
+        V.append(sq)
+        S.append([(base + i, base + (i + 1) % 4) for i in range(4)])
+    free = rng.random((int(rng.integers(0, 6)), 2)) * 0.6 - 0.3
+    V.append(free)
+    return np.vstack(V), np.array([s for ring in S for s in ring], np.int64), len(cells) > 0
+
+
+def segment_soup(rng):
+    """Segments among few grid points or random points (crossings, overlaps,
+    vertices on segments), or up to 30 segments with their own random ends."""
+    if rng.random() < 0.25:
+        m = int(rng.integers(2, 31))
+        return rng.random((2 * m, 2)), np.arange(2 * m).reshape(m, 2)
+    n = int(rng.integers(3, 16))
+    if rng.random() < 0.5:
+        P = rng.integers(0, 6, (n, 2)).astype(float)
+    else:
+        P = rng.random((n, 2))
+    m = int(rng.integers(1, 3 * n))
+    S = rng.integers(0, n, (m, 2))
+    return P, S
+
+
+# ---------------------------------------------------------------- checks
+def _same(a, b, what):
+    _require(canonical_triangles(a.vertices, a.triangles) == canonical_triangles(b.vertices, b.triangles),
+             f"{what}: different triangles")
+
+
+def check_delaunay(rng):
+    P = random_points(rng)
+    algorithm = str(rng.choice(["divide", "incremental", "flip"]))
+    weights = None
+    if rng.random() < 0.2:
+        algorithm = "incremental"
+        weights = rng.random(len(P)) * 1e-3
+    e = int(rng.integers(-1000, 1000)) if weights is None else int(rng.integers(-300, 300))
+    span = np.abs(P).max()
+    if span == 0 or not np.isfinite(np.ldexp(span, e)):
+        e = 0
+    S = np.ldexp(P, e)
+    if not np.array_equal(np.ldexp(S, -e), P):      # rounded (subnormal): unscaled input only
+        e, S = 0, P
+    W = None if weights is None else np.ldexp(weights, 2 * e)
+    tri = cdt_plugin.delaunay(S, W, algorithm=algorithm)
+    verify(S, tri, W, exact_submerged=len(P) <= 30)
+    _require(tri.is_delaunay(), "is_delaunay() is False")
+    perm = rng.permutation(len(P))
+    other = cdt_plugin.delaunay(S[perm], None if W is None else W[perm], algorithm=algorithm)
+    _same(tri, other, "permuted points")
+    if e:
+        unit = cdt_plugin.delaunay(P, weights, algorithm=algorithm)
+        _require(np.array_equal(unit.triangles, tri.triangles), f"scale 2**{e}: different triangles")
+
+
+def check_cdt(rng):
+    V, S, _ = polygon_with_holes(rng)
+    algorithm = str(rng.choice(["auto", "incremental", "flip"]))
+    tri = cdt_plugin.triangulate(V, S, algorithm=algorithm)
+    _check_cdt_result(V, S, tri)
+    V2, S2 = permuted(rng, V, S)
+    _same(tri, cdt_plugin.triangulate(V2, S2, algorithm=algorithm), "permuted and reversed input")
+
+
+def _check_cdt_result(V, S, tri):
+    T = tri.triangles
+    edges = {frozenset(e) for t in T.tolist() for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
+    inside = np.array([frozenset(p) in edges for p in tri.segments.tolist()], bool)
+    _check(check_triangulation(tri.vertices, T, segments=tri.segments[inside].reshape(-1, 2),
+                               domain="segments", require_all_vertices=False), "constrained Delaunay")
+    _require(np.array_equal(tri.vertices[tri.vertex_map], V), "an input vertex moved or was lost")
+    _require(tri.is_delaunay(), "is_delaunay() is False")
+
+
+def check_split(rng):
+    P, S = segment_soup(rng)
+    try:
+        tri = cdt_plugin.triangulate(P, S, intersections="split", keep_hull=True)
+    except cdt_plugin.CDTError as exc:
+        _require("still cross" not in str(exc), f"split did not converge: {exc}")
+        raise
+    if tri.stats.get("collinear"):
+        _require(len(tri.triangles) == 0, "collinear input gave triangles")
+        return
+    _check(check_triangulation(tri.vertices, tri.triangles, segments=tri.segments, domain="hull"),
+           "split CDT")
+    if not (tri.stats["merged_overlaps"] or tri.stats["duplicate_segments"]):
+        # (merged segments' pieces carry one of their ids: chains of the others are not listed)
+        _check(check_steiner_segments(P, S, tri.vertices, tri.vertex_map, tri.segments,
+                                      tri.segment_ids), "segment chains")
+    _require(np.array_equal(tri.vertices[tri.vertex_map], P), "an input vertex moved or was lost")
+    check_vertices_split_segments(P, S, tri)
+    order = rng.permutation(len(S))
+    S2 = S[order].copy()
+    flip = rng.random(len(S2)) < 0.5
+    S2[flip] = S2[flip][:, ::-1]
+    other = cdt_plugin.triangulate(P, S2, intersections="split", keep_hull=True)
+    _same(tri, other, "permuted and reversed segments")
+
+
+def check_vertices_split_segments(P, S, tri) -> None:
+    """Every input vertex exactly on an input segment ends a piece of it (or of
+    a segment on the same line, into which a repeated or overlapping one was
+    merged)."""
+    P, S = np.asarray(P, np.float64), np.asarray(S, np.int64).reshape(-1, 2)
+    for v, k in vertices_on_segments(P, S):
+        same_line = [j for j in range(len(S)) if collinear(P, S[k], S[j])]
+        _require(tri.vertex_map[v] in tri.segments[np.isin(tri.segment_ids, same_line)],
+                 f"vertex {v} lies on segment {k} but does not split it")
+
+
+def collinear(P, s, t) -> bool:
+    """Whether both ends of segment ``t`` lie on the line of segment ``s`` (exact)."""
+    from fractions import Fraction
+    (ax, ay), (bx, by) = (tuple(map(Fraction, P[i])) for i in s)
+    return all((bx - ax) * (Fraction(P[v][1]) - ay) == (by - ay) * (Fraction(P[v][0]) - ax) for v in t)
+
+
+def vertices_on_segments(P, S):
+    """(vertex, segment) with the vertex exactly on the open segment (exact)."""
+    from fractions import Fraction
+    Q = [(Fraction(x), Fraction(y)) for x, y in P.tolist()]
+    out = []
+    for k, (a, b) in enumerate(S.tolist()):
+        (ax, ay), (bx, by) = Q[a], Q[b]
+        if Q[a] == Q[b]:
+            continue
+        for v, (vx, vy) in enumerate(Q):
+            if (vx, vy) in (Q[a], Q[b]) or (bx - ax) * (vy - ay) != (by - ay) * (vx - ax):
+                continue
+            if min(ax, bx) <= vx <= max(ax, bx) and min(ay, by) <= vy <= max(ay, by):
+                out.append((v, k))
+    return out
+
+
+def check_refine(rng):
+    V, S, _ = polygon_with_holes(rng)
+    min_angle = float(rng.choice([0.0, 20.0, 25.0, 30.0]))
+    max_area = float(rng.choice([0.0, 0.01, 0.05])) or None
+    if not min_angle and max_area is None:
+        max_area = 0.02
+    try:
+        tri = cdt_plugin.triangulate(V, S, min_angle=min_angle or None, max_area=max_area,
+                                     max_steiner=20_000)
+    except RefinementLimitError as exc:
+        raise FuzzFailure(f"refinement did not finish: {exc}") from None
+    _check_cdt_result(V, S, tri)
+    _check(check_steiner_segments(V, S, tri.vertices, tri.vertex_map, tri.segments, tri.segment_ids),
+           "segment chains")
+    q = triangle_quality(tri.vertices, tri.triangles)
+    if min_angle:
+        low = np.flatnonzero(q["angles"].min(axis=1) < min_angle * (1 - 1e-9))
+        _require(set(low.tolist()) <= set(tri.below_min_angle.tolist()),
+                 f"{len(set(low.tolist()) - set(tri.below_min_angle.tolist()))} triangles below "
+                 f"{min_angle} degrees not listed in below_min_angle")
+    if max_area:
+        a, b, c = (tri.vertices[tri.triangles[:, j]] for j in range(3))
+        area = 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+        _require(area.max() <= max_area * (1 + 1e-12), f"a triangle of area {area.max()} > {max_area}")
+    V2, S2 = permuted(rng, V, S)
+    other = cdt_plugin.triangulate(V2, S2, min_angle=min_angle or None, max_area=max_area,
+                                   max_steiner=20_000)
+    _same(tri, other, "refined, permuted and reversed input")
+
+
+def permuted(rng, V, S):
+    """The same PLC with its vertices and segments in random order and each
+    segment in a random direction."""
+    perm = rng.permutation(len(V))
+    S2 = np.argsort(perm)[S][rng.permutation(len(S))]
+    flip = rng.random(len(S2)) < 0.5
+    S2[flip] = S2[flip][:, ::-1]
+    return V[perm], S2
+
+
+CHECKS = {"delaunay": check_delaunay, "cdt": check_cdt, "split": check_split, "refine": check_refine}
+
+
+def run_case(family: str, case: int, seed: int = 0) -> None:
+    """One case; raises on any failure."""
+    rng = np.random.default_rng(seed * 1_000_003 + case * 7 + FAMILIES.index(family))
+    CHECKS[family](rng)
+
+
+def run(count: int, families=FAMILIES, seed: int = 0, stop: bool = True, out=sys.stdout) -> list:
+    """``count`` cases spread over ``families``; returns the failures as
+    ``(family, case, message)`` (stops at the first unless ``stop`` is False)."""
+    failures = []
+    for case in range(count):
+        family = families[case % len(families)]
+        try:
+            run_case(family, case, seed)
+        except Exception as exc:    # noqa: BLE001 - every failure is reported with its reproducer
+            failures.append((family, case, f"{type(exc).__name__}: {exc}"))
+            print(f"FAIL --family {family} --case {case} --seed {seed}: {type(exc).__name__}: {exc}",
+                  file=out)
+            if stop:
+                break
+    return failures
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--count", type=int, default=200)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--family", default=",".join(FAMILIES))
+    ap.add_argument("--case", type=int, default=None, help="run this one case (a reproducer)")
+    ap.add_argument("--keep-going", action="store_true", help="report every failure")
+    args = ap.parse_args(argv)
+    families = tuple(args.family.split(","))
+    if args.case is not None:
+        run_case(families[0], args.case, args.seed)
+        print("ok")
+        return 0
+    t0 = time.perf_counter()
+    failures = run(args.count, families, args.seed, stop=not args.keep_going)
+    print(f"{args.count} cases ({', '.join(families)}), seed {args.seed}: {len(failures)} failed "
+          f"in {time.perf_counter() - t0:.1f} s")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
