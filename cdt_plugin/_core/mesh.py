@@ -255,3 +255,54 @@ def grow_store(tri, twin, cons, x, y, w, inf, nv, at_least):
         ntwin[e] = twin[e]
     copy_rows(ncons, cons, cons.shape[0])
     return ntri_arr, ntwin, ncons, nx, ny, nw, new_inf
+
+
+@kernel
+def canonical_slots(tri, twin, cons, ntri):
+    """Renumber the live triangles in place in an order that depends on the
+    triangulation only, not on how it was built: each starts at its smallest
+    vertex, and they are sorted by their first two vertices (a directed edge
+    lies in one triangle, so the key is unique). Dead slots are dropped.
+    Returns ``(live triangles, old slot of each new slot)``."""
+    base = np.int64(0)
+    for e in range(3 * ntri):
+        base = max(base, np.int64(tri[e]) + 1)
+    rot = np.empty(ntri, np.int64)
+    key = np.empty(ntri, np.int64)
+    live = np.empty(ntri, np.int64)
+    n = 0
+    for t in range(ntri):
+        e = 3 * t
+        if tri[e] == DEAD:
+            continue
+        r = 0
+        for k in range(1, 3):
+            if tri[e + k] < tri[e + r]:
+                r = k
+        rot[t] = r
+        key[n] = np.int64(tri[e + r]) * base + tri[e + (r + 1) % 3]
+        live[n] = t
+        n += 1
+    order = np.argsort(key[:n])
+    old = np.empty(n, np.int64)
+    where = np.full(3 * ntri, -1, np.int64)        # old half-edge -> new half-edge
+    for i in range(n):
+        t = live[order[i]]
+        old[i] = t
+        for k in range(3):
+            where[3 * t + (rot[t] + k) % 3] = 3 * i + k
+    t_old = tri[:3 * ntri].copy()
+    w_old = twin[:3 * ntri].copy()
+    c_old = cons[:3 * ntri].copy()
+    for i in range(n):
+        t = old[i]
+        for k in range(3):
+            e = 3 * t + (rot[t] + k) % 3
+            tri[3 * i + k] = t_old[e]
+            twin[3 * i + k] = where[w_old[e]]
+            cons[3 * i + k] = c_old[e]
+    for e in range(3 * n, 3 * ntri):
+        tri[e] = -1
+        twin[e] = -1
+        cons[e] = 0
+    return np.int64(n), old

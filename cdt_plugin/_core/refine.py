@@ -47,7 +47,7 @@ from .jit import kernel
 from .kernel import edge_is_illegal, orient
 from .locate import solid_step
 from .predicates import incircle, orient2d
-from .mesh import flip, grow_store, nxt, prv, split_edge, split_triangle
+from .mesh import canonical_slots, flip, grow_store, nxt, prv, split_edge, split_triangle
 from .scaling import on_grid
 from .status import (FINISHED, HEAP_FULL, INSIDE, LIMIT, NEED_ROOM, ON_EDGE, ON_VERTEX,  # noqa: F401
                      PIECES_FULL, WALK_BLOCKED, WALK_FAILED)
@@ -803,6 +803,15 @@ def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_ang
     segments. Frozen pieces are unfrozen on return. Returns ``(status,
     counts, lab, seg_ends, (tri, twin, cons, x, y, w, inf, ntri, nv))``."""
     nv0 = nv
+    # the same refined mesh for any order of the input vertices and segments and
+    # any segment direction: slots in canonical order (refinement scans them),
+    # each segment from its smaller end (split points are placed along it)
+    ntri, old = canonical_slots(tri, twin, cons, ntri)
+    lab = _permuted(lab, old)
+    seg_ends = seg_ends.copy()
+    for s in range(seg_ends.shape[0]):
+        if seg_ends[s, 0] > seg_ends[s, 1]:
+            seg_ends[s, 0], seg_ends[s, 1] = seg_ends[s, 1], seg_ends[s, 0]
     seg_ends = with_hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends)
     if not split_boundary:
         freeze_boundary(tri, twin, cons, lab, ntri)
@@ -876,6 +885,15 @@ def refine_run(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, s
             pieces *= 2
         else:
             return status, ntri, nv, heap, pieces
+
+
+@kernel
+def _permuted(lab, old):
+    """Slot labels after :func:`.mesh.canonical_slots`: new slot ``i`` was ``old[i]``."""
+    out = np.full(lab.shape[0], OUT, np.int64)
+    for i in range(old.shape[0]):
+        out[i] = lab[old[i]]
+    return out
 
 
 @kernel

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 import cdt_plugin
 from cdt_plugin import CDTError, RefinementLimitError
-from checker import check_empty_circumcircles, check_steiner_segments, check_triangulation
+from checker import canonical_triangles, check_empty_circumcircles, check_steiner_segments, check_triangulation
 
 CORPUS = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "corpus")
 
@@ -440,3 +440,24 @@ def test_refinement_stops_at_the_limit_of_precision_near_zero():
     tri = cdt_plugin.triangulate(np.array(V, float), S, intersections="split", min_angle=28)
     check_split_refined(tri)
     assert tri.stats["refinement_complete"] and len(tri.triangles) < 10_000
+
+
+@pytest.mark.parametrize("min_angle, max_area", [(22.93, 0.00575), (33, 0.02), (0, 0.01)])
+def test_refined_mesh_independent_of_input_order_and_direction(min_angle, max_area):
+    """Reversing one segment changed every triangle of a refined triangle, and
+    most random cases changed under a permutation: refinement now scans the
+    slots in a canonical order and splits each segment from its smaller end."""
+    V = np.array([[0.0, 0.0], [1.0, 0.1], [0.3, 0.9], [0.4, 0.3]])
+    S = np.array([[0, 1], [1, 2], [2, 0]])
+    base = cdt_plugin.triangulate(V, S, min_angle=min_angle or None, max_area=max_area)
+    verify_refined(V, S, base, min_angle=min_angle, max_area=max_area)
+    assert len(base.steiner) > 3
+    want = canonical_triangles(base.vertices, base.triangles)
+    rng = np.random.default_rng(5)
+    for variant in range(6):
+        perm = rng.permutation(len(V))
+        S2 = np.argsort(perm)[S][rng.permutation(len(S))]
+        S2[variant % 3] = S2[variant % 3][::-1]
+        tri = cdt_plugin.triangulate(V[perm], S2, min_angle=min_angle or None, max_area=max_area)
+        assert canonical_triangles(tri.vertices, tri.triangles) == want
+        assert sorted(map(tuple, tri.vertices.tolist())) == sorted(map(tuple, base.vertices.tolist()))
