@@ -332,11 +332,13 @@ def below_precision(x, y, u, v):
 
 
 @kernel
-def at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
+def at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c, sin2_bound):
     """Shewchuk's rule (as in Triangle): leave a skinny triangle alone when its
-    shortest edge joins Steiner vertices on two segments that share an endpoint
-    and lie at the same distance from it (concentric shells around a small
-    input angle): splitting it would only cascade."""
+    shortest edge joins Steiner vertices on two segments that share an endpoint,
+    lie at the same distance from it (concentric shells around a small input
+    angle) and span an angle there smaller than the bound (``sin2_bound`` is
+    its squared sine): splitting it would only cascade. A wider angle, up to a
+    nearly straight boundary vertex, excuses nothing."""
     ab = (x[b] - x[a]) ** 2 + (y[b] - y[a]) ** 2
     bc = (x[c] - x[b]) ** 2 + (y[c] - y[b]) ** 2
     ca = (x[a] - x[c]) ** 2 + (y[a] - y[c]) ** 2
@@ -359,7 +361,9 @@ def at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
                 d1 = (x[p] - x[o]) ** 2 + (y[p] - y[o]) ** 2
                 d2 = (x[q] - x[o]) ** 2 + (y[q] - y[o]) ** 2
                 if 0.998 * d2 < d1 < 1.002 * d2:
-                    return True
+                    # cos of the angle at o, against cos of the bound (both below 90 degrees)
+                    dot = (x[p] - x[o]) * (x[q] - x[o]) + (y[p] - y[o]) * (y[q] - y[o])
+                    return dot > 0.0 and dot * dot > (1.0 - sin2_bound) * d1 * d2
     return False
 
 
@@ -487,12 +491,19 @@ def shell_centre(tri, twin, cons, lab, e):
 
 @kernel
 def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0, stack, counts,
-                fc, no_sub):
+                fc, no_sub, conforming):
     """Split the segment piece of half-edge ``e`` at new vertex ``q``, then
     restore the constrained Delaunay property by flips. A split that would
-    invert a triangle, or of a piece below :func:`below_precision` (the piece
-    is at the limit of floating point), freezes the piece instead. Returns
-    ``(done, ntri, slot of a triangle at q)``."""
+    invert a triangle of the domain, or of a piece below
+    :func:`below_precision` (the piece is at the limit of floating point),
+    freezes the piece instead. Returns ``(done, ntri, slot of a triangle at q)``.
+
+    Only the sides in the domain count (unless ``conforming``, which makes the
+    whole triangulation Delaunay): ``q`` lies on the piece up to rounding, and
+    beside a nearly straight boundary vertex the triangle outside can be
+    thinner than that (Triangle has no triangles outside when it refines).
+    Such an outside triangle may invert; no walk or flip enters it (walks stop
+    at segments, flips need two counter-clockwise triangles)."""
     sid = cons[e]
     u = tri[e]
     v = tri[nxt(e)]
@@ -500,11 +511,14 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
     c = tri[prv(e)]
     d = tri[prv(f)]
     place_on_piece(x, y, seg_ends, sid, u, v, shell_centre(tri, twin, cons, lab, e), q)
+    # each side: its two new triangles are counter-clockwise (ghosts: nothing to check)
+    c_side = c != inf and orient(x, y, c, u, q) > 0 and orient(x, y, v, c, q) > 0
+    d_side = d != inf and orient(x, y, d, v, q) > 0 and orient(x, y, u, d, q) > 0
     ok = not below_precision(x, y, np.int64(u), np.int64(v))
-    if ok and c != inf:
-        ok = orient(x, y, c, u, q) > 0 and orient(x, y, v, c, q) > 0
-    if ok and d != inf:
-        ok = orient(x, y, d, v, q) > 0 and orient(x, y, u, d, q) > 0
+    if c != inf and not c_side and (conforming or lab[e // 3] != OUT):
+        ok = False
+    if d != inf and not d_side and (conforming or lab[f // 3] != OUT):
+        ok = False
     if not ok:
         cons[e] = -sid
         cons[f] = -sid
@@ -516,14 +530,15 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
     lab[ntri - 2] = lab[t1]
     lab[ntri - 1] = lab[t2]
     vseg[q] = sid
-    # flip on real sides only: a hull piece split at a rounded point may leave
-    # the hull non-convex by an ulp, and its ghosts must stay as they are
+    # flip on sides with counter-clockwise triangles only: a hull piece split at
+    # a rounded point may leave the hull non-convex by an ulp, and its ghosts
+    # must stay as they are; an inverted sliver outside the domain is left too
     sp = np.int64(0)
-    if c != inf:
+    if c_side:
         stack[0] = 3 * t1
         stack[1] = 3 * (ntri - 2)
         sp = 2
-    if d != inf:
+    if d_side:
         stack[sp] = 3 * t2
         stack[sp + 1] = 3 * (ntri - 1)
         sp += 2
@@ -531,7 +546,8 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
     # q lies on the piece only up to rounding: Lawson's argument (the new
     # edges at q are locally Delaunay) holds for a point exactly on the edge,
     # so q's edges to c and d are tested, and flipped with whatever follows
-    ok, slot = flip_edges_at(tri, twin, cons, x, y, inf, q, t1, c, d, stack, counts)
+    ok, slot = flip_edges_at(tri, twin, cons, x, y, inf, q, t1, c if c_side else inf,
+                             d if d_side else inf, stack, counts)
     if not ok:
         counts[C_UNREPAIRED] += 1
     counts[C_SEG_SPLITS] += 1
@@ -675,7 +691,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             if sq[sn, 3] == 0 and not piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, e):
                 continue
             done, ntri, slot = split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg,
-                                           seg_ends, nv0, stack, counts, fc, no_sub)
+                                           seg_ends, nv0, stack, counts, fc, no_sub, conforming)
             if not done:
                 continue
         else:
@@ -689,7 +705,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound,
                                               area_bound(area_of_label, lab[t]))
             counts[C_ATTEMPTS] += 1
-            if not area_bad and at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c):
+            if not area_bad and at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c, sin2_bound):
                 counts[C_SKIPPED] += 1
                 continue
             if below_precision(x, y, a, b) or below_precision(x, y, b, c) or below_precision(x, y, c, a):

@@ -461,3 +461,18 @@ def test_refined_mesh_independent_of_input_order_and_direction(min_angle, max_ar
         tri = cdt_plugin.triangulate(V[perm], S2, min_angle=min_angle or None, max_area=max_area)
         assert canonical_triangles(tri.vertices, tri.triangles) == want
         assert sorted(map(tuple, tri.vertices.tolist())) == sorted(map(tuple, base.vertices.tolist()))
+
+
+def test_nearly_straight_boundary_vertex_is_not_a_small_angle():
+    """Vertex 0 lies within ~1e-13 of the line through its neighbours: splitting
+    the segments there at rounded points would invert the sliver outside it, so
+    they froze and 6 triangles down to 6.4 degrees stayed (Triangle -pq30 reaches
+    30.03). Only the domain's side of a split must stay counter-clockwise, and
+    only an input angle below the bound excuses a triangle."""
+    V = [[101.25, 1006.8145], [-0.0, 869.6563], [13.7628, 385.7424], [20.536, 382.9626],
+         [207.25, 1143.9864], [202.5, 1143.9727]]
+    S = [[i, (i + 1) % 6] for i in range(6)]
+    tri = cdt_plugin.triangulate(V, S, min_angle=30)
+    verify_refined(V, S, tri, min_angle=30)
+    assert len(tri.below_min_angle) == 0 and tri.stats["frozen_segment_pieces"] == 0
+    assert min_angles(tri.vertices, tri.triangles).min() >= 30
