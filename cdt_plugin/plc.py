@@ -18,7 +18,7 @@ from .errors import (CDTError, InputShapeError, NonFiniteCoordinateError, Segmen
                      TooFewPointsError)
 from ._core.checks import first_segment_out_of_range
 from ._core.rings import polygon_rings
-from .validate import as_array, as_points, real_array
+from .validate import as_array, as_points, raise_nonfinite, real_array
 
 
 @dataclass
@@ -315,8 +315,7 @@ def _as_xy(points, name) -> np.ndarray:
     arr = arr.reshape(-1, 2) if arr.ndim == 1 and arr.size == 2 else arr
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise InputShapeError(f"{name} must have shape (h, 2), got {arr.shape}")
-    if not np.isfinite(arr).all():
-        raise NonFiniteCoordinateError(f"{name} has NaN or infinite coordinates")
+    raise_nonfinite(arr, name)
     return arr
 
 
@@ -332,6 +331,5 @@ def _as_regions(regions) -> np.ndarray:
     out[:, : arr.shape[1]] = arr
     if arr.shape[1] == 2:
         out[:, 2] = np.arange(len(arr))
-    if not np.isfinite(out[:, :2]).all():
-        raise NonFiniteCoordinateError("regions have NaN or infinite seed coordinates")
+    raise_nonfinite(out, "regions")
     return out

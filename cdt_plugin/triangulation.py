@@ -52,8 +52,10 @@ class Triangulation:
         The input segment each piece comes from.
     regions : (k,) int64
         Input polygon (geometry input) or region seed index of each triangle, -1 if none.
-    region_attributes : (r, 4) float64 or None
-        The region seeds ``x, y, attribute, max_area`` (index with ``regions``).
+    region_attributes : (k,) float64 or None
+        With region seeds: the attribute of each triangle's region (the seed's
+        third column; NaN for a triangle no seed painted), as Triangle's
+        ``-A`` gives each triangle its regional attribute. None without seeds.
     steiner : (p,) int64
         Output indices of vertices that are not input points (intersection and
         refinement points).
@@ -132,10 +134,15 @@ class Triangulation:
         be a function that makes the dict on first access."""
         (vertices, triangles, neighbors, constrained, segments, segment_ids, regions, vertex_map,
          kept, below) = out
+        attributes = None
+        if plc.regions is not None:
+            attributes = np.full(len(triangles), np.nan)
+            painted = regions >= 0
+            attributes[painted] = plc.regions[regions[painted], 2]
         return cls(vertices, triangles, neighbors, vertex_map, stats, constrained=constrained,
                    regions=regions, segments=segments, segment_ids=segment_ids,
                    steiner=np.arange(len(kept), len(vertices)), below_min_angle=below,
-                   region_attributes=plc.regions)
+                   region_attributes=attributes)
 
     @property
     def stats(self) -> dict:

@@ -89,12 +89,19 @@ def as_points(points, name: str = "points") -> np.ndarray:
         raise TooFewPointsError(f"{name} is empty: at least one point is needed")
     arr = np.ascontiguousarray(arr)
     if first_nonfinite_row(arr) >= 0:
-        bad = np.flatnonzero(~(np.isfinite(arr[:, 0]) & np.isfinite(arr[:, 1])))
+        raise_nonfinite(arr, name)
+    return arr
+
+
+def raise_nonfinite(xy: np.ndarray, name: str) -> None:
+    """Raise :class:`NonFiniteCoordinateError` naming the rows of ``xy`` (n, 2)
+    with a NaN or infinite coordinate, if there are any."""
+    bad = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
+    if len(bad):
         i = int(bad[0])
         raise NonFiniteCoordinateError(
             f"{name} has NaN or infinite coordinates at row(s) {_rows(bad)} "
-            f"(row {i} is ({float(arr[i, 0])!r}, {float(arr[i, 1])!r}))")
-    return arr
+            f"(row {i} is ({float(xy[i, 0])!r}, {float(xy[i, 1])!r}))")
 
 
 def as_weights(weights, n: int) -> np.ndarray | None:

@@ -166,7 +166,19 @@ def test_regions_paint_their_areas():
     verify_cdt(v, s, tri)
     left = tri.vertices[tri.triangles].mean(axis=1)[:, 0] < 2
     assert (tri.regions[left] == 0).all() and (tri.regions[~left] == 1).all()
-    assert tri.region_attributes[:, 2].tolist() == [10.0, 20.0]
+    # each triangle's regional attribute (whole seed rows before)
+    assert tri.region_attributes.tolist() == np.where(left, 10.0, 20.0).tolist()
+    assert cdt_plugin.triangulate(v, s).region_attributes is None
+    one = cdt_plugin.triangulate(v, s, regions=[[1, 1, 7.0]])     # the right half: no seed
+    assert np.isnan(one.region_attributes[~left]).all() and (one.region_attributes[left] == 7).all()
+
+
+@pytest.mark.parametrize("kw, match", [
+    ({"holes": [[1, 1], [np.nan, 2]]}, r"holes .*row\(s\) 1 \(row 1 is \(nan, 2.0\)\)"),
+    ({"regions": [[1, 1, 3], [2, 2, 4], [np.inf, 0, 1]]}, r"regions .*row\(s\) 2 ")])
+def test_non_finite_seeds_name_their_rows(kw, match):
+    with pytest.raises(cdt_plugin.NonFiniteCoordinateError, match=match):
+        cdt_plugin.triangulate(SQUARE, ring(SQUARE), **kw)
 
 
 def test_slit_and_isolated_vertex_inside():
