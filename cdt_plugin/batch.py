@@ -21,6 +21,7 @@ from ._core.pipeline import mesh_geometries, refinement_arg
 from ._core.rings import polygon_rings
 from .cdt import check_options, triangulate_plc
 from .errors import CDTError
+from .interrupts import deferred_interrupt
 from .lift import lift_z
 from .plc import PLC, as_plc
 
@@ -163,10 +164,11 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
         x, y = xy[:, 0].copy(), xy[:, 1].copy()
         for g0 in range(0, ng, CHUNK):
             g1 = min(ng, g0 + CHUNK)
-            T, G, R, S, failed = mesh_geometries(
-                x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1,
-                route["split"], route["max_steiner"], ALGORITHM_CODES[route["algorithm"]],
-                refinement_arg(route["refinement"]), len(xy) + nsteiner)
+            with deferred_interrupt(ring_start[geom_ring_start[g1]] - ring_start[geom_ring_start[g0]]):
+                T, G, R, S, failed = mesh_geometries(
+                    x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1,
+                    route["split"], route["max_steiner"], ALGORITHM_CODES[route["algorithm"]],
+                    refinement_arg(route["refinement"]), len(xy) + nsteiner)
             parts.append((G, T, R))
             if len(S):
                 steiner_xy.append(S)

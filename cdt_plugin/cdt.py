@@ -25,6 +25,7 @@ from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, 
 from .delaunay import resolve_algorithm
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError)
+from .interrupts import deferred_interrupt
 from .plc import PLC, as_plc
 from .triangulation import Triangulation
 from .validate import range_error
@@ -186,11 +187,12 @@ def triangulate_plc(plc: PLC, *, keep_hull=False, split=False, algorithm="divide
     use_seeds = plc.holes is not None or plc.regions is not None
     holes = plc.holes if plc.holes is not None and len(plc.holes) else _NO_SEEDS
     regions = plc.regions if plc.regions is not None and len(plc.regions) else _NO_REGIONS
-    status, info, counts, out = cdt_route(
-        x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
-        plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
-        holes, regions, use_seeds, ALGORITHM_CODES[algorithm], order, horizontal, split,
-        bool(keep_hull), max_steiner, refinement_arg(refinement))
+    with deferred_interrupt(n):
+        status, info, counts, out = cdt_route(
+            x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
+            plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
+            holes, regions, use_seeds, ALGORITHM_CODES[algorithm], order, horizontal, split,
+            bool(keep_hull), max_steiner, refinement_arg(refinement))
     if status == ROUTE_COLLINEAR:
         return _collinear_result(plc, algorithm, t0)
     if status not in (ROUTE_OK, ROUTE_REFINE_LIMIT):

@@ -24,6 +24,7 @@ from ._core.insertion import redundant_vertices
 from ._core.ordering import brio_order, lexicographic_order
 from ._core.status import OK
 from .errors import CDTError
+from .interrupts import deferred_interrupt
 from .triangulation import Triangulation
 from .validate import as_points, as_weights, exact_range
 
@@ -133,7 +134,9 @@ def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) ->
     if algorithm != "divide":
         order = seed_first(order, k1, k2)
     for _ in range(MAX_WEIGHTED_PASSES):
-        tri, twin, cons, ntri, counts = _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged)
+        with deferred_interrupt(n):
+            tri, twin, cons, ntri, counts = _build_in_order(x, y, w, weighted, order, algorithm,
+                                                            dup_of, submerged)
         if not weighted:
             break
         xi, yi, wi = (np.append(a[order], 0.0) for a in (x, y, w))
