@@ -189,8 +189,8 @@ def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_start
             if ring >= 0:
                 info[0] = ring
                 return inside, region, ROUTE_HOLE_OUTSIDE
-        if not polygons_disjoint(tri, twin, cons, ntri, label_mesh, seg_start, seg_rings,
-                                 ring_polygon, info):
+        if may_overlap(ring_polygon, seg_start) and not polygons_disjoint(
+                tri, twin, cons, ntri, label_mesh, seg_start, seg_rings, ring_polygon, info):
             return inside, region, ROUTE_POLYGONS_OVERLAP
     if holes.shape[0] > 0:
         label = np.zeros(k, np.int64)
@@ -220,6 +220,21 @@ def entered_through_hole(label, rings, a, b, ring_polygon, ring_is_hole):
                 return -1
             hole = r
     return hole
+
+
+@kernel
+def may_overlap(ring_polygon, seg_start):
+    """Whether the rings can bound overlapping polygons at all: with one
+    polygon and one ring on every segment, the rings are closed curves that do
+    not cross (crossings stop the route before), so the sides of every ring
+    segment alternate between inside and outside consistently."""
+    for r in range(ring_polygon.shape[0]):
+        if ring_polygon[r] != ring_polygon[0]:
+            return True
+    for s in range(1, seg_start.shape[0] - 1):
+        if seg_start[s + 1] - seg_start[s] > 1:
+            return True
+    return False
 
 
 @kernel

@@ -61,8 +61,11 @@ def on_input_segment(x, y, A, B, a, b, v):
 
 @kernel
 def off_input_line(x, y, A, B, a, b):
-    """Whether piece ``a b`` of input segment ``A B`` does not lie on it exactly."""
-    return orient(x, y, A, B, a) != 0 or orient(x, y, A, B, b) != 0
+    """Whether piece ``a b`` of input segment ``A B`` does not lie on it exactly
+    (an end that is ``A`` or ``B`` is on it: no predicate, whose exact stage a
+    zero determinant would reach, for the ends of an unsplit segment)."""
+    return ((a != A and a != B and orient(x, y, A, B, a) != 0)
+            or (b != A and b != B and orient(x, y, A, B, b) != 0))
 
 
 @kernel
