@@ -126,6 +126,9 @@ def exact_range(x: np.ndarray, y: np.ndarray, w: np.ndarray | None = None, name:
     range (:mod:`cdt_plugin._core.scaling`; ``shift`` is 0 and the arrays are
     the inputs for ordinary coordinates). Raises :class:`CoordinateRangeError`
     naming the rows when no power of two does."""
+    # (contiguous arrays: one compilation of fit_shift for every caller)
+    x, y = np.ascontiguousarray(x), np.ascontiguousarray(y)
+    w = None if w is None else np.ascontiguousarray(w)
     shift, fine, large = fit_shift(x, y, _NO_WEIGHTS if w is None else w)
     if shift == NO_FIT:
         raise range_error(name, x, y, w, int(fine), int(large))

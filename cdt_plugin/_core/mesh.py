@@ -19,6 +19,7 @@ import numpy as np
 
 from .arrays import copy_rows
 from .jit import kernel
+from .ordering import sort_ids
 
 DEAD = -2
 IDX = np.int32  # storage dtype of vertex and half-edge indices
@@ -264,11 +265,9 @@ def canonical_slots(tri, twin, cons, ntri):
     vertex, and they are sorted by their first two vertices (a directed edge
     lies in one triangle, so the key is unique). Dead slots are dropped.
     Returns ``(live triangles, old slot of each new slot)``."""
-    base = np.int64(0)
-    for e in range(3 * ntri):
-        base = max(base, np.int64(tri[e]) + 1)
     rot = np.empty(ntri, np.int64)
-    key = np.empty(ntri, np.int64)
+    first = np.empty(ntri)          # float keys: the sort compiled for coordinates already
+    second = np.empty(ntri)
     live = np.empty(ntri, np.int64)
     n = 0
     for t in range(ntri):
@@ -280,10 +279,12 @@ def canonical_slots(tri, twin, cons, ntri):
             if tri[e + k] < tri[e + r]:
                 r = k
         rot[t] = r
-        key[n] = np.int64(tri[e + r]) * base + tri[e + (r + 1) % 3]
+        first[n] = tri[e + r]
+        second[n] = tri[e + (r + 1) % 3]
         live[n] = t
         n += 1
-    order = np.argsort(key[:n])
+    order = np.arange(n)
+    sort_ids(order, np.int64(0), np.int64(n), first, second, np.empty(n, np.int64))
     old = np.empty(n, np.int64)
     where = np.full(3 * ntri, -1, np.int64)        # old half-edge -> new half-edge
     for i in range(n):

@@ -80,8 +80,8 @@ def polygon_rings(xy, begin, end):
     degenerate = np.zeros(begin.shape[0], np.bool_)
     n_degenerate = 0
     if bad < 0:
-        x = xy[:, 0]
-        y = xy[:, 1]
+        x = xy[:, 0].copy()     # contiguous, as the batch route's: one compilation of the check
+        y = xy[:, 1].copy()
         for r in range(begin.shape[0]):
             degenerate[r] = ring_is_degenerate(x, y, begin[r], end[r])
             n_degenerate += degenerate[r]
