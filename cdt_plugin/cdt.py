@@ -21,7 +21,8 @@ from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUP
                              K_ZERO_SEGMENTS, cdt_route, refinement_arg)
 from ._core.segments import intersection_point
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
-                           ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT)
+                           ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT,
+                           ROUTE_STEINER_LIMIT)
 from .delaunay import resolve_algorithm
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError)

@@ -2,13 +2,12 @@
 precise :class:`CDTError` subclass naming the offending rows."""
 from __future__ import annotations
 
-import math
 import warnings
 
 import numpy as np
 
 from ._core.checks import first_nonfinite_row
-from ._core.scaling import LOW, NO_FIT, TOP, fit_shift
+from ._core.scaling import LOW, NO_FIT, TOP, exponents, fit_shift
 from .errors import (CoordinateRangeError, InputShapeError, NonFiniteCoordinateError, PrecisionWarning,
                      TooFewPointsError)
 
@@ -156,14 +155,12 @@ def range_error(name: str, x, y, w, fine: int, large: int) -> CoordinateRangeErr
     def values(i):
         return [float(x[i]), float(y[i])] + ([] if w is None else [float(w[i])])
 
-    def bits(i):        # (top, low) of row i as in _core.scaling (weights count half)
+    def bits(i):        # (top, low) of row i's nonzero values (weights count half)
         out = []
         for j, v in enumerate(values(i)):
             if v:
-                m, e = math.frexp(v)
-                s = int(abs(m) * 2.0 ** 53)
-                low = e - 53 + (s & -s).bit_length() - 1
-                out.append((-(-e // 2), low // 2) if j == 2 else (e, low))
+                top, low = exponents(v)
+                out.append((-(-top // 2), low // 2) if j == 2 else (top, low))
         return out
 
     top = max(t for t, _ in bits(large))

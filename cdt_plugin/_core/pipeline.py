@@ -36,8 +36,8 @@ from .scaling import NO_FIT, fit_shift, scaled, scaled_area, scaled_seeds, unsca
 from .segments import by_smaller_end, insert_segments, make_buffers
 from .status import (FINISHED, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OK, ROUTE_COLLINEAR,
                      ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP,
-                     ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP,
-                     ALL_DONE)
+                     ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT,
+                     STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP, ALL_DONE)
 
 NO_REFINEMENT = (False, 0.0, 0.0, False, False, -1)
 
@@ -158,9 +158,9 @@ def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_start
     :func:`.regions.segment_depths`), or the region seed that paints it.
     Returns ``(inside, region, status)``; with ``check_holes`` (and rings) the
     status is ROUTE_HOLE_OUTSIDE (``info[0]`` = the ring) when a polygon is
-    entered through a hole ring from outside its shell, ROUTE_POLYGONS_OVERLAP (``info`` = two
-    polygons and the mesh vertices of an edge where they overlap) when the
-    rings cannot bound disjoint polygons."""
+    entered through a hole ring from outside its shell, ROUTE_POLYGONS_OVERLAP
+    (``info`` = two polygons and the mesh vertices of an edge where they
+    overlap) when the rings cannot bound disjoint polygons."""
     k = T.shape[0]
     depth_mesh, entry_mesh, label_mesh = segment_depths(tri, twin, cons, ntri, inf, mult,
                                                         seg_start, seg_rings, ring_polygon)

@@ -68,10 +68,8 @@ def polygon_across(label, rings, a, b, ring_polygon):
         return NO_POLYGON
     if left > 1:
         return POLYGON_CONFLICT
-    for k in range(a, b):
-        if k != mine:
-            return ring_polygon[rings[k]]
-    return POLYGON_CONFLICT
+    other = a if a != mine else a + 1       # the one ring that is not ours
+    return ring_polygon[rings[other]]
 
 
 @kernel

@@ -52,7 +52,7 @@ def exponents(v):
     and ``v`` is an odd multiple of ``2**low``."""
     m, e = math.frexp(v)                      # |m| in [0.5, 1), subnormals too
     i = np.int64(abs(m) * _MANTISSA)          # the 53-bit significand, exactly
-    m_low, e_low = math.frexp(float(i & -i))  # its lowest set bit, 2**(e_low - 1)
+    _, e_low = math.frexp(float(i & -i))      # its lowest set bit, 2**(e_low - 1)
     return e, e - 53 + e_low - 1
 
 
@@ -130,18 +130,12 @@ def fit_shift(x, y, w):
 
 
 @kernel
-def times_power_of_two(v, k):
-    """``v * 2**k`` in two exact steps (``2**k`` alone may not be a double)."""
-    half = k // 2
-    return v * 2.0 ** half * 2.0 ** (k - half)
-
-
-@kernel
 def scaled_area(a, k):
     """An area bound ``a`` in the units of points scaled by ``2**k``: times
-    ``2**(2k)``, and a positive bound stays positive (a bound that underflows
-    still asks for refinement, which then stops at the Steiner cap)."""
-    s = times_power_of_two(a, 2 * k)
+    ``2**(2k)`` (in two steps: ``2**(2k)`` alone may not be a double), and a
+    positive bound stays positive (a bound that underflows still asks for
+    refinement, which then stops at the Steiner cap)."""
+    s = a * 2.0 ** k * 2.0 ** k
     if a > 0.0 and s == 0.0:
         return 5e-324
     return s
@@ -174,9 +168,10 @@ def scaled_seeds(seeds, k):
     scaled by ``2**(2k)``."""
     out = seeds.copy()
     bound = 2.0 ** TOP
+    s = 2.0 ** k        # a normal double: |k| <= MAX_SHIFT
     for i in range(seeds.shape[0]):
         for j in range(2):
-            out[i, j] = on_grid(min(max(times_power_of_two(seeds[i, j], k), -bound), bound))
+            out[i, j] = on_grid(min(max(seeds[i, j] * s, -bound), bound))
         if seeds.shape[1] > 3:
             out[i, 3] = scaled_area(seeds[i, 3], k)
     return out

@@ -28,8 +28,8 @@ from .mesh import DEAD, flip, nxt, prv
 from .predicates import crossing_point as exact_crossing
 from .scaling import on_grid
 from .status import (ALL_DONE, BUFFERS_TOO_SMALL, CROSSING, DONE, LOCATE_FAILED, LOST,  # noqa: F401
-                     NEED_EDGE_ROOM, NEED_VERTEX_ROOM, ON_INPUT, OVERLAP, SPLIT_AT, STOP_CROSSING, STOP_LIMIT,
-                     STOP_OVERLAP, TASK_LOST)
+                     NEED_EDGE_ROOM, NEED_VERTEX_ROOM, ON_INPUT, OVERLAP, SPLIT_AT, STOP_CROSSING,
+                     STOP_LIMIT, STOP_OVERLAP, TASK_LOST)
 
 
 
