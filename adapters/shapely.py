@@ -27,7 +27,7 @@ import shapely
 
 import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, TooFewPointsError
-from cdt_plugin.batch import MeshBatch, geometry_plc, triangulate_rings
+from cdt_plugin.batch import MeshBatch, check_batch_options, geometry_plc, triangulate_rings
 
 __all__ = ["triangulate", "triangulate_batch", "to_shapely", "constrained_delaunay_triangles",
            "plc_from_shapely"]
@@ -149,7 +149,9 @@ def triangulate_batch(geometries, *, repair=False, errors="raise", progress=Fals
     progress : bool
         A tqdm progress bar over the geometries.
     **options
-        Passed to :func:`cdt_plugin.triangulate` (``min_angle``, ``max_area``,
+        ``workers`` (threads; default: every core for a large batch, see
+        :func:`cdt_plugin.batch.triangulate_rings`), and the options of
+        :func:`cdt_plugin.triangulate` (``min_angle``, ``max_area``,
         ``intersections``, ...).
 
     Examples
@@ -160,8 +162,7 @@ def triangulate_batch(geometries, *, repair=False, errors="raise", progress=Fals
     >>> len(b), b.geometry.tolist(), b.offsets.tolist()
     (3, [0, 0, 2], [0, 2, 2, 3])
     """
-    if errors not in ("raise", "skip"):
-        raise CDTError(f"errors must be 'raise' or 'skip', got {errors!r}")
+    check_batch_options(errors=errors, **options)
     method = _repair_method(repair)
     arr = np.array(geometries, dtype=object).ravel() if _is_array_input(geometries) else \
         np.array([geometries], dtype=object)

@@ -23,10 +23,12 @@ from .cdt import check_options, triangulate_plc
 from .errors import CDTError
 from .interrupts import deferred_interrupt
 from .lift import lift_z
+from .parallel import check_workers, map_ordered, resolve_workers
 from .plc import PLC, as_plc
 
 ERRORS = ("raise", "skip")
 CHUNK = 4096               # geometries per compiled call (progress granularity)
+MIN_CHUNK = 64             # geometries worth a thread of their own
 # options of cdt_plugin.triangulate that are the same for every geometry of a batch
 _ROUTE_OPTIONS = ("intersections", "algorithm", "min_angle", "max_area", "conforming_delaunay",
                   "split_boundary", "max_steiner")
@@ -102,8 +104,24 @@ def geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, z,
                degenerate_rings=named)
 
 
+def check_batch_options(*, errors: str = "raise", workers=None, **options):
+    """Validate the options of a batch call before any work starts. Returns
+    ``(route, seeds, workers)``: the route options as :func:`check_options`
+    gives them, the seed options (applied geometry by geometry) and the
+    checked ``workers``."""
+    if errors not in ERRORS:
+        raise CDTError(f"errors must be one of {ERRORS}, got {errors!r}")
+    unknown = set(options) - set(_ROUTE_OPTIONS) - set(_SEED_OPTIONS)
+    if unknown:
+        raise CDTError(f"unknown option {sorted(unknown)[0]!r}")
+    route = check_options(**{k: v for k, v in options.items() if k in _ROUTE_OPTIONS})
+    seeds = {k: v for k, v in options.items() if k in _SEED_OPTIONS}
+    return route, seeds, check_workers(workers)
+
+
 def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, *, z=None,
-                      errors: str = "raise", progress=None, **options) -> MeshBatch:
+                      errors: str = "raise", progress=None, workers: int | None = None,
+                      **options) -> MeshBatch:
     """Constrained Delaunay triangulation of many geometries given as rings.
 
     Parameters
@@ -124,9 +142,15 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     errors : {"raise", "skip"}
         A geometry that cannot be meshed raises its :class:`CDTError` with
         ``geometry i:`` in front of the message and an ``index`` attribute, or
-        (``"skip"``) is left without triangles and recorded in ``errors``.
+        (``"skip"``) is left without triangles and its error (the same) recorded
+        in ``errors``.
     progress : callable, optional
         Called with the number of geometries finished since the last call.
+    workers : int, optional
+        Threads to mesh on (the compiled route runs without the GIL). Default:
+        every available core once the batch has :data:`MIN_CHUNK` geometries
+        per core; 1 meshes in the calling thread. Any number gives the same
+        result: chunks of geometries are meshed apart and joined in order.
     **options
         Passed to :func:`cdt_plugin.triangulate` (``intersections``,
         ``min_angle``, ``max_area``, ...).
@@ -140,13 +164,7 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     (2, (3, 3), [0, 0, 1])
     """
     t0 = time.perf_counter()
-    if errors not in ERRORS:
-        raise CDTError(f"errors must be one of {ERRORS}, got {errors!r}")
-    unknown = set(options) - set(_ROUTE_OPTIONS) - set(_SEED_OPTIONS)
-    if unknown:
-        raise CDTError(f"unknown option {sorted(unknown)[0]!r}")
-    route = check_options(**{k: v for k, v in options.items() if k in _ROUTE_OPTIONS})
-    seeds = {k: v for k, v in options.items() if k in _SEED_OPTIONS}
+    route, seeds, workers = check_batch_options(errors=errors, workers=workers, **options)
     xy = np.ascontiguousarray(xy, dtype=np.float64).reshape(-1, 2)
     ring_start = np.asarray(ring_start, np.int64)
     geom_ring_start = np.asarray(geom_ring_start, np.int64)
@@ -160,22 +178,33 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     compiled = all(v is None or v is False for v in seeds.values()) and not (
         z is not None and (route["split"] or route["refinement"] is not None))
     if compiled:
-        todo = []
         x, y = xy[:, 0].copy(), xy[:, 1].copy()
-        for g0 in range(0, ng, CHUNK):
-            g1 = min(ng, g0 + CHUNK)
+        refinement = refinement_arg(route["refinement"])
+        algorithm = ALGORITHM_CODES[route["algorithm"]]
+
+        def mesh_chunk(chunk):
+            g0, g1 = chunk
             with deferred_interrupt(ring_start[geom_ring_start[g1]] - ring_start[geom_ring_start[g0]]):
-                T, G, R, S, failed = mesh_geometries(
-                    x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1,
-                    route["split"], route["max_steiner"], ALGORITHM_CODES[route["algorithm"]],
-                    refinement_arg(route["refinement"]), len(xy) + nsteiner)
-            parts.append((G, T, R))
+                # Steiner ids from len(xy) in every chunk: shifted below, in chunk order
+                return mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole,
+                                       g0, g1, route["split"], route["max_steiner"], algorithm,
+                                       refinement, len(xy))
+
+        def report(chunk, result):
+            if progress is not None:
+                progress(chunk[1] - chunk[0] - int(result[4].sum()))
+
+        threads = resolve_workers(workers, ng // MIN_CHUNK)
+        chunks = geometry_chunks(ng, threads)
+        todo = []
+        for (g0, _), (T, G, R, S, failed) in zip(chunks, map_ordered(mesh_chunk, chunks, threads,
+                                                                    report)):
             if len(S):
+                T[T >= len(xy)] += nsteiner
                 steiner_xy.append(S)
                 nsteiner += len(S)
+            parts.append((G, T, R))
             todo.extend((g0 + np.flatnonzero(failed)).tolist())
-            if progress is not None:
-                progress(g1 - g0 - int(failed.sum()))
     else:
         todo = range(ng)
     failed = {}
@@ -190,9 +219,9 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
             plc = as_plc(plc, holes=seeds.get("holes"), regions=seeds.get("regions"))
             tri = triangulate_plc(plc, keep_hull=bool(seeds.get("keep_hull")), **route)
         except CDTError as e:
+            e.args = (f"geometry {g}: {e.args[0] if e.args else ''}",) + tuple(e.args[1:])
+            e.index = g
             if errors == "raise":
-                e.args = (f"geometry {g}: {e.args[0] if e.args else ''}",) + tuple(e.args[1:])
-                e.index = g
                 raise
             failed[g] = e
             continue
@@ -211,6 +240,15 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     out = _assemble(xy, z, parts, steiner_xy, steiner_z, ng, failed, t0)
     out.stats["fallback"] = len(todo)
     return out
+
+
+def geometry_chunks(ng: int, threads: int) -> list[tuple[int, int]]:
+    """Geometry ranges ``(g0, g1)`` of one compiled call each: at most
+    :data:`CHUNK` geometries; with several threads, about four chunks per
+    thread (so that a chunk of large polygons does not hold up the others),
+    of at least :data:`MIN_CHUNK` geometries."""
+    size = CHUNK if threads == 1 else min(CHUNK, max(MIN_CHUNK, -(-ng // (4 * threads))))
+    return [(g0, min(ng, g0 + size)) for g0 in range(0, ng, size)]
 
 
 def _global_ids(tri, v0, steiner0):

@@ -1,8 +1,11 @@
 """How every kernel is compiled, and what keeps first use short.
 
 :func:`kernel` is ``numba.njit`` with the options every kernel shares: cached
-on disk, and no C-callable wrapper (nothing here takes a kernel's address, and
-numba would otherwise lower and code-generate one for every compilation).
+on disk, no C-callable wrapper (nothing here takes a kernel's address, and
+numba would otherwise lower and code-generate one for every compilation), and
+without the GIL: a call from Python releases it on entry, so threads run
+kernels side by side (nothing in a kernel touches Python objects or shared
+state: every workspace is allocated per call).
 
 numba compiles a function once per distinct tuple of argument types, and links
 every callee's code into each caller's library, where it is optimised and
@@ -28,5 +31,6 @@ from numba import njit
 
 
 def kernel(*signature, **options):
-    """Decorator: ``numba.njit(*signature, cache=True, no_cfunc_wrapper=True, **options)``."""
-    return njit(*signature, cache=True, no_cfunc_wrapper=True, **options)
+    """Decorator: ``numba.njit(*signature, cache=True, no_cfunc_wrapper=True, nogil=True,
+    **options)``."""
+    return njit(*signature, cache=True, no_cfunc_wrapper=True, nogil=True, **options)

@@ -137,6 +137,8 @@ def test_errors_skip_and_split():
     xy, rs, grs, rp, rh = _bowtie_arrays()
     b = batch.triangulate_rings(xy, rs, grs, rp, rh, errors="skip")
     assert list(b.errors) == [1] and isinstance(b.errors[1], SegmentIntersectionError)
+    # regression: skipped errors had no index (geo.triangulate's relabelling failed on them)
+    assert b.errors[1].index == 1 and str(b.errors[1]).startswith("geometry 1: segments")
     assert b.offsets.tolist() == [0, 2, 2]
     s = batch.triangulate_rings(xy, rs, grs, rp, rh, intersections="split")
     assert s.stats["steiner"] == 1 and s.vertices[-1].tolist() == [1.0, 1.0]

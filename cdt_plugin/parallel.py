@@ -1,0 +1,77 @@
+"""Threads for independent compiled calls (the ``workers=`` option).
+
+Every kernel releases the GIL (:mod:`cdt_plugin._core.jit`), so compiled
+calls on separate inputs run side by side in threads of one process: no
+pickling, no second copy of the data, no second compilation. Results come
+back in input order, so any number of workers gives the result of one.
+"""
+from __future__ import annotations
+
+import operator
+import os
+from concurrent.futures import ThreadPoolExecutor
+from typing import Callable, Iterable, TypeVar
+
+from .errors import CDTError
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+
+def available_cores() -> int:
+    """CPUs this process may run on (its affinity mask where the OS has one)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:      # macOS, Windows
+        return os.cpu_count() or 1
+
+
+def check_workers(workers) -> int | None:
+    """Validate a ``workers=`` option: None (the default: all cores where the
+    work is large enough) or a whole number >= 1."""
+    if workers is None:
+        return None
+    try:
+        count = operator.index(workers)     # int and NumPy integers, not floats or bools
+    except TypeError:
+        count = 0
+    if isinstance(workers, bool) or count < 1:
+        raise CDTError(f"workers must be None or a whole number >= 1, got {workers!r}")
+    return count
+
+
+def resolve_workers(workers: int | None, tasks: int) -> int:
+    """How many threads to run ``tasks`` independent pieces of work on:
+    ``workers`` (checked), by default every available core, never more than
+    there are tasks."""
+    wanted = available_cores() if workers is None else workers
+    return max(1, min(wanted, tasks))
+
+
+def map_ordered(fn: Callable[[T], R], items: Iterable[T], workers: int,
+                done: Callable[[T, R], None] | None = None) -> list[R]:
+    """``[fn(item) for item in items]`` on ``workers`` threads, results in
+    input order; ``done(item, result)`` is called in the calling thread, in
+    input order, as results arrive (progress bars). On an exception
+    (``KeyboardInterrupt`` included) the pieces not started are cancelled, the
+    running ones finish, and the exception propagates."""
+    items = list(items)
+    results = []
+    if workers <= 1:
+        for item in items:
+            results.append(fn(item))
+            if done is not None:
+                done(item, results[-1])
+        return results
+    with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="cdt_plugin") as pool:
+        futures = [pool.submit(fn, item) for item in items]
+        try:
+            for item, future in zip(items, futures):
+                results.append(future.result())
+                if done is not None:
+                    done(item, results[-1])
+        except BaseException:
+            for future in futures:
+                future.cancel()
+            raise
+    return results

@@ -1,0 +1,186 @@
+"""All cores: every kernel releases the GIL, concurrent calls from threads give
+the results of sequential ones, and the batch path gives the same triangles
+with any number of workers (issue: all cores). Every mesh is checked by the
+exact checker."""
+from __future__ import annotations
+
+import inspect
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+import shapely
+from numba.core.registry import CPUDispatcher
+
+import cdt_plugin
+import cdt_plugin._core as core
+from cdt_plugin import CDTError
+from cdt_plugin.adapters.shapely import _polygon_rings, triangulate_batch
+from cdt_plugin.batch import MIN_CHUNK, geometry_chunks, geometry_plc, triangulate_rings
+from cdt_plugin.parallel import check_workers, map_ordered, resolve_workers
+
+from checker import assert_valid, canonical_triangles
+
+
+def _kernels():
+    import importlib
+    import pkgutil
+    for info in pkgutil.iter_modules(core.__path__):
+        module = importlib.import_module(f"cdt_plugin._core.{info.name}")
+        for name, value in inspect.getmembers(module, lambda v: isinstance(v, CPUDispatcher)):
+            if value.__module__ == module.__name__:
+                yield f"{module.__name__}.{name}", value
+
+
+def test_every_kernel_releases_the_gil():
+    kernels = dict(_kernels())
+    assert len(kernels) > 100
+    held = [name for name, k in kernels.items() if not k.targetoptions.get("nogil")]
+    assert held == []
+
+
+def _star(n, r0=1.0, r1=0.45, holes=0):
+    a = np.linspace(0, 2 * np.pi, 2 * n, endpoint=False)
+    r = np.where(np.arange(2 * n) % 2 == 0, r0, r1)
+    shell = np.column_stack([r * np.cos(a), r * np.sin(a)])
+    rings = [0.05 * np.column_stack([np.cos(a[::4]), np.sin(a[::4])]) + [0.2 * (k - 1), 0]
+             for k in range(holes)]
+    return shapely.Polygon(shell, [ring[::-1] for ring in rings])
+
+
+def _jobs():
+    rng = np.random.default_rng(7)
+    jobs = []
+    for n in (3000, 20_000, 50_000):
+        pts = rng.random((n, 2))
+        jobs.append(("delaunay", pts, {}))
+    grid = np.array([[i, j] for i in range(40) for j in range(40)], float)   # cocircular ties
+    jobs.append(("delaunay", grid, {}))
+    for holes in (0, 2):
+        jobs.append(("triangulate", _star(60, holes=holes), {}))
+        jobs.append(("triangulate", _star(200, holes=holes), {"min_angle": 30}))
+    jobs.append(("triangulate", _star(30), {"max_area": 0.001}))
+    return jobs
+
+
+def _run(job):
+    kind, data, options = job
+    if kind == "delaunay":
+        return cdt_plugin.delaunay(data, **options)
+    return cdt_plugin.triangulate(data, **options)
+
+
+def test_concurrent_calls_give_the_sequential_results():
+    jobs = _jobs() * 3
+    sequential = [_run(j) for j in jobs]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        concurrent = list(pool.map(_run, jobs))
+    for job, a, b in zip(jobs, sequential, concurrent):
+        assert np.array_equal(a.vertices, b.vertices)
+        assert np.array_equal(a.triangles, b.triangles)
+        assert np.array_equal(a.segments, b.segments)
+    for job, tri in zip(jobs[:len(_jobs())], concurrent):
+        if job[0] == "delaunay":
+            assert_valid(tri.vertices, tri.triangles, domain="hull")
+        else:
+            assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
+
+
+def _layer():
+    """Ring arrays (as :func:`triangulate_rings` takes them) of polygons of every
+    kind the batch meets: plain, with holes, refined in the compiled loop, empty,
+    and bow ties, which fall back to the one-by-one route and are skipped."""
+    bowtie = (np.array([[0, 0], [2, 2], [2, 0], [0, 2.0]]), [0, 4], [0], [False])
+    xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole = [], [0], [0], [], []
+    for i in range(3 * MIN_CHUNK):
+        if i % 50 == 7:
+            parts = bowtie
+        elif i % 70 == 3:
+            parts = (np.empty((0, 2)), [0], [], [])
+        else:
+            star = shapely.affinity.translate(_star(5 + i % 40, holes=i % 3), xoff=3.0 * i)
+            p_xy, _, p_rs, _, p_rp, p_rh, _, _ = _polygon_rings(np.array([star], object))
+            parts = (p_xy, p_rs, p_rp, p_rh)
+        p_xy, p_rs, p_rp, p_rh = parts
+        ring_start.extend((np.asarray(p_rs[1:]) + ring_start[-1]).tolist())
+        geom_ring_start.append(geom_ring_start[-1] + len(p_rp))
+        xy.append(p_xy)
+        ring_polygon.extend(p_rp)
+        ring_is_hole.extend(p_rh)
+    return np.concatenate(xy), ring_start, geom_ring_start, ring_polygon, ring_is_hole
+
+
+@pytest.mark.parametrize("options", [{}, {"min_angle": 25}])
+def test_the_batch_gives_the_same_triangles_with_any_number_of_workers(options):
+    layer = _layer()
+    one = triangulate_rings(*layer, workers=1, errors="skip", **options)
+    assert one.stats["fallback"] > 0 and len(one.errors) > 0
+    if options:
+        assert one.stats["steiner"] > 0
+    for workers in (2, 3, None):
+        many = triangulate_rings(*layer, workers=workers, errors="skip", **options)
+        for name in ("vertices", "triangles", "geometry", "region", "offsets"):
+            assert np.array_equal(getattr(one, name), getattr(many, name)), (workers, name)
+        assert list(many.errors) == list(one.errors)
+    xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole = layer
+    for g in range(0, len(geom_ring_start) - 1, 11):
+        if g in many.errors or geom_ring_start[g] == geom_ring_start[g + 1]:
+            continue
+        V, T = many.mesh(g)
+        plc = geometry_plc(xy, np.asarray(ring_start), np.asarray(geom_ring_start),
+                           np.asarray(ring_polygon), np.asarray(ring_is_hole), None, g)
+        tri = cdt_plugin.triangulate(plc, **options)
+        assert canonical_triangles(V, T) == canonical_triangles(tri.vertices, tri.triangles)
+        assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
+
+
+def test_chunks_cover_every_geometry_once():
+    for ng in (0, 1, 63, 64, 500, 4096 * 3 + 5):
+        for threads in (1, 2, 7):
+            chunks = geometry_chunks(ng, threads)
+            covered = [g for g0, g1 in chunks for g in range(g0, g1)]
+            assert covered == list(range(ng))
+            if threads > 1 and ng >= 4 * threads * MIN_CHUNK:
+                assert len(chunks) >= 4 * threads
+
+
+def test_progress_counts_every_geometry_with_threads():
+    counts = []
+    xy = np.array([[0, 0], [1, 0], [1, 1.0]])
+    ng = 4 * MIN_CHUNK
+    b = triangulate_rings(np.tile(xy, (ng, 1)) + np.repeat(np.arange(ng), 3)[:, None],
+                          np.arange(0, 3 * ng + 1, 3), np.arange(ng + 1), np.zeros(ng, int),
+                          np.zeros(ng, bool), workers=2, progress=counts.append)
+    assert len(b.triangles) == ng and sum(counts) == ng and len(counts) > 1
+
+
+@pytest.mark.parametrize("bad", [0, -1, 1.5, "2", True])
+def test_bad_workers_are_named_before_any_work(bad):
+    with pytest.raises(CDTError, match="workers must be None or a whole number >= 1"):
+        check_workers(bad)
+    with pytest.raises(CDTError, match="workers must be"):
+        triangulate_batch([shapely.box(0, 0, 1, 1), "not a geometry"], workers=bad)
+
+
+def test_workers_take_numpy_integers_and_never_exceed_the_tasks():
+    assert check_workers(np.int64(3)) == 3
+    assert resolve_workers(8, 3) == 3
+    assert resolve_workers(None, 0) == 1
+    assert resolve_workers(2, 10) == 2
+
+
+def test_map_ordered_keeps_order_and_stops_on_an_error():
+    assert map_ordered(lambda v: v * v, range(50), 3) == [v * v for v in range(50)]
+    started = []
+
+    def work(v):
+        started.append(v)
+        if v == 2:
+            raise ValueError("two")
+        time.sleep(0.01)
+        return v
+
+    with pytest.raises(ValueError, match="two"):
+        map_ordered(work, range(300), 2)
+    assert len(started) < 300          # the pieces not started were cancelled
