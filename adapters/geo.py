@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import datetime
 import json
+import math
 import sys
 import warnings
 from dataclasses import dataclass, field
@@ -62,7 +63,7 @@ import numpy as np
 import shapely
 
 from cdt_plugin import CDTError, InputShapeError
-from cdt_plugin.batch import MeshBatch
+from cdt_plugin.batch import MeshBatch, check_batch_options
 
 from .shapely import triangulate_batch
 
@@ -72,6 +73,7 @@ __all__ = ["triangulate", "triangulate_dask", "read", "write_geojson", "GeoMesh"
 OUTPUTS = ("geodataframe", "trimesh", "mesh")
 AUTO_PROGRESS_FEATURES = 5000       # progress=None: a bar above this many features (on a tty)
 ID_COLUMNS = ("feature", "position", "part")
+GEOJSON_ROWS = 50_000                # features per write (and progress step) of write_geojson
 _POLYGON, _MULTIPOLYGON, _COLLECTION = 3, 6, 7     # GEOS type ids
 _TYPE_NAMES = ("Point", "LineString", "LinearRing", "Polygon", "MultiPoint", "MultiLineString",
                "MultiPolygon", "GeometryCollection")
@@ -147,13 +149,19 @@ def _from_geojson(data: dict):
     return frame
 
 
-def write_geojson(frame, path: str | Path) -> None:
+def write_geojson(frame, path: str | Path, *, progress=None) -> None:
     """Write a GeoDataFrame as a GeoJSON FeatureCollection with every coordinate
     exact (Python's shortest round-trip repr: GDAL's GeoJSON writer trims digits
     that look like noise, ``-0.9500000000000001`` becomes ``-0.95``, even with
     ``SIGNIFICANT_FIGURES=17``). A CRS other than WGS 84 lon/lat goes into the
     legacy ``"crs"`` member, which GDAL (so geopandas.read_file) reads back;
-    dates and times are written as ISO 8601 strings.
+    dates and times are written as ISO 8601 strings, missing values as null.
+
+    The text is put together column by column rather than feature by feature:
+    each distinct attribute value and coordinate is formatted once (a layer of
+    triangles repeats its features' attributes and shares every vertex among
+    about six triangles). ``progress``: called with the number of features
+    written since the last call.
 
     >>> import geopandas, shapely, tempfile, os
     >>> layer = geopandas.GeoDataFrame({"v": [1]}, geometry=[shapely.box(0, 0, 0.95, 0.1 + 0.2)],
@@ -164,15 +172,95 @@ def write_geojson(frame, path: str | Path) -> None:
     >>> back.crs.to_epsg(), back.geometry[0].equals_exact(layer.geometry[0], 0)
     (32633, True)
     """
-    data = frame.to_geo_dict(na="null", drop_id=True)
+    head = '{"type": "FeatureCollection", '
     crs = frame.crs
     if crs is not None and not _is_wgs84_lonlat(crs):
         epsg = crs.to_epsg()
         name = f"urn:ogc:def:crs:EPSG::{epsg}" if epsg else crs.to_wkt()
-        data = {"type": data["type"], "crs": {"type": "name", "properties": {"name": name}},
-                "features": data["features"]}
+        head += f'"crs": {{"type": "name", "properties": {{"name": {json.dumps(name)}}}}}, '
+    properties = _json_properties(frame.drop(columns=[frame.geometry.name]))
+    geometries = _json_geometries(np.asarray(frame.geometry.array, dtype=object))
     with open(path, "w", encoding="utf-8") as f:
-        json.dump(data, f, default=_json_value)
+        f.write(head + '"features": [')
+        for i in range(0, len(frame), GEOJSON_ROWS):
+            rows = '{"type": "Feature", "properties": ' + properties[i:i + GEOJSON_ROWS] + \
+                ', "geometry": ' + geometries[i:i + GEOJSON_ROWS] + '}'
+            f.write(("\n" if i == 0 else ",\n") + ",\n".join(rows.tolist()))
+            if progress is not None:
+                progress(len(rows))
+        f.write("\n]}\n")
+
+
+def _json_properties(table) -> np.ndarray:
+    """The JSON object of every row of ``table``, as an object array of str."""
+    import pandas
+
+    rows = np.full(len(table), "{", dtype=object)
+    for j, column in enumerate(table.columns):
+        values = table[column]
+        try:
+            codes, uniques = pandas.factorize(values, use_na_sentinel=True)
+        except TypeError:                   # unhashable values (lists, dicts)
+            codes, uniques = np.arange(len(values)), values.to_numpy(dtype=object)
+        text = np.array([_json_text(v) for v in uniques] + ["null"], dtype=object)
+        key = ("" if j == 0 else ", ") + json.dumps(str(column)) + ": "
+        rows = rows + key + text[codes]     # code -1 (missing) is the last: null
+    return rows + "}"
+
+
+def _json_text(value) -> str:
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return "null"                   # JSON has no NaN or infinity
+    return json.dumps(value, default=_json_value)
+
+
+def _json_geometries(geoms: np.ndarray) -> np.ndarray:
+    """The GeoJSON geometry of every shapely geometry, as an object array of str.
+    Triangles (Polygons of one ring of four points, what :func:`triangulate`
+    makes) are formatted from their coordinates, each distinct number once;
+    anything else through ``shapely.geometry.mapping`` and ``json``."""
+    types = shapely.get_type_id(geoms)
+    triangles = (types == 3) & (shapely.get_num_interior_rings(geoms) == 0)
+    triangles[triangles] = shapely.get_num_coordinates(geoms[triangles]) == 4
+    out = np.empty(len(geoms), dtype=object)
+    for has_z in (False, True):
+        pick = np.flatnonzero(triangles & (shapely.has_z(geoms) == has_z))
+        if len(pick):
+            out[pick] = _json_triangles(shapely.get_coordinates(geoms[pick], include_z=has_z))
+    empty = shapely.is_missing(geoms) | shapely.is_empty(geoms)
+    out[empty] = "null"                     # as geopandas writes them
+    for i in np.flatnonzero(~triangles & ~empty):
+        out[i] = json.dumps(shapely.geometry.mapping(geoms[i]))
+    return out
+
+
+def _json_triangles(coords: np.ndarray) -> np.ndarray:
+    """``{"type": "Polygon", ...}`` of triangles given as 4 closed corners each
+    (rows of ``coords``); every distinct point is formatted once."""
+    index, first = _distinct_rows(np.ascontiguousarray(coords, dtype=np.float64))
+    rows = coords[first].tolist()
+    text = np.array(["[" + ", ".join(map(repr, row)) + "]" for row in rows], dtype=object)
+    corner = text[index.reshape(-1, 4)]
+    return ('{"type": "Polygon", "coordinates": [[' + corner[:, 0] + ", " + corner[:, 1] + ", "
+            + corner[:, 2] + ", " + corner[:, 3] + "]]}")
+
+
+def _distinct_rows(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(index, first)``: rows equal bit for bit (so -0.0 is not 0.0) get the
+    same ``index``; ``values[first[i]]`` is distinct row ``i``. Hashing, one
+    column at a time (``pandas.factorize``), not sorting."""
+    import pandas
+
+    bits = values.view(np.int64)
+    index = np.zeros(len(values), np.int64)
+    for d in range(values.shape[1]):
+        column, distinct = pandas.factorize(bits[:, d])
+        index, _ = pandas.factorize(index * len(distinct) + column)
+    first = np.empty(index.max() + 1 if len(index) else 0, np.int64)
+    first[index[::-1]] = np.arange(len(index) - 1, -1, -1)
+    return index, first
 
 
 def _is_wgs84_lonlat(crs) -> bool:
@@ -232,8 +320,10 @@ def triangulate(data, *, output: str = "geodataframe", project=None, repair=Fals
     layer : str or int, optional
         The layer of a multi-layer file (GeoPackage).
     **options
-        Passed to :func:`cdt_plugin.triangulate`: ``min_angle``, ``max_area``
-        (in the meshing CRS's units), ``intersections``, ...
+        ``workers``: threads to mesh on (default: every core for a large layer;
+        any number gives the same triangles), and the options of
+        :func:`cdt_plugin.triangulate`: ``min_angle``, ``max_area`` (in the
+        meshing CRS's units), ``intersections``, ...
 
     Returns
     -------
@@ -298,7 +388,8 @@ def triangulate_dask(dask_geodataframe, *, project=None, repair=False, errors: s
     pass over the data; pass a CRS to avoid it), so every partition is meshed in the same
     CRS and the result equals the single-machine one. ``errors="skip"`` leaves the
     failing features without triangles (no warning from the workers). Options are
-    those of :func:`triangulate` (``progress``: use Dask's own diagnostics).
+    those of :func:`triangulate` (``progress``: use Dask's own diagnostics;
+    ``workers`` defaults to 1 here: Dask runs the partitions in parallel).
 
     >>> import dask_geopandas, geopandas, shapely
     >>> layer = geopandas.GeoDataFrame({"v": [1, 2]}, geometry=[shapely.box(0, 0, 1, 1),
@@ -307,9 +398,9 @@ def triangulate_dask(dask_geodataframe, *, project=None, repair=False, errors: s
     >>> tris.compute(scheduler="sync")["v"].tolist()
     [1, 1, 2, 2]
     """
-    if errors not in ("raise", "skip"):
-        raise CDTError(f"errors must be 'raise' or 'skip', got {errors!r}")
     options.pop("progress", None)
+    options.setdefault("workers", 1)    # Dask runs the partitions in parallel
+    check_batch_options(errors=errors, **options)
     crs = dask_geodataframe.crs
     if _centred(project):
         project = _target_crs(project, crs, _dask_extent(dask_geodataframe))
@@ -345,8 +436,7 @@ def _triangulate_partition(frame, *, project=None, repair=False, errors="raise",
 
 def _mesh(frame, *, project, repair, errors, progress, options, require_polygons, warn):
     """Mesh the features of ``frame`` (one batch call) into a :class:`GeoMesh`."""
-    if errors not in ("raise", "skip"):
-        raise CDTError(f"errors must be 'raise' or 'skip', got {errors!r}")
+    check_batch_options(errors=errors, **options)
     geoms = np.asarray(frame.geometry.array, dtype=object)
     if require_polygons:
         _require_polygons(geoms)
@@ -785,16 +875,18 @@ class GeoMesh:
 
     def triangle_polygons(self) -> np.ndarray:
         """One shapely Polygon per triangle (counter-clockwise closed shell; 3D
-        for features with Z), built in one vectorised call per dimension."""
+        for features with Z), built from flat coordinate arrays in one call per
+        dimension (``shapely.from_ragged_array``: about twice as fast as
+        ``shapely.polygons``, which builds a LinearRing first)."""
         corners = self.triangles[:, [0, 1, 2, 0]]
-        xy = self.vertices[corners]
         if self.z is None:
-            return shapely.polygons(xy)
+            return _triangle_polygons(self.vertices[corners])
         out = np.empty(len(corners), dtype=object)
         has_z = self.feature_has_z[self.position]
-        out[~has_z] = shapely.polygons(xy[~has_z])
-        xyz = np.concatenate([xy[has_z], self.z[corners[has_z]][..., None]], axis=2)
-        out[has_z] = shapely.polygons(xyz)
+        out[~has_z] = _triangle_polygons(self.vertices[corners[~has_z]])
+        xyz = np.concatenate([self.vertices[corners[has_z]], self.z[corners[has_z]][..., None]],
+                             axis=2)
+        out[has_z] = _triangle_polygons(xyz)
         return out
 
     def to_geodataframe(self):
@@ -830,6 +922,14 @@ class GeoMesh:
                 V = np.column_stack([V, np.zeros(len(V))])
             out.append(trimesh.Trimesh(V, T, process=False))
         return out
+
+
+def _triangle_polygons(rings: np.ndarray) -> np.ndarray:
+    """Polygons from closed rings of four corners, ``(k, 4, 2)`` or ``(k, 4, 3)``."""
+    k = len(rings)
+    return shapely.from_ragged_array(
+        shapely.GeometryType.POLYGON, np.ascontiguousarray(rings.reshape(4 * k, rings.shape[2])),
+        (np.arange(0, 4 * k + 1, 4, dtype=np.int64), np.arange(k + 1, dtype=np.int64)))
 
 
 def _id_column_names(columns) -> tuple[str, ...]:

@@ -54,6 +54,8 @@ GIS_FORMATS = (".shp", ".gpkg")
 INPUT_FORMATS = (".poly", ".node", ".geojson", ".json", ".wkt") + GIS_FORMATS
 LAYER_OUTPUTS = (".gpkg",) + GEOJSON_FORMATS
 NAME_COLUMNS = ("name", "NAME", "admin")
+MANY_FEATURES = 16        # features per thread worth starting one for
+LAYER_ROWS = 50_000       # triangles per GeoPackage write (and progress step)
 
 EXAMPLES = """\
 examples:
@@ -112,6 +114,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="repair invalid polygons with shapely.make_valid instead of failing")
     common.add_argument("--plot", metavar="PNG", type=Path,
                         help="also draw the mesh and its angle histogram to this image")
+    common.add_argument("--workers", type=_workers_arg, metavar="N",
+                        help="threads to mesh on (default: every core for many features; "
+                             "the result is the same for any number)")
     bar = common.add_mutually_exclusive_group()
     bar.add_argument("--progress", dest="progress", action="store_true", default=None,
                      help="always show a progress bar over the features (default: on a terminal)")
@@ -159,6 +164,16 @@ def build_parser() -> argparse.ArgumentParser:
                       help=f"routes to compile (default: all of {', '.join(sorted(ROUTES))})")
     comp.set_defaults(func=_cmd_compile)
     return parser
+
+
+def _workers_arg(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
+    return value
 
 
 # ------------------------------------------------------------------- reading
@@ -353,40 +368,48 @@ def _options(args) -> dict:
 
 
 def triangulate_features(features: Sequence[Feature], options: dict, *, repair: bool = False,
-                         progress: bool | None = None) -> list:
+                         progress: bool | None = None, workers: int | None = None) -> list:
     """Triangulate each feature (a progress bar over many features when ``progress``
-    is True, or None and stderr is a terminal). Errors name the feature."""
-    from . import triangulate
-    items = features
+    is True, or None and stderr is a terminal), on ``workers`` threads (default:
+    every core when there are many features). Errors name the feature."""
+    from .parallel import map_ordered, resolve_workers
+    bar = None
     if len(features) > 1 and progress is not False:
         try:
             from tqdm import tqdm
-            items = tqdm(features, desc="triangulating", unit="feature", disable=progress is None
-                         and not sys.stderr.isatty(), file=sys.stderr)
+            bar = tqdm(total=len(features), desc="triangulating", unit="feature",
+                       disable=progress is None and not sys.stderr.isatty(), file=sys.stderr)
         except ImportError:
             pass
+    try:
+        return map_ordered(lambda feature: _triangulate_feature(feature, features, options, repair),
+                           features, resolve_workers(workers, len(features) // MANY_FEATURES),
+                           done=None if bar is None else lambda *_: bar.update(1))
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def _triangulate_feature(feature: Feature, features: Sequence[Feature], options: dict,
+                         repair: bool):
+    from . import triangulate
     # Geometry goes through the shapely adapter (GEOS validity check, optional
     # repair) unless crossings are to be split: the engine then meshes the rings
     # as they are, by even-odd depth where they cross.
     validate = repair or options.get("intersections") != "split"
-    tris = []
-    for feature in items:
-        try:
-            if feature.geometry is not None and validate:
-                from .adapters.shapely import triangulate as triangulate_geometry
-                tris.append(triangulate_geometry(_shapely_geometry(feature), repair=repair,
-                                                 **options))
-            elif feature.geometry is not None:
-                tris.append(triangulate(feature.geometry, **options))
-            else:
-                tris.append(triangulate(**feature.arrays, **options))
-        except CDTError as exc:
-            message = str(exc).replace(
-                "pass repair=True to repair it with shapely.make_valid",
-                "pass --repair to repair it with shapely.make_valid, or --intersections split "
-                "to mesh its rings as they are")
-            raise CLIError(f"{feature.name}: {message}" if len(features) > 1 else message) from None
-    return tris
+    try:
+        if feature.geometry is not None and validate:
+            from .adapters.shapely import triangulate as triangulate_geometry
+            return triangulate_geometry(_shapely_geometry(feature), repair=repair, **options)
+        if feature.geometry is not None:
+            return triangulate(feature.geometry, **options)
+        return triangulate(**feature.arrays, **options)
+    except CDTError as exc:
+        message = str(exc).replace(
+            "pass repair=True to repair it with shapely.make_valid",
+            "pass --repair to repair it with shapely.make_valid, or --intersections split "
+            "to mesh its rings as they are")
+        raise CLIError(f"{feature.name}: {message}" if len(features) > 1 else message) from None
 
 
 def concatenate(tris: Sequence) -> Any:
@@ -483,21 +506,37 @@ def write_output(path: Path, features: Sequence[Feature], tris: Sequence, combin
             f"{len(combined.triangles):,} triangles, {len(combined.segments):,} segment edges")
 
 
-def write_layer(path: Path, triangles, mesh) -> str:
+def write_layer(path: Path, triangles, mesh, progress=None) -> str:
     """Write a GeoDataFrame of triangles as a GeoPackage (``.gpkg``, with pyogrio) or
     GeoJSON (:func:`cdt_plugin.adapters.geo.write_geojson`); either way the
-    coordinates read back bit for bit. An existing file is replaced. Returns a
+    coordinates read back bit for bit. An existing file is replaced. ``progress``:
+    called with the number of triangles written since the last call. Returns a
     one-line summary."""
     path = Path(path)
     if path.suffix.lower() == ".gpkg":
         if path.exists():
             path.unlink()
-        triangles.to_file(path, driver="GPKG", engine="pyogrio")
+        for i in range(0, max(len(triangles), 1), LAYER_ROWS):      # appended in pieces
+            part = triangles.iloc[i:i + LAYER_ROWS]
+            part.to_file(path, driver="GPKG", engine="pyogrio", mode="a" if i else "w")
+            if progress is not None:
+                progress(len(part))
     else:
         from .adapters.geo import write_geojson
-        write_geojson(triangles, path)
+        write_geojson(triangles, path, progress=progress)
     meshed = int(np.count_nonzero(np.diff(mesh.offsets)))
     return f"wrote {path}: {meshed} feature(s), {len(triangles):,} triangles"
+
+
+def _bar(show: bool | None, desc: str, unit: str, total: int):
+    """A tqdm bar on stderr (``show`` None: when stderr is a terminal), or None."""
+    if show is False or show is None and not sys.stderr.isatty():
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr)
 
 
 # ------------------------------------------------------------ layers (GIS)
@@ -512,9 +551,19 @@ def _mesh_layer(args, output: Path) -> int:
                        "validates polygons (pass --repair to repair invalid ones)")
     if args.plot is not None:
         _check_plot(args.plot)
+    reading = _bar(args.progress, "reading", "file", 1)
     frame = read_layer(Path(args.input), args.layer)
+    if reading is not None:
+        reading.update(1)
+        reading.close()
     mesh = _triangulate_layer(frame, args, _options(args))
-    print(write_layer(output, mesh.to_geodataframe(), mesh))
+    triangles = mesh.to_geodataframe()
+    writing = _bar(args.progress, "writing", "triangle", len(triangles))
+    try:
+        print(write_layer(output, triangles, mesh, None if writing is None else writing.update))
+    finally:
+        if writing is not None:
+            writing.close()
     if args.report or args.plot is not None:
         rep = layer_report(mesh)
         if args.report:
@@ -533,7 +582,7 @@ def _triangulate_layer(frame, args, options: dict):
         warnings.simplefilter("always")
         try:
             mesh = geo.triangulate(frame, output="mesh", project=args.project, repair=args.repair,
-                                   progress=progress, **options)
+                                   progress=progress, workers=args.workers, **options)
         except CDTError as exc:
             raise CLIError(_layer_error(exc, frame)) from None
     for w in caught:
@@ -593,7 +642,8 @@ def _mesh_all(args):
     options = _options(args)
     if args.plot is not None:
         _check_plot(args.plot)
-    tris = triangulate_features(features, options, repair=args.repair, progress=args.progress)
+    tris = triangulate_features(features, options, repair=args.repair, progress=args.progress,
+                                workers=args.workers)
     return features, tris, concatenate(tris)
 
 

@@ -371,6 +371,70 @@ def test_dask_local_cluster_matches_single_machine(countries):
 
 
 @needs_corpus
+@pytest.mark.filterwarnings("ignore::cdt_plugin.adapters.geo.SkippedFeaturesWarning")
+def test_workers_give_the_same_layer(countries):
+    one = geo.triangulate(countries, workers=1, min_angle=20, errors="skip")
+    assert len(one.attrs["cdt_errors"]) > 0       # one feature cannot meet 20 degrees in lon/lat
+    for workers in (2, None):
+        many = geo.triangulate(countries, workers=workers, min_angle=20, errors="skip")
+        assert many.equals(one) and many.attrs == one.attrs
+    with pytest.raises(geo.CDTError, match="workers must be"):
+        geo.triangulate(countries, workers=0)
+
+
+def _reference_geojson(frame) -> dict:
+    """What ``json`` makes of geopandas' own feature dicts (the writer before
+    it formatted column by column), with JSON's null for NaN and infinity."""
+    text = json.dumps(frame.to_geo_dict(na="null", drop_id=True), default=geo._json_value)
+    return json.loads(text, parse_constant=lambda name: None)
+
+
+def test_geojson_writer_matches_json_of_the_feature_dicts(tmp_path):
+    import pandas as pd
+    tri = [(0.0, -0.0), (1 / 3, 0.1 + 0.2), (-1e-300, 7e22), (0.0, -0.0)]
+    tri_z = [(x, y, z) for (x, y), z in zip(tri, (1.5, -0.0, 2e-8, 1.5))]
+    geometries = [shapely.Polygon(tri), shapely.Polygon(tri_z), shapely.box(0, 0, 2, 1), None,
+                  shapely.Polygon(), shapely.MultiPolygon([shapely.box(0, 0, 1, 1)]),
+                  shapely.Polygon(tri), shapely.Point(1, 2),
+                  shapely.Polygon([(0, 0), (4, 0), (0, 4)], [[(1, 1), (1, 2), (2, 1)]])]
+    n = len(geometries)
+    frame = gpd.GeoDataFrame({
+        "int": np.arange(n) - 3,
+        "float": [0.1, np.nan, np.inf, -0.0, 1e300, 2.5, 0.1, -np.inf, 3.0],
+        "text": ["a", None, "ü \"quoted\"", "a", "", "b", "a", "c", "d"],
+        "flag": [True, False] * 4 + [True],
+        "when": pd.to_datetime(["2020-01-02"] * 4 + [None] + ["1999-12-31T23:59:59"] * 4,
+                               format="ISO8601"),
+        "mixed": [1, "one", 1.5, None, [1, 2], {"k": "v"}, 1, (3,), np.int32(4)],
+        "ünï code": np.float32([1.5, np.nan, 2, 3, 4, 5, 6, 7, 8]),
+    }, geometry=geometries, crs="EPSG:3857")
+    path = tmp_path / "layer.geojson"
+    written = []
+    geo.write_geojson(frame, path, progress=written.append)
+    assert sum(written) == n
+    got = json.loads(path.read_text(encoding="utf-8"))
+    assert got["features"] == _reference_geojson(frame)["features"]
+    assert got["crs"] == {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::3857"}}
+    back = gpd.read_file(path)
+    assert back.crs.to_epsg() == 3857
+    assert shapely.equals_exact(back.geometry.values[:3], frame.geometry.values[:3], 0).all()
+    coords = np.array(got["features"][0]["geometry"]["coordinates"][0])
+    assert np.signbit(coords[[0, 3], 1]).all()                        # -0.0 kept, not 0.0
+
+
+@needs_corpus
+def test_geojson_writer_of_a_triangle_layer_reads_back_exactly(tmp_path, countries):
+    tris = geo.triangulate(countries[countries["continent"] == "Europe"], min_angle=25)
+    path = tmp_path / "europe.geojson"
+    geo.write_geojson(tris, path)
+    assert json.loads(path.read_text()) == _reference_geojson(tris)
+    back = gpd.read_file(path)
+    assert back.drop(columns="geometry").values.tolist() == \
+        tris.drop(columns="geometry").values.tolist()
+    assert shapely.equals_exact(back.geometry.values, tris.geometry.values, 0).all()
+
+
+@needs_corpus
 def test_cli_geopackage_to_geopackage(tmp_path, countries):
     layer = countries[countries["name"].isin(CENTRAL_EUROPE)]
     src, out = tmp_path / "europe.gpkg", tmp_path / "triangles.gpkg"

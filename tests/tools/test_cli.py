@@ -93,6 +93,8 @@ def test_mesh_feature_collection_to_geojson_layer_with_progress_bar(tmp_path):
     out = tmp_path / "countries.geojson"
     proc = run("mesh", src, "-o", out, "--progress")
     assert "177/177" in proc.stderr and "meshing" in proc.stderr
+    assert "reading: 100%" in proc.stderr and "writing: 100%" in proc.stderr
+    assert "9791/9791" in proc.stderr
     assert "cdt-plugin: warning: the layer's CRS (WGS 84) is geographic" in proc.stderr
     assert proc.stdout.strip() == f"wrote {out}: 177 feature(s), 9,791 triangles"
     written = gpd.read_file(out)                       # a layer: one Polygon per triangle
@@ -261,6 +263,46 @@ def test_usage_errors_exit_2(capsys):
     assert cli.main(["mesh"]) == 2
     assert "the following arguments are required: INPUT, -o/--output" in capsys.readouterr().err
     assert cli.main(["report", "x.poly", "--intersections", "maybe"]) == 2
+    for bad in ("0", "-2", "two", "1.5"):
+        assert cli.main(["mesh", "x.poly", "-o", "x.ply", "--workers", bad]) == 2
+        assert f"argument --workers: expected a whole number >= 1, got '{bad}'" in \
+            capsys.readouterr().err
+
+
+@needs_corpus
+def test_geopackage_written_in_pieces_reads_back_whole(tmp_path, capsys, monkeypatch):
+    gpd = pytest.importorskip("geopandas")
+    src = CORPUS / "gis" / "naturalearth_lowres.geojson"
+    monkeypatch.setattr(cli, "LAYER_ROWS", 1000)
+    out = tmp_path / "pieces.gpkg"
+    assert cli.main(["mesh", str(src), "-o", str(out), "--progress"]) == 0
+    assert "writing: 100%" in capsys.readouterr().err
+    import shapely
+    from cdt_plugin.adapters import geo
+    back = gpd.read_file(out)
+    with pytest.warns(geo.GeographicCRSWarning):
+        expected = geo.triangulate(gpd.read_file(src))
+    assert len(back) == len(expected) == 9791
+    assert back["position"].tolist() == expected["position"].tolist()
+    assert shapely.equals_exact(back.geometry.values, expected.geometry.values, 0).all()
+
+
+@needs_corpus
+@pytest.mark.parametrize("suffix", [".geojson", ".node"])
+def test_workers_give_the_same_output(tmp_path, capsys, suffix):
+    """A layer (one batch call) and per-feature output (one call per feature), on
+    one thread and on three: the same bytes."""
+    pytest.importorskip("geopandas")
+    src = CORPUS / "gis" / "naturalearth_lowres.geojson"
+    written = []
+    for workers in ("1", "3"):
+        out = tmp_path / f"w{workers}{suffix}"
+        assert cli.main(["mesh", str(src), "-o", str(out), "--workers", workers,
+                         "--no-progress"]) == 0
+        written.append(out.read_bytes() if suffix != ".node" else
+                       out.with_suffix(".ele").read_bytes())
+    assert written[0] == written[1] and len(written[0]) > 100_000
+    assert capsys.readouterr().out.count("9,791 triangles") == 2
 
 
 @needs_corpus
