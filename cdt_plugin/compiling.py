@@ -151,8 +151,12 @@ drop_stale_cache()
 
 # ------------------------------------------------------------ every route, ahead of time
 def _delaunay():
+    import importlib
+
     from . import delaunay
     delaunay(np.random.default_rng(0).uniform(size=(20, 2)))
+    size = importlib.import_module(".delaunay", __package__).PARALLEL_POINTS
+    delaunay(np.random.default_rng(0).uniform(size=(size, 2)), workers=2)    # two threads
 
 
 def _weighted():

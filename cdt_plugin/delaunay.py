@@ -18,19 +18,21 @@ import time
 import numpy as np
 
 from ._core.construct import build, gather_coords, seed_first, seed_triangle, to_input_ids
-from ._core.divide import build_divide_sorted
+from ._core.divide import build_divide_sorted, build_half, join_halves, split_halves
 from ._core.flips import flip_to_delaunay
 from ._core.insertion import redundant_vertices
 from ._core.ordering import brio_order, lexicographic_order
 from ._core.status import OK
 from .errors import CDTError
 from .interrupts import deferred_interrupt
+from .parallel import check_workers, map_ordered, resolve_workers
 from .triangulation import Triangulation
 from .validate import as_points, as_weights, exact_range
 
 ALGORITHMS = ("auto", "divide", "incremental", "flip")
 _NO_IDS = np.empty(0, np.int64)
 MAX_WEIGHTED_PASSES = 50
+PARALLEL_POINTS = 50_000    # from this many points, divide and conquer splits over two threads
 
 
 def _merge_weighted_duplicates(pts, w, dup_of, submerged):
@@ -68,7 +70,8 @@ def resolve_algorithm(algorithm: str, weighted: bool) -> str:
     return algorithm
 
 
-def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) -> Triangulation:
+def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0,
+             workers: int | None = None) -> Triangulation:
     """Delaunay triangulation of a point set (weighted Delaunay with ``weights``).
 
     Parameters
@@ -89,6 +92,11 @@ def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) ->
         give the same triangles; ``stats["algorithm"]`` names the route taken.
     seed : int
         Seed of the random insertion order (the output does not depend on it).
+    workers : int, optional
+        Threads for divide and conquer: from :data:`PARALLEL_POINTS` points,
+        the two halves of the first cut are triangulated on two threads and
+        merged. Default: every available core (two are used today); 1: one
+        thread. The result is the same array for array whatever the number.
 
     Returns
     -------
@@ -107,6 +115,7 @@ def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) ->
     w_in = as_weights(weights, n)
     weighted = w_in is not None
     algorithm = resolve_algorithm(algorithm, weighted)
+    threads = resolve_workers(check_workers(workers), 2)
     sx, sy, sw, _ = exact_range(pts[:, 0], pts[:, 1], w_in)   # exact: a power of two
     x = np.zeros(n + 1)
     y = np.zeros(n + 1)
@@ -136,7 +145,7 @@ def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) ->
     for _ in range(MAX_WEIGHTED_PASSES):
         with deferred_interrupt(n):
             tri, twin, cons, ntri, counts = _build_in_order(x, y, w, weighted, order, algorithm,
-                                                            dup_of, submerged)
+                                                            dup_of, submerged, threads)
         if not weighted:
             break
         xi, yi, wi = (np.append(a[order], 0.0) for a in (x, y, w))
@@ -160,7 +169,7 @@ def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0) ->
     return Triangulation.from_mesh(pts, w_in, tri, twin, cons, ntri, order, dup_of, submerged, stats, t0)
 
 
-def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged):
+def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, threads=1):
     """Triangulate the points ``order`` (seed triangle first) and record
     duplicates and submerged points in ``dup_of`` / ``submerged`` (input ids).
     Returns ``(tri, twin, cons, ntri, counts)`` over the mesh vertices of
@@ -173,8 +182,7 @@ def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged):
     sub = np.zeros(m, np.int8)
     cap = max(4, 2 * m + 2)
     if algorithm == "divide":
-        horizontal = lexicographic_order(yi[:m], -xi[:m])
-        tri, twin, cons, ntri = build_divide_sorted(xi, yi, wi, m, m, dup, cap, False, horizontal)
+        tri, twin, cons, ntri = _build_divide(xi, yi, wi, m, dup, cap, threads)
     else:
         status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, m, np.arange(m),
                                               algorithm == "flip", dup, sub, counts, 0, False)
@@ -184,3 +192,24 @@ def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged):
             counts[0] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, m, ntri)
     to_input_ids(order, dup, sub, dup_of, submerged)
     return tri, twin, cons, ntri, counts
+
+
+def _build_divide(xi, yi, wi, m, dup, cap, threads):
+    """Divide and conquer over the sorted points ``0..m-1``; with two threads
+    and enough points, the halves of the first cut are built side by side
+    (the kernels release the GIL) and joined into the arrays one thread makes."""
+    if threads < 2 or m < PARALLEL_POINTS:
+        horizontal = lexicographic_order(yi[:m], -xi[:m])
+        return build_divide_sorted(xi, yi, wi, m, m, dup, cap, False, horizontal)
+    u, mid = split_halves(xi, yi, m, dup)
+    nu = len(u)
+    ranks = np.empty(nu, np.int64)
+
+    def half(bounds):
+        lo, hi = bounds
+        ids = u[lo:hi]          # ranks in the order of horizontal cuts, within the half
+        ranks[lo + lexicographic_order(yi[ids], -xi[ids])] = np.arange(hi - lo)
+        return build_half(xi, yi, wi, u, ranks, lo, hi, nu if lo == 0 else hi - lo)
+
+    left, right = map_ordered(half, [(0, mid), (mid, nu)], 2)
+    return join_halves(xi, yi, wi, *left, *right, m, cap, False)

@@ -189,20 +189,22 @@ def hull_ends(onext, org, x, y, e, axis):
 
 
 @kernel(_nrt=False)
-def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results):
-    """Delaunay triangulation of the distinct vertices ``u`` (at least two, in
-    lexicographic order, which is also the order of their ids) by divide and
-    conquer with cuts alternately vertical and horizontal (Dwyer's variant, which
-    keeps the subproblems square). ``r[k]`` is the rank of vertex ``u[k]`` in the
-    order of the horizontal cuts, reordered along with ``u``. Returns
-    ``(e, number of quad-edges used)``,
-    ``e`` a counter-clockwise hull edge."""
+def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi, axis):
+    """Delaunay triangulation of the distinct vertices ``u[lo:hi]`` (at least
+    two; ids in lexicographic order of their points) by divide and conquer with
+    cuts alternately vertical and horizontal (Dwyer's variant, which keeps the
+    subproblems square), the first cut along ``axis`` (0: vertical). ``r[k]``
+    ranks vertex ``u[k]`` in the order of the horizontal cuts (only their order
+    within ``lo:hi`` matters), reordered along with ``u``. Quad-edges are taken
+    from 0 up, freed ones recycled through the stack ``free``. Returns ``(e,
+    number of quad-edges taken, number left on the free stack)``, ``e`` the
+    counter-clockwise hull edge out of the leftmost vertex."""
     nfree = np.int64(0)
     top = np.int64(0)
     rp = 0
-    stack[0] = 0
-    stack[1] = u.shape[0]
-    stack[2] = 0
+    stack[0] = lo
+    stack[1] = hi
+    stack[2] = axis
     stack[3] = 0
     sp = 1
     while sp > 0:
@@ -265,7 +267,7 @@ def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results):
             results[2 * rp] = ldo
             results[2 * rp + 1] = rdo
             rp += 1
-    return results[0], top
+    return results[0], top, nfree
 
 
 @kernel(inline='always')
@@ -425,16 +427,86 @@ def build_divide_sorted(x, y, w, m, inf, dup, cap, with_cons, horizontal):
         if dup[k] < 0:
             r[slot[k]] = rank
             rank += 1
-    nquad = 3 * nu + 8
-    onext = np.empty(4 * nquad, IDX)
-    org = np.full(4 * nquad, -1, IDX)
-    free = np.empty(nquad, IDX)
-    depth = 8 + 2 * int(np.log2(nu + 1))
-    stack = np.empty(4 * 3 * depth, np.int64)
-    results = np.empty(2 * depth, np.int64)
-    ldo, used = guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results)
+    onext, org, free, stack, results = quad_store(nu)
+    first = np.int64(0)         # (typed, not literal: see jit.py)
+    ldo, used, _ = guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, first, nu, first)
+    return store_subdivision(onext, org, used, ldo, inf, cap, with_cons)
+
+
+@kernel
+def quad_store(n):
+    """Empty quad-edge arrays for the subdivision of ``n`` points (a free
+    quad-edge has ``org`` -1), and the work stacks of :func:`guibas_stolfi`."""
+    nquad = 3 * n + 8
+    depth = 8 + 2 * int(np.log2(n + 1))
+    return (np.empty(4 * nquad, IDX), np.full(4 * nquad, -1, IDX), np.empty(nquad, IDX),
+            np.empty(4 * 3 * depth, np.int64), np.empty(2 * depth, np.int64))
+
+
+@kernel
+def store_subdivision(onext, org, used, ldo, inf, cap, with_cons):
+    """The subdivision in the half-edge store with room for ``cap`` triangles:
+    ``(tri, twin, cons, ntri)``."""
     tri = np.full(3 * cap, -1, IDX)
     twin = np.full(3 * cap, -1, IDX)
     cons = np.zeros(3 * cap if with_cons else 0, IDX)
     ntri = to_triangles(onext, org, used, ldo, inf, tri, twin, np.full(2 * used, -1, IDX))
     return tri, twin, cons, ntri
+
+
+# ---- the same subdivision from two threads ----------------------------------------
+# The first cut's halves are built apart (build_half) and joined (join_halves) with the
+# quad-edges renumbered as one thread would have numbered them, so the triangles come
+# out in the very same order: any number of threads gives the same arrays.
+
+@kernel
+def split_halves(x, y, m, dup):
+    """Duplicates marked, and the first (vertical) cut of the distinct vertices
+    made as :func:`guibas_stolfi` makes it: ``(u, mid)``, the halves
+    ``u[:mid]`` and ``u[mid:]`` (their ranks are set by the caller)."""
+    u = mark_duplicates(x, y, m, dup)
+    mid = u.shape[0] // 2
+    select(u, np.empty(u.shape[0], np.int64), 0, u.shape[0], mid)
+    return u, mid
+
+
+@kernel
+def build_half(x, y, w, u, r, lo, hi, n):
+    """One half ``u[lo:hi]`` of the first cut, triangulated in its own quad-edge
+    arrays (sized for ``n`` points: the whole set for the left half, whose
+    arrays become the joined subdivision's). Returns ``(onext, org, free, nfree,
+    top, e)`` (see :func:`guibas_stolfi`)."""
+    onext, org, free, stack, results = quad_store(n)
+    e, top, nfree = guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi,
+                                  np.int64(1))
+    return onext, org, free, nfree, top, e
+
+
+@kernel
+def join_halves(x, y, w, onext, org, free, nfree, top, e_left, r_onext, r_org, r_free, r_nfree,
+                r_top, e_right, inf, cap, with_cons):
+    """Move the right half into the left half's arrays, numbered as one thread
+    numbers it (after the left half, one thread's right half takes the left
+    half's freed quad-edges, last freed first, then new ones; its own freed ones
+    stack on top), merge the halves and store the result (see
+    :func:`store_subdivision`)."""
+    taken = min(nfree, r_top)
+    new = np.empty(r_top, np.int64)
+    for i in range(r_top):
+        new[i] = free[nfree - 1 - i] if i < nfree else top + i - nfree
+    for i in range(r_top):
+        q = new[i]
+        for j in range(4):
+            e = r_onext[4 * i + j]
+            onext[4 * q + j] = 4 * new[e >> 2] + (e & 3)
+            org[4 * q + j] = r_org[4 * i + j]
+    nfree -= taken
+    for i in range(r_nfree):
+        free[nfree + i] = new[r_free[i]]
+    nfree += r_nfree
+    top += r_top - taken
+    e_right = 4 * new[e_right >> 2] + (e_right & 3)
+    ldo, ldi = hull_ends(onext, org, x, y, e_left, np.int64(0))
+    rdi, rdo = hull_ends(onext, org, x, y, e_right, np.int64(0))
+    ldo, rdo, nfree, top = merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo)
+    return store_subdivision(onext, org, top, ldo, inf, cap, with_cons)

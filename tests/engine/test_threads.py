@@ -184,3 +184,41 @@ def test_map_ordered_keeps_order_and_stops_on_an_error():
     with pytest.raises(ValueError, match="two"):
         map_ordered(work, range(300), 2)
     assert len(started) < 300          # the pieces not started were cancelled
+
+
+def _point_sets():
+    rng = np.random.default_rng(11)
+    yield rng.random((5000, 2))
+    yield np.array([[i, j] for i in range(30) for j in range(30)], float)          # cocircular
+    grid = np.round(rng.random((3000, 2)) * 20) / 3                                  # duplicates
+    yield np.concatenate([grid, grid[:500]])
+    yield np.column_stack([rng.integers(0, 4, 2000), rng.random(2000)])             # 4 lines
+    yield rng.normal(size=(4000, 2)) * [1e-3, 1e3]                                   # anisotropic
+    for n in (9, 10, 11, 17, 64, 257):
+        yield rng.random((n, 2))
+
+
+def test_delaunay_on_two_threads_gives_the_arrays_of_one(monkeypatch):
+    monkeypatch.setattr(_delaunay_module(), "PARALLEL_POINTS", 8)     # the split path on small sets too
+    for points in _point_sets():
+        one = cdt_plugin.delaunay(points, workers=1)
+        two = cdt_plugin.delaunay(points, workers=2)
+        for name in ("vertices", "triangles", "neighbors", "vertex_map"):
+            assert np.array_equal(getattr(one, name), getattr(two, name)), (len(points), name)
+        assert_valid(two.vertices, two.triangles, domain="hull")
+    with pytest.raises(CDTError, match="workers must be"):
+        cdt_plugin.delaunay(points, workers=0)
+
+
+def test_delaunay_above_the_threshold_on_two_threads():
+    points = np.random.default_rng(5).random((_delaunay_module().PARALLEL_POINTS + 1000, 2))
+    one = cdt_plugin.delaunay(points, workers=1)
+    two = cdt_plugin.delaunay(points)
+    assert np.array_equal(one.triangles, two.triangles)
+    assert np.array_equal(one.neighbors, two.neighbors)
+    assert two.is_delaunay()
+
+
+def _delaunay_module():
+    import importlib
+    return importlib.import_module("cdt_plugin.delaunay")     # (the package exports the function)
