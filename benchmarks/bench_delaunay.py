@@ -14,7 +14,9 @@ Peers, all run in the same worker process, interleaved round-robin:
 * ``pythoncdt`` — artem-ogre/CDT (``pythoncdt.Triangulation``: ``insert_vertices(P)``,
   ``erase_super_triangle()``, ``triangles_array()['vertices']``);
 * ``geos``      — ``shapely.delaunay_triangles(shapely.multipoints(P))`` (GEOS);
-* ``ours``      — ``cdt_plugin.delaunay(P)``.
+* ``ours``      — ``cdt_plugin.delaunay(P, workers=1)``;
+* ``ours_threads`` — ``cdt_plugin.delaunay(P)``: from 50,000 points the halves of
+  the first cut are built on two threads.
 
 Usage (from the repository root)::
 
@@ -127,23 +129,30 @@ def count_geos(result) -> int:
     return int(shapely.get_num_geometries(result))
 
 
-def setup_ours():
-    import cdt_plugin
-    delaunay = getattr(cdt_plugin, "delaunay", None)
-    if delaunay is None:
-        raise ImportError("cdt_plugin.delaunay does not exist yet")
+def setup_ours(workers=None):
+    def setup():
+        from cdt_plugin import delaunay
 
-    def run(P):
-        return delaunay(P)
-    return run
+        def run(P):
+            return delaunay(P, workers=workers)
+        return run
+    return setup
+
+
+def _all_threads() -> str:
+    from cdt_plugin.parallel import available_cores
+    n = min(2, available_cores())      # divide and conquer uses two threads at most today
+    return f"{n} thread{'s' if n > 1 else ''}"
 
 
 IMPLS = [
     Impl("triangle", "Triangle", setup_triangle, lambda r: len(r["triangles"]),
          timed="dict in, dict of arrays out", dist="triangle"),
-    Impl("ours", "cdt_plugin", setup_ours, lambda t: len(t.triangles),
-         timed="delaunay(P), array in, Triangulation out", dist="cdt-plugin",
+    Impl("ours", "cdt_plugin, 1 thread", setup_ours(1), lambda t: len(t.triangles),
+         timed="delaunay(P, workers=1), array in, Triangulation out", dist="cdt-plugin",
          numba_cold_start=True, package="cdt_plugin"),
+    Impl("ours_threads", f"cdt_plugin, {_all_threads()}", setup_ours(None), lambda t: len(t.triangles),
+         timed="delaunay(P) (workers: every core), array in, Triangulation out"),
     Impl("pythoncdt", "CDT (pythoncdt)", setup_pythoncdt, len,
          timed="insert + erase super-triangle + triangle array", dist="pythoncdt"),
     Impl("geos", "GEOS (shapely)", setup_geos, count_geos,

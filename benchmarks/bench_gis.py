@@ -7,12 +7,16 @@ million vertices). Every implementation meshes the same polygons:
 
 * ``cdt_plugin triangulate_batch``: the compiled batch path
   (:func:`cdt_plugin.adapters.shapely.triangulate_batch`, GEOS validity check
-  included), flat arrays out;
+  included), flat arrays out, on 1 thread and on every usable core (``workers=``);
 * ``cdt_plugin geo.triangulate``: the same, to a GeoDataFrame of triangle Polygons
-  carrying the feature's columns;
+  carrying the feature's columns (1 thread, all cores), and to the flat arrays of
+  a ``GeoMesh`` (``output="mesh"``, no polygon per triangle);
 * ``cdt_plugin triangulate_dask``: :func:`cdt_plugin.adapters.geo.triangulate_dask`
-  on a ``dask.distributed.LocalCluster`` with 1 and with 2 worker processes (one
-  thread each; 16 partitions), computed to one GeoDataFrame in the client;
+  with 16 partitions: on Dask's threaded scheduler with 1 and 2 threads, computed
+  to one GeoDataFrame; on a ``dask.distributed.LocalCluster`` with 1 and 2 worker
+  processes (one thread each), the triangles counted on the workers (gathering
+  millions of Polygons into the client pickles each one: about 50 s here, more
+  than the meshing);
 * ``cdt_plugin loop``: a Python loop of :func:`cdt_plugin.adapters.shapely.triangulate`,
   one call per polygon (what the batch path replaces);
 * ``shapely.constrained_delaunay_triangles`` (GEOS), vectorised over the array;
@@ -21,11 +25,12 @@ million vertices). Every implementation meshes the same polygons:
 Each implementation runs once after a warm-up on a small input (numba compiled and
 cached, imports done), in this one process (the dask workers are separate processes
 started before timing). The table gives seconds, polygons per second and the speed-up
-over GEOS measured in the same run.
+over GEOS and the ratio to earcut's time, measured in the same run. A second
+table times the GeoJSON writer against ``json.dump`` of geopandas' feature dicts.
 
 Usage (from the repository root)::
 
-    python benchmarks/bench_gis.py                    # ~3 minutes on 2 cores
+    python benchmarks/bench_gis.py                    # ~6 minutes on 2 cores
     python benchmarks/bench_gis.py --write-readme     # and regenerate the README table
     python benchmarks/bench_gis.py --polygons 20000   # a quicker, smaller run
 """
@@ -40,6 +45,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+from cdt_plugin.parallel import available_cores
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -87,23 +94,34 @@ def run_all(frame, workers: list[int]):
         print(f"{name:45s} {seconds:8.2f} s  {len(geoms) / seconds:10.0f} polygons/s  "
               f"{triangles} triangles", file=sys.stderr)
 
+    cores = available_cores()
     triangulate_batch(small)
-    s, b = timed(lambda: triangulate_batch(geoms))
-    add("cdt_plugin triangulate_batch (arrays)", s, len(b.triangles),
-        f"{b.stats['fallback']} of {len(geoms)} polygons took the general route")
-    del b
+    for threads in sorted({1, cores}):
+        s, b = timed(lambda: triangulate_batch(geoms, workers=threads))
+        add(f"cdt_plugin triangulate_batch (arrays), {_threads(threads)}", s, len(b.triangles),
+            f"{b.stats['fallback']} of {len(geoms)} polygons took the general route"
+            if threads == 1 else "")
+        del b
 
     import warnings
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")       # degree space is fine for a plain CDT
         geo.triangulate(frame.iloc[:50], progress=False)
-        s, out = timed(lambda: geo.triangulate(frame, progress=False))
-    add("cdt_plugin geo.triangulate (GeoDataFrame)", s, len(out))
-    del out
+        for threads in sorted({1, cores}):
+            s, out = timed(lambda: geo.triangulate(frame, progress=False, workers=threads))
+            add(f"cdt_plugin geo.triangulate (GeoDataFrame), {_threads(threads)}", s, len(out))
+            del out
+        s, out = timed(lambda: geo.triangulate(frame, progress=False, output="mesh"))
+        add(f"cdt_plugin geo.triangulate (output='mesh'), {_threads(cores)}", s, len(out))
+        del out
 
     for n in workers:
+        s, count = run_dask_threads(frame, n)
+        add(f"cdt_plugin triangulate_dask, threaded scheduler, {_threads(n)}", s, count)
+    for n in workers:
         s, count = run_dask(frame, n)
-        add(f"cdt_plugin triangulate_dask, {n} worker{'s' if n > 1 else ''}", s, count)
+        add(f"cdt_plugin triangulate_dask, distributed, {n} worker process{'es' if n > 1 else ''} "
+            "(triangles counted on the workers)", s, count)
 
     for p in small:
         triangulate(p)
@@ -123,7 +141,60 @@ def run_all(frame, workers: list[int]):
     return rows
 
 
+def _threads(n: int) -> str:
+    return f"{n} thread{'s' if n > 1 else ''}"
+
+
+def run_dask_threads(frame, n_threads: int):
+    """triangulate_dask on Dask's threaded scheduler (the kernels release the GIL)."""
+    import warnings
+
+    import dask
+    import dask_geopandas
+    from cdt_plugin.adapters import geo
+
+    with warnings.catch_warnings(), dask.config.set(scheduler="threads", num_workers=n_threads):
+        warnings.simplefilter("ignore")
+        ddf = dask_geopandas.from_geopandas(frame, npartitions=16)
+        s, out = timed(lambda: geo.triangulate_dask(ddf).compute())
+    return s, len(out)
+
+
+def geojson_rows(frame, n_polygons: int):
+    """Writing a layer of triangles as GeoJSON: ``geo.write_geojson`` against
+    ``json.dump`` of geopandas' feature dicts (how it wrote before), on the
+    triangles of the first ``n_polygons`` polygons; both read back bit for bit."""
+    import json
+    import tempfile
+    import warnings
+
+    from cdt_plugin.adapters import geo
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tris = geo.triangulate(frame.iloc[:n_polygons], progress=False)
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "t.geojson"
+
+        def plain_json():
+            with open(path, "w", encoding="utf-8") as f:
+                json.dump(tris.to_geo_dict(na="null", drop_id=True), f, default=geo._json_value)
+
+        for name, fn in (("geo.write_geojson", lambda: geo.write_geojson(tris, path)),
+                         ("json.dump(frame.to_geo_dict())", plain_json)):
+            s, _ = timed(fn)
+            rows.append({"name": name, "seconds": s, "triangles": len(tris),
+                         "megabytes": path.stat().st_size / 2**20})
+            print(f"{name:45s} {s:8.2f} s  {len(tris)} triangles", file=sys.stderr)
+    return rows
+
+
 def run_dask(frame, n_workers: int):
+    """triangulate_dask on a LocalCluster of worker processes; the triangles of
+    each partition are counted where they were made (as a pipeline that writes
+    from the workers, ``to_parquet``, would use them): gathering millions of
+    Polygons into the client pickles each one and costs more than the meshing."""
     import warnings
 
     import dask_geopandas
@@ -137,29 +208,39 @@ def run_dask(frame, n_workers: int):
             warm = dask_geopandas.from_geopandas(frame.iloc[:200], npartitions=2 * n_workers)
             geo.triangulate_dask(warm).compute()
             ddf = dask_geopandas.from_geopandas(frame, npartitions=16)
-            s, out = timed(lambda: geo.triangulate_dask(ddf).compute())
-    return s, len(out)
+            s, counts = timed(lambda: geo.triangulate_dask(ddf).map_partitions(len).compute())
+    return s, int(counts.sum())
 
 
-def render(rows, n_polygons: int, n_vertices: int) -> str:
+def render(rows, n_polygons: int, n_vertices: int, writes) -> str:
     import numba
     geos = next(r for r in rows if r["name"].startswith("shapely"))
+    earcut = next(r for r in rows if r["name"].startswith("trimesh earcut"))
     lines = [
         f"GIS batch meshing (`python benchmarks/bench_gis.py --write-readme`; {platform.machine()}, "
-        f"{os.cpu_count()} cores, Python {platform.python_version()}, numba {numba.__version__}): "
-        f"Natural Earth 1:50m countries split into polygons and replicated to {n_polygons:,} "
-        f"polygons ({n_vertices:,} vertices), one timed run each after a warm-up.",
+        f"{os.cpu_count()} cores ({available_cores()} usable), Python "
+        f"{platform.python_version()}, numba {numba.__version__}): Natural Earth 1:50m countries "
+        f"split into polygons and replicated to {n_polygons:,} polygons ({n_vertices:,} "
+        "vertices), one timed run each after a warm-up.",
         "",
-        "| implementation | seconds | polygons / s | vs GEOS | triangles |",
-        "|---|---:|---:|---:|---:|",
+        "| implementation | seconds | polygons / s | vs GEOS | / earcut's time | triangles |",
+        "|---|---:|---:|---:|---:|---:|",
     ]
     for r in rows:
         rate = r["polygons"] / r["seconds"]
         lines.append(f"| {r['name']} | {r['seconds']:.2f} | {rate:,.0f} | "
-                     f"{geos['seconds'] / r['seconds']:.2f}x | {r['triangles']:,} |")
+                     f"{geos['seconds'] / r['seconds']:.2f}x | {r['seconds'] / earcut['seconds']:.2f}x | "
+                     f"{r['triangles']:,} |")
     notes = [r["note"] for r in rows if r["note"]]
     if notes:
         lines += [""] + [f"* {n}." for n in notes]
+    lines += ["", f"Writing a layer of triangles as GeoJSON ({writes[0]['triangles']:,} triangles, "
+              f"{writes[0]['megabytes']:.0f} MB; coordinates read back bit for bit):", "",
+              "| writer | seconds | triangles / s | speed-up |", "|---|---:|---:|---:|"]
+    slow = writes[-1]["seconds"]
+    for w in writes:
+        lines.append(f"| {w['name']} | {w['seconds']:.2f} | {w['triangles'] / w['seconds']:,.0f} | "
+                     f"{slow / w['seconds']:.1f}x |")
     return "\n".join(lines) + "\n"
 
 
@@ -167,6 +248,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--polygons", type=int, default=100_000)
     ap.add_argument("--workers", type=int, nargs="*", default=[1, 2])
+    ap.add_argument("--geojson-polygons", type=int, default=5000,
+                    help="polygons whose triangles the GeoJSON writers write")
     ap.add_argument("--write-readme", action="store_true")
     ap.add_argument("--out", default=str(HERE / "results" / "gis.md"))
     args = ap.parse_args(argv)
@@ -174,7 +257,8 @@ def main(argv=None) -> int:
     frame = polygons(args.polygons)
     n_vertices = int(shapely.get_num_coordinates(frame.geometry.values).sum())
     rows = run_all(frame, args.workers)
-    table = render(rows, len(frame), n_vertices)
+    writes = geojson_rows(frame, args.geojson_polygons)
+    table = render(rows, len(frame), n_vertices, writes)
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(table)
     print(table)
