@@ -47,7 +47,9 @@ class Triangulation:
     constrained : (k, 3) bool
         Whether the edge opposite vertex ``j`` of triangle ``t`` lies on a segment.
     segments : (s, 2) int64
-        Every constrained edge (segment piece) once, as output vertex pairs.
+        Every constrained edge (segment piece) that borders a triangle of
+        ``triangles``, once, as output vertex pairs (pieces inside holes or
+        outside the domain are dropped with their triangles, as in Triangle).
     segment_ids : (s,) int64
         The input segment each piece comes from.
     regions : (k,) int64

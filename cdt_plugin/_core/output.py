@@ -72,8 +72,8 @@ def min_first(a, b, c):
 def cdt_arrays(T, N, cflag, inside, remap):
     """One pass over the real triangles of a constrained triangulation: the
     kept ones (``inside``) in output ids with their neighbours (-1 across the
-    domain boundary) and constrained flags, and every segment piece once with
-    its input segment."""
+    domain boundary) and constrained flags, and once each segment piece that
+    borders a kept triangle, with its input segment."""
     newid = np.full(T.shape[0], -1, np.int64)
     k = 0
     for t in range(T.shape[0]):
@@ -87,8 +87,7 @@ def cdt_arrays(T, N, cflag, inside, remap):
     npieces = 0
     for t in range(T.shape[0]):
         for j in range(3):
-            m = N[t, j]
-            if cflag[t, j] != 0 and (m < 0 or t < m):
+            if is_listed_piece(t, N[t, j], cflag[t, j], inside):
                 npieces += 1
     segments = np.empty((npieces, 2), np.int64)
     segment_ids = np.empty(npieces, np.int64)
@@ -97,8 +96,7 @@ def cdt_arrays(T, N, cflag, inside, remap):
         i = newid[t]
         r = min_first(remap[T[t, 0]], remap[T[t, 1]], remap[T[t, 2]])
         for j in range(3):
-            m = N[t, j]
-            if cflag[t, j] != 0 and (m < 0 or t < m):
+            if is_listed_piece(t, N[t, j], cflag[t, j], inside):
                 segments[p, 0] = remap[T[t, (j + 1) % 3]]
                 segments[p, 1] = remap[T[t, (j + 2) % 3]]
                 segment_ids[p] = cflag[t, j] - 1
@@ -112,6 +110,15 @@ def cdt_arrays(T, N, cflag, inside, remap):
         if i >= 0:
             keep[i] = t
     return triangles, neighbors, constrained, segments, segment_ids, keep
+
+
+@kernel(inline='always')
+def is_listed_piece(t, m, flag, inside):
+    """Whether the constrained edge of triangle ``t`` across from neighbour ``m``
+    is listed as a segment piece: once (from its lower triangle), and only
+    where a kept triangle borders it (as Triangle, which deletes the
+    subsegments that holes eat)."""
+    return flag != 0 and (m < 0 or t < m) and (inside[t] or (m >= 0 and inside[m]))
 
 
 @kernel

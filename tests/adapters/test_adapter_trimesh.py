@@ -12,6 +12,8 @@ import cdt_plugin  # noqa: E402
 import cdt_plugin.adapters.trimesh as ct  # noqa: E402
 from trimesh.path.entities import Arc, Line  # noqa: E402
 
+from checker import assert_valid  # noqa: E402
+
 
 # ---------------------------------------------------------------- polygons
 def _letter_a():
@@ -343,8 +345,11 @@ def test_from_path2d_open_entities_only():
                                vertices=np.array([[0, 0], [2, 0], [2, 2], [0, 2], [1, 3.0]]))
     plc = ct.from_path2d(path)
     assert len(plc.segments) == 3 and (plc.segment_ring < 0).all()
-    tri = cdt_plugin.triangulate(plc)          # free segments keep the convex hull
-    assert len(tri.segments) == 3
+    tri = cdt_plugin.triangulate(plc)          # open lines enclose nothing (even-odd depth)
+    assert len(tri.triangles) == 0 and len(tri.segments) == 0    # no piece borders a triangle
+    tri = cdt_plugin.triangulate(plc, keep_hull=True)
+    assert len(tri.triangles) == 3 and len(tri.segments) == 3
+    assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="hull")
     with pytest.raises(TypeError):
         ct.from_path2d(POLYGONS["letter_a"])
 

@@ -159,6 +159,25 @@ def test_hole_points_follow_triangles_convention():
     assert _area(hull) == pytest.approx(16)
 
 
+def test_segments_list_only_pieces_that_border_a_kept_triangle():
+    """Regression (reliability, domains): with holes= the pieces inside the
+    hole were listed; a segment dangling outside the domain too. As Triangle,
+    which deletes the subsegments a hole eats."""
+    v = SQUARE + HOLE + [[1.5, 2], [2.5, 2], [5, 1], [6, 3]]
+    s = ring(SQUARE) + ring(HOLE, 4) + [[8, 9], [10, 11]]     # one inside the hole, one outside
+    for kwargs in ({"holes": [[2, 2.5]]}, {}):
+        tri = cdt_plugin.triangulate(v, s, **kwargs)
+        verify_cdt(v, s, tri)
+        edges = {frozenset(e) for t in tri.triangles.tolist()
+                 for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
+        assert all(frozenset(p) in edges for p in tri.segments.tolist())
+        assert sorted(set(tri.segment_ids.tolist())) == list(range(8))   # the rings, not 8 or 9
+        assert len(tri.segments) == 8
+    hull = cdt_plugin.triangulate(v, s, keep_hull=True)
+    verify_cdt(v, s, hull, domain="hull")
+    assert sorted(set(hull.segment_ids.tolist())) == list(range(10))
+
+
 def test_regions_paint_their_areas():
     v = SQUARE + [[2, 0], [2, 4]]
     s = ring(SQUARE) + [[4, 5]]

@@ -465,3 +465,21 @@ def test_degenerate_integer_point_sets_triangle_and_hull():
                 if orient2d_exact(P[a], P[b], P[i]) == 0 and (lo <= P[i]).all() and (P[i] <= hi).all():
                     on.add(i)
         assert sorted(hull) == sorted(on)
+
+
+def test_partial_segment_chains_are_checked_for_order_and_overlap():
+    from checker import check_steiner_segments
+    P = np.array([[0, 0], [4, 0.0]])
+    V = np.array([[0, 0], [4, 0], [1, 0], [2, 0], [3, 0], [2, 1.0]])
+    vm = np.array([0, 1])
+    S = [[0, 1]]
+
+    def report(pieces, partial=True):
+        return check_steiner_segments(P, S, V, vm, np.array(pieces), np.zeros(len(pieces), int),
+                                      partial=partial)
+
+    assert report([[0, 2], [3, 4]]).ok                    # a gap where the domain ends
+    assert report([]).ok                                  # wholly outside the domain
+    assert not report([[0, 2], [3, 4]], partial=False).ok  # the full chain is required otherwise
+    assert not report([[0, 3], [2, 4]]).ok                # overlapping pieces
+    assert not report([[0, 5]]).ok                        # off the segment

@@ -788,13 +788,17 @@ def canonical_triangles(points, triangles) -> Set[Tuple[Tuple[float, float], ...
 
 
 def check_steiner_segments(in_points, in_segments, out_points, vertex_map, pieces, piece_ids,
-                           ulps: int = 4) -> CheckReport:
+                           ulps: int = 4, partial: bool = False) -> CheckReport:
     """Refined output against its input PLC: every input segment ``s`` is the chain of the
     pieces with ``piece_ids == s``, from its first to its last endpoint, through vertices
     in strictly increasing order along it; each chain vertex that is an input point lies
     exactly on the segment, and each other (Steiner) vertex lies within ``ulps`` units in
     the last place of the segment's largest coordinate magnitude of the exact segment
-    (the rounding of ``A + t (B - A)``) and strictly between its ends. Exact arithmetic."""
+    (the rounding of ``A + t (B - A)``) and strictly between its ends. Exact arithmetic.
+
+    ``partial``: pieces outside the kept domain are not listed, so a segment's pieces
+    may be any part of its chain: none, or paths along it in order that do not overlap
+    (that the listed ones are all that border the domain is the domain check's job)."""
     rep = CheckReport()
     P = np.asarray(in_points, np.float64)
     V = np.asarray(out_points, np.float64)
@@ -812,6 +816,9 @@ def check_steiner_segments(in_points, in_segments, out_points, vertex_map, piece
         # a repeated segment is merged into its first occurrence
         owner = first.setdefault((min(A, B), max(A, B)), s)
         mine = pieces[piece_ids == owner]
+        if partial:
+            _check_partial_chain(rep, s, int(A), int(B), mine, V, is_input, ulps)
+            continue
         if len(mine) == 0:
             rep.add("segment_missing", f"segment {s} has no pieces in the output")
             continue
@@ -831,27 +838,52 @@ def check_steiner_segments(in_points, in_segments, out_points, vertex_map, piece
         else:
             if len(chain) != len(mine) + 1:
                 rep.add("segment_chain", f"segment {s} has pieces off its path")
-        ax, ay, bx, by = (Fraction(float(c)) for c in (V[A, 0], V[A, 1], V[B, 0], V[B, 1]))
-        dx, dy = bx - ax, by - ay
-        L2 = dx * dx + dy * dy
-        scale = max(abs(float(c)) for c in (V[A, 0], V[A, 1], V[B, 0], V[B, 1]))
-        tol = Fraction(ulps) * Fraction(float(np.spacing(scale if scale > 0 else 1.0)))
+        place = _along(rep, s, int(A), int(B), V, is_input, ulps)
         last = Fraction(0)
         for v in chain[1:-1]:
-            px, py = Fraction(float(V[v, 0])) - ax, Fraction(float(V[v, 1])) - ay
-            cross = dx * py - dy * px
-            t = (dx * px + dy * py) / L2
-            if is_input[v]:
-                if cross != 0:
-                    rep.add("off_segment", f"input vertex {v} on segment {s} is not exactly on it")
-            elif cross * cross > tol * tol * L2:
-                rep.add("off_segment", f"Steiner vertex {v} {_fmt_pt(V, v)} lies "
-                                       f"{float(abs(cross)) / float(L2) ** 0.5:.3g} off segment {s}, "
-                                       f"more than {ulps} ulps")
+            t = place(v)
             if not last < t < 1:
                 rep.add("segment_order", f"vertex {v} is out of order along segment {s}")
             last = t
     return rep.finish()
+
+
+def _along(rep, s, A, B, V, is_input, ulps):
+    """``place(v)``: the exact parameter of vertex ``v`` along segment ``s`` (A -> B), after
+    checking that it lies on the segment (exactly for an input point, within ``ulps``
+    for a Steiner point)."""
+    ax, ay, bx, by = (Fraction(float(c)) for c in (V[A, 0], V[A, 1], V[B, 0], V[B, 1]))
+    dx, dy = bx - ax, by - ay
+    L2 = dx * dx + dy * dy
+    scale = max(abs(float(c)) for c in (V[A, 0], V[A, 1], V[B, 0], V[B, 1]))
+    tol = Fraction(ulps) * Fraction(float(np.spacing(scale if scale > 0 else 1.0)))
+
+    def place(v):
+        if v in (A, B):
+            return Fraction(0 if v == A else 1)
+        px, py = Fraction(float(V[v, 0])) - ax, Fraction(float(V[v, 1])) - ay
+        cross = dx * py - dy * px
+        if is_input[v]:
+            if cross != 0:
+                rep.add("off_segment", f"input vertex {v} on segment {s} is not exactly on it")
+        elif cross * cross > tol * tol * L2:
+            rep.add("off_segment", f"Steiner vertex {v} {_fmt_pt(V, v)} lies "
+                                   f"{float(abs(cross)) / float(L2) ** 0.5:.3g} off segment {s}, "
+                                   f"more than {ulps} ulps")
+        return (dx * px + dy * py) / L2
+    return place
+
+
+def _check_partial_chain(rep, s, A, B, mine, V, is_input, ulps):
+    """The listed pieces of segment ``s`` lie on it, in order, without overlapping."""
+    place = _along(rep, s, A, B, V, is_input, ulps)
+    spans = sorted(sorted((place(int(u)), place(int(v)))) for u, v in mine.tolist())
+    end = Fraction(0)
+    for lo, hi in spans:
+        if not (0 <= lo < hi <= 1) or lo < end:
+            rep.add("segment_order", f"the pieces of segment {s} overlap or leave it")
+            return
+        end = hi
 
 
 def check_empty_circumcircles(points, triangles) -> CheckReport:
