@@ -3,7 +3,8 @@
 :func:`triangulate` validates every option, reads the input into a
 :class:`PLC`, makes one call of the compiled route
 (:func:`cdt_plugin._core.pipeline.cdt_route`: Delaunay triangulation, segment
-insertion, domain classification, optional refinement, output arrays) and
+insertion, domain classification, optional refinement, output arrays; through
+``cdt_route_packed``, which hands its integer outputs back in one array) and
 wraps the result, or raises the precise error for the route's stop.
 """
 from __future__ import annotations
@@ -18,7 +19,8 @@ from ._core.ordering import SMALL_SORT, brio_order, lexicographic_order
 from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUPLICATES, K_FLIPS,
                              K_FROZEN, K_INTERSECTIONS, K_MERGED_OVERLAPS, K_ON_SEGMENTS,
                              K_REF_COMPLETE, K_REF_FLIPS, K_REF_LIMIT, K_REF_SPLITS, K_REF_STEINER,
-                             K_ZERO_SEGMENTS, cdt_route, refinement_arg)
+                             K_ZERO_SEGMENTS, PACK_ARRAYS, PACK_HEADER, cdt_route_packed,
+                             refinement_arg)
 from ._core.segments import intersection_point
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
                            ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT,
@@ -189,18 +191,19 @@ def triangulate_plc(plc: PLC, *, keep_hull=False, split=False, algorithm="divide
     holes = plc.holes if plc.holes is not None and len(plc.holes) else _NO_SEEDS
     regions = plc.regions if plc.regions is not None and len(plc.regions) else _NO_REGIONS
     with deferred_interrupt(n):
-        status, info, counts, out = cdt_route(
+        status, ints, vertices = cdt_route_packed(
             x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
             plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
             holes, regions, use_seeds, ALGORITHM_CODES[algorithm], order, horizontal, split,
             bool(keep_hull), max_steiner, refinement_arg(refinement))
+    info, counts = ints[PACK_HEADER:PACK_HEADER + 4], ints[PACK_HEADER + 4:PACK_ARRAYS]
     if status == ROUTE_COLLINEAR:
         return _collinear_result(plc, algorithm, t0)
     if status not in (ROUTE_OK, ROUTE_REFINE_LIMIT):
         _raise_stop(status, info, plc)
     seconds = time.perf_counter() - t0
-    tri = Triangulation.from_route(out, plc, functools.partial(_stats, plc, algorithm, counts, out,
-                                                               refinement, seconds))
+    tri = Triangulation.from_route(ints, vertices, plc, functools.partial(
+        _stats, plc, algorithm, counts, refinement, seconds))
     if status == ROUTE_REFINE_LIMIT:
         raise RefinementLimitError(
             f"refinement stopped at max_steiner={int(counts[K_REF_LIMIT])} Steiner points with "
@@ -209,9 +212,9 @@ def triangulate_plc(plc: PLC, *, keep_hull=False, split=False, algorithm="divide
     return tri
 
 
-def _stats(plc, algorithm, counts, out, refinement, seconds) -> dict:
-    """The route's counts by name."""
-    vertex_map = out[7]
+def _stats(plc, algorithm, counts, refinement, seconds, tri) -> dict:
+    """The route's counts by name (``tri``: its result)."""
+    vertex_map = tri.vertex_map
     segs = plc.segments
     zero = []
     if counts[K_ZERO_SEGMENTS]:
@@ -221,8 +224,8 @@ def _stats(plc, algorithm, counts, out, refinement, seconds) -> dict:
              "vertices_on_segments": int(counts[K_ON_SEGMENTS]),
              "merged_overlaps": int(counts[K_MERGED_OVERLAPS]),
              "intersection_points": int(counts[K_INTERSECTIONS]), "flips": int(counts[K_FLIPS]),
-             "duplicates": int(counts[K_DUPLICATES]), "submerged": 0, "vertices": len(out[0]),
-             "triangles": len(out[1]), "steiner": len(out[0]) - len(out[8]), "seconds": seconds}
+             "duplicates": int(counts[K_DUPLICATES]), "submerged": 0, "vertices": len(tri.vertices),
+             "triangles": len(tri.triangles), "steiner": len(tri.steiner), "seconds": seconds}
     if refinement is not None:
         stats.update(refinement_steiner=int(counts[K_REF_STEINER]),
                      refinement_segment_splits=int(counts[K_REF_SPLITS]),
@@ -231,7 +234,7 @@ def _stats(plc, algorithm, counts, out, refinement, seconds) -> dict:
                      refinement_attempts=int(counts[K_ATTEMPTS]),
                      refinement_deferred=int(counts[K_DEFERRED]),
                      refinement_complete=bool(counts[K_REF_COMPLETE]),
-                     below_min_angle=len(out[9]))
+                     below_min_angle=len(tri.below_min_angle))
     return stats
 
 

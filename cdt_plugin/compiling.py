@@ -27,6 +27,7 @@ logger = logging.getLogger("cdt_plugin")
 # what is compiling, for the message: the routes' entry points, else the module
 _ENTRY_NAMES = {
     "cdt_route": "the constrained Delaunay route (triangulate)",
+    "cdt_route_packed": "the constrained Delaunay route (triangulate)",
     "mesh_geometries": "the batch route (triangulate_rings)",
     "build_mesh": "the Delaunay route (delaunay)",
 }

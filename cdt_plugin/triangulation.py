@@ -10,6 +10,7 @@ from ._core.certify import edge_lifted_values, submerged_ok
 from ._core.flips import flip_to_delaunay
 from ._core.mesh import DEAD
 from ._core.output import first_defect, rotate_min_first, solid_triangles
+from ._core.pipeline import PACK_ARRAYS, PACK_HEADER
 from ._core.predicates import incircle_weighted, orient2d
 from .errors import CDTError, InvertedTriangleError
 from .validate import as_points, exact_range
@@ -23,6 +24,9 @@ def _frozen_empty(shape):
 
 _NO_SEGMENTS = _frozen_empty((0, 2))   # shared defaults: empty and read-only
 _NO_IDS = _frozen_empty(0)
+# the attributes of a route's result that are made on first access (Triangulation.from_route)
+_LAZY_ATTRIBUTES = frozenset({"neighbors", "vertex_map", "constrained", "regions", "segments",
+                              "segment_ids", "steiner", "below_min_angle", "region_attributes"})
 
 
 class Triangulation:
@@ -130,21 +134,35 @@ class Triangulation:
                    edges=edges.reshape(-1, 2))
 
     @classmethod
-    def from_route(cls, out, plc, stats):
-        """Wrap the output arrays of the compiled CDT route (input vertices,
-        distinct and in input order, then the Steiner vertices); ``stats`` may
-        be a function that makes the dict on first access."""
-        (vertices, triangles, neighbors, constrained, segments, segment_ids, regions, vertex_map,
-         kept, below) = out
-        attributes = None
-        if plc.regions is not None:
-            attributes = np.full(len(triangles), np.nan)
-            painted = regions >= 0
-            attributes[painted] = plc.regions[regions[painted], 2]
-        return cls(vertices, triangles, neighbors, vertex_map, stats, constrained=constrained,
-                   regions=regions, segments=segments, segment_ids=segment_ids,
-                   steiner=np.arange(len(kept), len(vertices)), below_min_angle=below,
-                   region_attributes=attributes)
+    def from_route(cls, ints, vertices, plc, stats):
+        """Wrap the output of the compiled CDT route (``ints``: its integer
+        arrays in one, see :func:`cdt_plugin.cdt.unpack_route`; input vertices,
+        distinct and in input order, then the Steiner vertices). ``triangles``
+        is a view made now; the other arrays (``neighbors``, ``constrained``,
+        ``segments``...) on first access, all at once: a small call costs a
+        few microseconds, and most callers use the triangles only. ``stats``
+        may be a function of the result that makes the dict on first access."""
+        tri = cls.__new__(cls)
+        k = int(ints[0])
+        start = PACK_ARRAYS
+        tri.vertices = vertices
+        tri.triangles = ints[start:start + 3 * k].reshape(k, 3)
+        tri.weights = None
+        tri._stats = functools.partial(stats, tri) if callable(stats) else stats
+        tri._edges = None
+        tri._mesh = None
+        tri._lazy = functools.partial(_route_attributes, ints, vertices, plc)
+        return tri
+
+    def __getattr__(self, name):
+        # only called when ``name`` is not set: the route's arrays made on first access
+        lazy = self.__dict__.get("_lazy")
+        if lazy is None or name not in _LAZY_ATTRIBUTES:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        del self.__dict__["_lazy"]
+        for key, value in lazy().items():
+            self.__dict__.setdefault(key, value)      # (keep what was assigned meanwhile)
+        return self.__dict__[name]
 
     @property
     def stats(self) -> dict:
@@ -388,3 +406,41 @@ def _lower_chain(pts, w, line, submerged):
             keep.pop()
         keep.append(i)
     return np.asarray(keep, np.int64)
+
+
+def unpack_route(ints, vertices):
+    """``(info, counts, out)`` of ``cdt_route`` from the one integer array
+    of ``cdt_route_packed`` (views of it, in its order; plain slicing, a
+    small call's budget being a few microseconds)."""
+    k, s, n, nk, nb = ints[:PACK_HEADER].tolist()
+    p = PACK_ARRAYS
+    per_triangle = ints[p:p + 9 * k].reshape(3, k, 3)     # triangles, neighbours, constrained
+    p += 9 * k
+    segments = ints[p:p + 2 * s].reshape(s, 2)
+    p += 2 * s
+    segment_ids = ints[p:p + s]
+    p += s
+    regions = ints[p:p + k]
+    p += k
+    vertex_map = ints[p:p + n]
+    p += n
+    kept = ints[p:p + nk]
+    below = ints[p + nk:p + nk + nb]
+    return (ints[PACK_HEADER:PACK_HEADER + 4], ints[PACK_HEADER + 4:PACK_ARRAYS],
+            (vertices, per_triangle[0], per_triangle[1], per_triangle[2] != 0, segments,
+             segment_ids, regions, vertex_map, kept, below))
+
+
+def _route_attributes(ints, vertices, plc) -> dict:
+    """The arrays of a route's result other than its vertices and triangles."""
+    _, _, (_, _, neighbors, constrained, segments, segment_ids, regions, vertex_map, kept,
+           below) = unpack_route(ints, vertices)
+    attributes = None
+    if plc.regions is not None:
+        attributes = np.full(len(regions), np.nan)
+        painted = regions >= 0
+        attributes[painted] = plc.regions[regions[painted], 2]
+    return {"neighbors": neighbors, "vertex_map": vertex_map, "constrained": constrained,
+            "regions": regions, "segments": segments, "segment_ids": segment_ids,
+            "steiner": np.arange(len(kept), len(vertices)), "below_min_angle": below,
+            "region_attributes": attributes}

@@ -536,6 +536,61 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
                                         piece_ids, out_regions, vertex_map, kept, below)
 
 
+# ------------------------------------------------------------------ one call from Python
+PACK_HEADER = 5       # triangles, segment pieces, input points, kept points, below-bound triangles
+PACK_ARRAYS = PACK_HEADER + 4 + NCOUNTS      # then info and counts, then the arrays
+
+
+@kernel
+def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
+                     algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, refinement):
+    """:func:`cdt_route` for a call from Python: ``(status, ints, vertices)``,
+    every integer output in the one array ``ints`` (``triangulation.unpack_route``).
+    numba hands each returned array to Python on its own, about a microsecond
+    apiece: for a small polygon the twelve arrays of :func:`cdt_route` were a
+    quarter of the call."""
+    status, info, counts, out = cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole,
+                                          holes, regions, use_seeds, algorithm, order_in,
+                                          horizontal_in, split, keep_hull, max_steiner, refinement)
+    vertices, triangles, neighbors, constrained, pieces, piece_ids, out_regions, vertex_map, kept, \
+        below = out
+    k = triangles.shape[0]
+    s = pieces.shape[0]
+    ints = np.empty(PACK_HEADER + info.shape[0] + counts.shape[0] + 10 * k + 3 * s
+                    + vertex_map.shape[0] + kept.shape[0] + below.shape[0], np.int64)
+    ints[0] = k
+    ints[1] = s
+    ints[2] = vertex_map.shape[0]
+    ints[3] = kept.shape[0]
+    ints[4] = below.shape[0]
+    p = put(ints, np.int64(PACK_HEADER), info)
+    p = put(ints, p, counts)
+    for t in range(k):
+        for j in range(3):
+            ints[p + 3 * t + j] = triangles[t, j]
+            ints[p + 3 * (k + t) + j] = neighbors[t, j]
+            ints[p + 3 * (2 * k + t) + j] = constrained[t, j]
+    p += 9 * k
+    for i in range(s):
+        ints[p + 2 * i] = pieces[i, 0]
+        ints[p + 2 * i + 1] = pieces[i, 1]
+    p += 2 * s
+    p = put(ints, p, piece_ids)
+    p = put(ints, p, out_regions)
+    p = put(ints, p, vertex_map)
+    p = put(ints, p, kept)
+    put(ints, p, below)
+    return status, ints, vertices
+
+
+@kernel(inline='always')
+def put(dst, p, src):
+    """Copy ``src`` (1-D) into ``dst`` from slot ``p``; returns the slot after it."""
+    for i in range(src.shape[0]):
+        dst[p + i] = src[i]
+    return p + src.shape[0]
+
+
 # ------------------------------------------------------------------ many geometries
 @kernel
 def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1,
