@@ -484,3 +484,29 @@ def test_fuzz_segment_soups_on_a_small_grid_split(data):
         return
     verify_cdt(pts, segs, tri, domain="hull", split=True)
     check_vertices_split_segments(pts, segs, tri)
+
+
+def test_route_arrays_made_on_first_access_are_those_of_the_route():
+    """The route hands its integer outputs back in one array; the result makes
+    everything but the triangles on first access (per-call cost, issue #15)."""
+    import copy
+    import pickle
+    v = SQUARE + HOLE
+    s = ring(SQUARE) + ring(HOLE, 4)
+    tri = cdt_plugin.triangulate(v, s)
+    assert "_lazy" in tri.__dict__ and "neighbors" not in tri.__dict__
+    clone = pickle.loads(pickle.dumps(tri))
+    deep = copy.deepcopy(tri)
+    verify_cdt(v, s, tri)                         # reads segments, neighbours via is_delaunay
+    assert "_lazy" not in tri.__dict__
+    for other in (clone, deep):
+        for name in ("triangles", "neighbors", "constrained", "segments", "segment_ids", "regions",
+                     "vertex_map", "steiner", "below_min_angle"):
+            assert np.array_equal(getattr(other, name), getattr(tri, name)), name
+    assert tri.constrained.dtype == bool and tri.neighbors.shape == tri.triangles.shape
+    assert tri.stats["triangles"] == 8 and tri.stats["vertices"] == 8
+    fresh = cdt_plugin.triangulate(v, s)
+    fresh.segments = np.empty((0, 2), np.int64)     # an assignment before first access is kept
+    assert len(fresh.segments) == 0 and len(fresh.segment_ids) == 8
+    with pytest.raises(AttributeError, match="no attribute 'colour'"):
+        fresh.colour
