@@ -373,14 +373,7 @@ def triangulate_features(features: Sequence[Feature], options: dict, *, repair: 
     is True, or None and stderr is a terminal), on ``workers`` threads (default:
     every core when there are many features). Errors name the feature."""
     from .parallel import map_ordered, resolve_workers
-    bar = None
-    if len(features) > 1 and progress is not False:
-        try:
-            from tqdm import tqdm
-            bar = tqdm(total=len(features), desc="triangulating", unit="feature",
-                       disable=progress is None and not sys.stderr.isatty(), file=sys.stderr)
-        except ImportError:
-            pass
+    bar = _bar(progress, "triangulating", "feature", len(features)) if len(features) > 1 else None
     try:
         return map_ordered(lambda feature: _triangulate_feature(feature, features, options, repair),
                            features, resolve_workers(workers, len(features) // MANY_FEATURES),

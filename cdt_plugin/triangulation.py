@@ -136,7 +136,7 @@ class Triangulation:
     @classmethod
     def from_route(cls, ints, vertices, plc, stats):
         """Wrap the output of the compiled CDT route (``ints``: its integer
-        arrays in one, see :func:`cdt_plugin.cdt.unpack_route`; input vertices,
+        arrays in one, see ``pipeline.cdt_route_packed``; input vertices,
         distinct and in input order, then the Steiner vertices). ``triangles``
         is a view made now; the other arrays (``neighbors``, ``constrained``,
         ``segments``...) on first access, all at once: a small call costs a
@@ -144,9 +144,8 @@ class Triangulation:
         may be a function of the result that makes the dict on first access."""
         tri = cls.__new__(cls)
         k = int(ints[0])
-        start = PACK_ARRAYS
         tri.vertices = vertices
-        tri.triangles = ints[start:start + 3 * k].reshape(k, 3)
+        tri.triangles = ints[PACK_ARRAYS:PACK_ARRAYS + 3 * k].reshape(k, 3)
         tri.weights = None
         tri._stats = functools.partial(stats, tri) if callable(stats) else stats
         tri._edges = None
@@ -408,14 +407,14 @@ def _lower_chain(pts, w, line, submerged):
     return np.asarray(keep, np.int64)
 
 
-def unpack_route(ints, vertices):
-    """``(info, counts, out)`` of ``cdt_route`` from the one integer array
-    of ``cdt_route_packed`` (views of it, in its order; plain slicing, a
-    small call's budget being a few microseconds)."""
+def _route_attributes(ints, vertices, plc) -> dict:
+    """The arrays of a route's result other than its vertices and triangles:
+    views of ``ints``, laid out by ``pipeline.cdt_route_packed`` (plain
+    slicing: a small call's budget is a few microseconds)."""
     k, s, n, nk, nb = ints[:PACK_HEADER].tolist()
-    p = PACK_ARRAYS
-    per_triangle = ints[p:p + 9 * k].reshape(3, k, 3)     # triangles, neighbours, constrained
-    p += 9 * k
+    p = PACK_ARRAYS + 3 * k                     # after the triangles
+    per_triangle = ints[p:p + 6 * k].reshape(2, k, 3)     # neighbours, constrained flags
+    p += 6 * k
     segments = ints[p:p + 2 * s].reshape(s, 2)
     p += 2 * s
     segment_ids = ints[p:p + s]
@@ -424,23 +423,13 @@ def unpack_route(ints, vertices):
     p += k
     vertex_map = ints[p:p + n]
     p += n
-    kept = ints[p:p + nk]
     below = ints[p + nk:p + nk + nb]
-    return (ints[PACK_HEADER:PACK_HEADER + 4], ints[PACK_HEADER + 4:PACK_ARRAYS],
-            (vertices, per_triangle[0], per_triangle[1], per_triangle[2] != 0, segments,
-             segment_ids, regions, vertex_map, kept, below))
-
-
-def _route_attributes(ints, vertices, plc) -> dict:
-    """The arrays of a route's result other than its vertices and triangles."""
-    _, _, (_, _, neighbors, constrained, segments, segment_ids, regions, vertex_map, kept,
-           below) = unpack_route(ints, vertices)
     attributes = None
     if plc.regions is not None:
-        attributes = np.full(len(regions), np.nan)
+        attributes = np.full(k, np.nan)
         painted = regions >= 0
         attributes[painted] = plc.regions[regions[painted], 2]
-    return {"neighbors": neighbors, "vertex_map": vertex_map, "constrained": constrained,
-            "regions": regions, "segments": segments, "segment_ids": segment_ids,
-            "steiner": np.arange(len(kept), len(vertices)), "below_min_angle": below,
-            "region_attributes": attributes}
+    return {"neighbors": per_triangle[0], "vertex_map": vertex_map,
+            "constrained": per_triangle[1] != 0, "regions": regions, "segments": segments,
+            "segment_ids": segment_ids, "steiner": np.arange(nk, len(vertices)),
+            "below_min_angle": below, "region_attributes": attributes}

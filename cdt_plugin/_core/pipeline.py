@@ -545,7 +545,7 @@ PACK_ARRAYS = PACK_HEADER + 4 + NCOUNTS      # then info and counts, then the ar
 def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
                      algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, refinement):
     """:func:`cdt_route` for a call from Python: ``(status, ints, vertices)``,
-    every integer output in the one array ``ints`` (``triangulation.unpack_route``).
+    every integer output in the one array ``ints`` (read by ``Triangulation.from_route``).
     numba hands each returned array to Python on its own, about a microsecond
     apiece: for a small polygon the twelve arrays of :func:`cdt_route` were a
     quarter of the call."""
