@@ -116,6 +116,19 @@ def bench():
     assert shapely.get_num_geometries(shapely.delaunay_triangles(shapely.multipoints(square))) == 2
 
 
+def docs():
+    # the documentation site, as CI builds it: warnings (griffe's docstring checks, broken
+    # links and cross-references) are errors; built into a temporary folder, from the repo
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    with tempfile.TemporaryDirectory() as site:
+        subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", site],
+                       cwd=repo, check=True)
+        with open(os.path.join(site, "api", "adapters.shapely", "index.html"), encoding="utf-8") as f:
+            page = f.read()
+        assert 'id="cdt_plugin.adapters.shapely.triangulate"' in page   # adapters/ documented as installed
+        assert os.path.exists(os.path.join(site, "quickstart", "index.html"))
+
+
 def test():
     import hypothesis  # noqa: F401
     import pytest  # noqa: F401
@@ -124,7 +137,7 @@ def test():
 
 
 CHECKS = {"core": core, "shapely": shapely_, "trimesh": trimesh_, "open3d": open3d_, "gis": gis,
-          "dask": dask, "plot": plot, "cli": cli, "bench": bench, "test": test,
+          "dask": dask, "plot": plot, "cli": cli, "bench": bench, "test": test, "docs": docs,
           "all": lambda: [c() for c in (shapely_, trimesh_, gis, dask, plot, cli)]}
 
 if __name__ == "__main__":
