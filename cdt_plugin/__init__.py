@@ -1,4 +1,10 @@
-"""cdt_plugin: constrained Delaunay triangulation and edge flips for NumPy arrays."""
+"""cdt_plugin: constrained Delaunay triangulation and edge flips for NumPy arrays.
+
+>>> import cdt_plugin
+>>> tri = cdt_plugin.triangulate([[0, 0], [2, 0], [2, 1], [0, 1]], [[0, 1], [1, 2], [2, 3], [3, 0]])
+>>> tri.triangles.shape, tri.is_delaunay()
+((2, 3), True)
+"""
 from importlib.metadata import PackageNotFoundError, version as _version
 
 from . import compiling  # noqa: F401  (first: it says when numba compiles a route)

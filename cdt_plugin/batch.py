@@ -13,13 +13,15 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import Any, Callable, SupportsIndex
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._core.construct import ALGORITHM_CODES
 from ._core.pipeline import mesh_geometries, refinement_arg
 from ._core.rings import polygon_rings
-from .cdt import check_options, triangulate_plc
+from .cdt import RouteOptions, check_options, triangulate_plc
 from .errors import CDTError
 from .interrupts import deferred_interrupt
 from .lift import lift_z
@@ -64,19 +66,19 @@ class MeshBatch:
         meshed one by one), ``seconds``.
     """
 
-    vertices: np.ndarray
-    z: np.ndarray | None
-    triangles: np.ndarray
-    geometry: np.ndarray
-    region: np.ndarray
-    offsets: np.ndarray
-    errors: dict = field(default_factory=dict)
-    stats: dict = field(default_factory=dict)
+    vertices: NDArray[np.float64]
+    z: NDArray[np.float64] | None
+    triangles: NDArray[np.int64]
+    geometry: NDArray[np.int64]
+    region: NDArray[np.int64]
+    offsets: NDArray[np.int64]
+    errors: dict[int, CDTError] = field(default_factory=dict)
+    stats: dict[str, Any] = field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(self.offsets) - 1
 
-    def mesh(self, i: int):
+    def mesh(self, i: int) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
         """Geometry ``i`` alone: ``(vertices, triangles)`` with only the
         vertices its triangles use (``vertices`` is (m, 3) when there is Z)."""
         T = self.triangles[self.offsets[i]:self.offsets[i + 1]]
@@ -87,7 +89,9 @@ class MeshBatch:
         return V, local.reshape(-1, 3)
 
 
-def geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, z, g) -> PLC:
+def geometry_plc(xy: NDArray[np.float64], ring_start: NDArray[np.int64],
+                 geom_ring_start: NDArray[np.int64], ring_polygon: NDArray[np.int64],
+                 ring_is_hole: NDArray[np.bool_], z: NDArray[np.float64] | None, g: int) -> PLC:
     """The PLC of geometry ``g`` of flat ring arrays (its rings' edges are the
     segments; a degenerate ring is named in ``degenerate_rings``, as a geometry's is)."""
     r0, r1 = geom_ring_start[g], geom_ring_start[g + 1]
@@ -104,7 +108,8 @@ def geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, z,
                degenerate_rings=named)
 
 
-def check_batch_options(*, errors: str = "raise", workers=None, **options):
+def check_batch_options(*, errors: str = "raise", workers: SupportsIndex | None = None,
+                        **options: Any) -> tuple[RouteOptions, dict[str, Any], int | None]:
     """Validate the options of a batch call before any work starts. Returns
     ``(route, seeds, workers)``: the route options as :func:`check_options`
     gives them, the seed options (applied geometry by geometry) and the
@@ -119,9 +124,10 @@ def check_batch_options(*, errors: str = "raise", workers=None, **options):
     return route, seeds, check_workers(workers)
 
 
-def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole, *, z=None,
-                      errors: str = "raise", progress=None, workers: int | None = None,
-                      **options) -> MeshBatch:
+def triangulate_rings(xy: ArrayLike, ring_start: ArrayLike, geom_ring_start: ArrayLike,
+                      ring_polygon: ArrayLike, ring_is_hole: ArrayLike, *, z: ArrayLike | None = None,
+                      errors: str = "raise", progress: Callable[[int], object] | None = None,
+                      workers: int | None = None, **options: Any) -> MeshBatch:
     """Constrained Delaunay triangulation of many geometries given as rings.
 
     Parameters
@@ -171,6 +177,7 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     ng = len(geom_ring_start) - 1
     ring_polygon = np.asarray(ring_polygon, np.int64)
     ring_is_hole = np.asarray(ring_is_hole, np.bool_)
+    z = None if z is None else np.asarray(z, np.float64)
     parts = []          # (geometry, triangles (batch ids), region)
     steiner_xy, steiner_z = [], []
     nsteiner = 0
@@ -196,7 +203,7 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
 
         threads = resolve_workers(workers, ng // MIN_CHUNK)
         chunks = geometry_chunks(ng, threads)
-        todo = []
+        todo: list[int] = []
         for (g0, _), (T, G, R, S, failed) in zip(chunks, map_ordered(mesh_chunk, chunks, threads,
                                                                     report)):
             if len(S):
@@ -206,7 +213,7 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
             parts.append((G, T, R))
             todo.extend((g0 + np.flatnonzero(failed)).tolist())
     else:
-        todo = range(ng)
+        todo = list(range(ng))
     failed = {}
     for g in todo:
         if geom_ring_start[g] == geom_ring_start[g + 1]:     # empty geometry: no triangles
@@ -232,7 +239,7 @@ def triangulate_rings(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hol
         st = np.asarray(tri.steiner, np.int64)
         if len(st):
             steiner_xy.append(tri.vertices[st])
-            if z is not None:
+            if plc.z is not None:          # (the geometry's part of z)
                 steiner_z.append(lift_z(tri, plc.z, plc.segments)[st])
             nsteiner += len(st)
         parts.append((np.full(len(tri.triangles), g, np.int64), glob[tri.triangles],

@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import functools
 import time
+from typing import Optional, Tuple, TypedDict
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._core.construct import ALGORITHM_CODES
 from ._core.ordering import SMALL_SORT, brio_order, lexicographic_order
@@ -29,7 +31,7 @@ from .delaunay import resolve_algorithm
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError)
 from .interrupts import deferred_interrupt
-from .plc import PLC, as_plc
+from .plc import PLC, GeometryLike, as_plc
 from .triangulation import Triangulation
 from .validate import range_error
 
@@ -39,8 +41,24 @@ _NO_RINGS = np.empty(0, np.bool_)
 _NO_SEEDS = np.empty((0, 2))
 _NO_REGIONS = np.empty((0, 4))
 
+#: The refinement options as the compiled route takes them: min_angle, max_area,
+#: conforming_delaunay, split_boundary, max_steiner (-1: the default cap).
+RefinementOptions = Tuple[float, float, bool, bool, int]
 
-def triangulate(vertices, segments=None, *, holes=None, regions=None, intersections: str = "raise",
+
+class RouteOptions(TypedDict):
+    """:func:`triangulate`'s checked options, as :func:`triangulate_plc` takes them."""
+
+    split: bool
+    algorithm: str
+    refinement: Optional[RefinementOptions]
+    refinement_options: RefinementOptions
+    max_steiner: int
+
+
+def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | None = None, *,
+                holes: ArrayLike | None = None, regions: ArrayLike | None = None,
+                intersections: str = "raise",
                 keep_hull: bool = False, algorithm: str = "auto",
                 min_angle: float | None = None, max_area: float | None = None,
                 conforming_delaunay: bool = False, split_boundary: bool = True,
@@ -116,6 +134,8 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
         ``max_area`` of the domain's area, at most 1,000,000 more (pass a
         larger ``max_steiner`` for finer meshes).
 
+    Notes
+    -----
     Steiner points are ``tri.steiner``; each segment piece names its input
     segment in ``tri.segment_ids`` (-1 for a piece of the convex hull when the
     hull bounds the domain). A point placed on a segment lies on it up to one
@@ -138,8 +158,10 @@ def triangulate(vertices, segments=None, *, holes=None, regions=None, intersecti
     return triangulate_plc(plc, keep_hull=keep_hull, t0=t0, **options)
 
 
-def check_options(*, intersections="raise", algorithm="auto", min_angle=None, max_area=None,
-                  conforming_delaunay=False, split_boundary=True, max_steiner=None) -> dict:
+def check_options(*, intersections: str = "raise", algorithm: str = "auto",
+                  min_angle: float | None = None, max_area: float | None = None,
+                  conforming_delaunay: bool = False, split_boundary: bool = True,
+                  max_steiner: int | None = None) -> RouteOptions:
     """Validate :func:`triangulate`'s options before any work starts; returns
     them in the form :func:`triangulate_plc` takes (``refinement`` is None or
     the tuple the compiled route takes; ``refinement_options`` that tuple
@@ -163,8 +185,10 @@ def check_options(*, intersections="raise", algorithm="auto", min_angle=None, ma
             "max_steiner": -1 if max_steiner is None else int(max_steiner)}
 
 
-def triangulate_plc(plc: PLC, *, keep_hull=False, split=False, algorithm="divide", refinement=None,
-                    refinement_options=None, max_steiner=-1, t0=None) -> Triangulation:
+def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
+                    algorithm: str = "divide", refinement: RefinementOptions | None = None,
+                    refinement_options: RefinementOptions | None = None, max_steiner: int = -1,
+                    t0: float | None = None) -> Triangulation:
     """:func:`triangulate` of a checked PLC with checked options: one call of
     the compiled route, then the result wrapped (or the route's stop raised)."""
     t0 = time.perf_counter() if t0 is None else t0

@@ -37,8 +37,9 @@ _MODULE_NAMES = {"cdt_plugin._core.predicates": "the exact predicates"}
 def cache_dir() -> str:
     """Where numba keeps the compiled engine: ``NUMBA_CACHE_DIR``, or the
     ``__pycache__`` folders of the installed package."""
-    if config.CACHE_DIR:
-        return config.CACHE_DIR
+    configured: str = config.CACHE_DIR  # type: ignore[attr-defined]  # (numba sets its options at run time)
+    if configured:
+        return configured
     return os.path.join(os.path.dirname(os.path.abspath(__file__)), "**", "__pycache__")
 
 
@@ -53,14 +54,15 @@ class _CompileNotice(event.Listener):
         self.what = ""
         self.said: set[str] = set()
 
-    def on_start(self, ev) -> None:
+    def on_start(self, ev: event.Event) -> None:
         dispatcher = ev.data.get("dispatcher") if isinstance(ev.data, dict) else None
-        module = getattr(getattr(dispatcher, "py_func", None), "__module__", "") or ""
+        py_func = getattr(dispatcher, "py_func", None)
+        module = getattr(py_func, "__module__", "") or ""
         if self.depth == 0 and not module.startswith("cdt_plugin"):
             return
         self.depth += 1
         if self.depth == 1:
-            name = dispatcher.py_func.__name__
+            name = getattr(py_func, "__name__", "")
             self.what = _ENTRY_NAMES.get(name) or _MODULE_NAMES.get(module) or f"{module}.{name}"
             self.start = time.perf_counter()
             if self.what not in self.said:
@@ -69,7 +71,7 @@ class _CompileNotice(event.Listener):
                                "`cdt-plugin compile` does every route ahead of time)",
                                self.what, cache_dir())
 
-    def on_end(self, ev) -> None:
+    def on_end(self, ev: event.Event) -> None:
         if self.depth == 0:
             return
         self.depth -= 1

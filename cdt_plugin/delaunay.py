@@ -16,6 +16,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._core.construct import build, gather_coords, seed_first, seed_triangle, to_input_ids
 from ._core.divide import build_divide_sorted, build_half, join_halves, split_halves
@@ -70,7 +71,8 @@ def resolve_algorithm(algorithm: str, weighted: bool) -> str:
     return algorithm
 
 
-def delaunay(points, weights=None, *, algorithm: str = "auto", seed: int = 0,
+def delaunay(points: ArrayLike, weights: ArrayLike | None = None, *, algorithm: str = "auto",
+             seed: int = 0,
              workers: int | None = None) -> Triangulation:
     """Delaunay triangulation of a point set (weighted Delaunay with ``weights``).
 

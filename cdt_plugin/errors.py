@@ -7,9 +7,26 @@ turns into these exceptions.
 """
 from __future__ import annotations
 
+from pathlib import Path
+from typing import TYPE_CHECKING, Iterable
+
+if TYPE_CHECKING:                       # (triangulation imports this module)
+    from .triangulation import Triangulation
+
 
 class CDTError(ValueError):
-    """Base class of every error cdt_plugin raises for bad input or options."""
+    """Base class of every error cdt_plugin raises for bad input or options.
+
+    A call over many geometries or features that fails on one of them sets
+    ``index`` to its position (and, for a layer, ``feature`` to its label);
+    both are None otherwise.
+
+    >>> CDTError("bad input").index is None
+    True
+    """
+
+    index: int | None = None
+    feature: object = None
 
 
 class InputShapeError(CDTError):
@@ -25,7 +42,11 @@ class TooFewPointsError(CDTError):
 
 
 class FileFormatError(CDTError):
-    """A Triangle-format (or other) input file cannot be parsed; names file and line."""
+    """A Triangle-format (or other) input file cannot be parsed; names file and line
+    (also as the attributes ``path`` and ``line``, None when unknown)."""
+
+    path: Path | None = None
+    line: int | None = None
 
 
 class InvertedTriangleError(CDTError):
@@ -42,7 +63,8 @@ class SegmentIntersectionError(CDTError):
     ``segments`` holds the two input segment indices, ``point`` the crossing
     (each coordinate the double nearest to the exact one)."""
 
-    def __init__(self, message: str, segments=(), point=None):
+    def __init__(self, message: str, segments: Iterable[int] = (),
+                 point: tuple[float, float] | None = None) -> None:
         super().__init__(message)
         self.segments = tuple(segments)
         self.point = point
@@ -59,7 +81,7 @@ class CoordinateRangeError(CDTError):
     beside 1e-70 is fine, 1e+100 beside 1e-100 is not). Any overall scale is
     supported. The message names the two rows; ``rows`` holds them."""
 
-    def __init__(self, message: str, rows=()):
+    def __init__(self, message: str, rows: Iterable[int] = ()) -> None:
         super().__init__(message)
         self.rows = tuple(rows)
 
@@ -77,7 +99,7 @@ class RefinementLimitError(CDTError):
     ``stats["refinement_complete"]`` is False).
     """
 
-    def __init__(self, message: str, triangulation=None):
+    def __init__(self, message: str, triangulation: Triangulation | None = None) -> None:
         super().__init__(message)
         self.triangulation = triangulation
 

@@ -13,6 +13,11 @@ from __future__ import annotations
 
 import signal
 import threading
+from types import FrameType, TracebackType
+from typing import Callable, Literal, Union
+
+# what signal.getsignal returns: a Python handler, SIG_DFL/SIG_IGN, or None (not set from Python)
+_Handler = Union[Callable[[int, Union[FrameType, None]], object], int, signal.Handlers, None]
 
 LONG = 20_000   # inputs from this size (points, vertices) take long enough to be interrupted
 
@@ -21,14 +26,23 @@ class deferred_interrupt:  # noqa: N801 - used like a function: ``with deferred_
     """Defer SIGINT to the end of the ``with`` block when ``size`` is at least
     :data:`LONG` and this is the main thread with a Python handler installed
     (signal handlers can only be set there). Smaller calls cost two attribute
-    checks (a class, not a generator: small calls are a few microseconds)."""
+    checks (a class, not a generator: small calls are a few microseconds).
+
+    >>> with deferred_interrupt(50_000) as guard:   # a SIGINT here would wait for the block's end
+    ...     pass
+    >>> guard.active
+    True
+    """
 
     __slots__ = ("active", "previous", "frames")
 
-    def __init__(self, size: int = LONG):
+    previous: _Handler
+    frames: list[FrameType | None]
+
+    def __init__(self, size: int = LONG) -> None:
         self.active = size >= LONG and threading.current_thread() is threading.main_thread()
 
-    def __enter__(self):
+    def __enter__(self) -> deferred_interrupt:
         if self.active:
             self.previous = signal.getsignal(signal.SIGINT)
             self.active = callable(self.previous)
@@ -37,9 +51,11 @@ class deferred_interrupt:  # noqa: N801 - used like a function: ``with deferred_
             signal.signal(signal.SIGINT, lambda signum, frame: self.frames.append(frame))
         return self
 
-    def __exit__(self, *exc):
-        if self.active:
-            signal.signal(signal.SIGINT, self.previous)
-            if self.frames and exc[0] is None:
-                self.previous(signal.SIGINT, self.frames[-1])
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> Literal[False]:
+        previous = self.previous if self.active else None
+        if callable(previous):
+            signal.signal(signal.SIGINT, previous)
+            if self.frames and exc_type is None:
+                previous(signal.SIGINT, self.frames[-1])
         return False

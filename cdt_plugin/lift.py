@@ -17,14 +17,20 @@ Steiner vertices interpolated from them.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._core.certify import locate_all
 from .errors import CDTError
 from .validate import exact_range, near_unit
 
+if TYPE_CHECKING:
+    from .triangulation import Triangulation
 
-def lift_z(tri, plc_z: np.ndarray, plc_segments: np.ndarray) -> np.ndarray:
+
+def lift_z(tri: Triangulation, plc_z: ArrayLike, plc_segments: ArrayLike) -> NDArray[np.float64]:
     """The z of every vertex of ``tri``, a triangulation of a PLC whose input
     vertices have z ``plc_z`` and whose input segments are ``plc_segments``.
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import operator
 import os
 from concurrent.futures import ThreadPoolExecutor
-from typing import Callable, Iterable, TypeVar
+from typing import Callable, Iterable, SupportsIndex, TypeVar
 
 from .errors import CDTError
 
@@ -26,9 +26,17 @@ def available_cores() -> int:
         return os.cpu_count() or 1
 
 
-def check_workers(workers) -> int | None:
+def check_workers(workers: SupportsIndex | None) -> int | None:
     """Validate a ``workers=`` option: None (the default: all cores where the
-    work is large enough) or a whole number >= 1."""
+    work is large enough) or a whole number >= 1.
+
+    >>> check_workers(2), check_workers(None)
+    (2, None)
+    >>> check_workers(0)
+    Traceback (most recent call last):
+    ...
+    cdt_plugin.errors.CDTError: workers must be None or a whole number >= 1, got 0
+    """
     if workers is None:
         return None
     try:
@@ -54,7 +62,11 @@ def map_ordered(fn: Callable[[T], R], items: Iterable[T], workers: int,
     input order; ``done(item, result)`` is called in the calling thread, in
     input order, as results arrive (progress bars). On an exception
     (``KeyboardInterrupt`` included) the pieces not started are cancelled, the
-    running ones finish, and the exception propagates."""
+    running ones finish, and the exception propagates.
+
+    >>> map_ordered(lambda k: k * k, range(5), workers=2)
+    [0, 1, 4, 9, 16]
+    """
     items = list(items)
     results = []
     if workers <= 1:

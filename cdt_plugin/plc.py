@@ -11,14 +11,27 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+from typing import Any, Mapping, Protocol, Union, cast
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .errors import (CDTError, InputShapeError, NonFiniteCoordinateError, SegmentIndexError,
                      TooFewPointsError)
 from ._core.checks import first_segment_out_of_range
 from ._core.rings import polygon_rings
 from .validate import as_array, as_points, raise_nonfinite, real_array
+
+
+class SupportsGeoInterface(Protocol):
+    """Anything with ``__geo_interface__`` (shapely geometries, GeoJSON-like objects)."""
+
+    @property
+    def __geo_interface__(self) -> Mapping[str, Any]: ...
+
+
+#: A geometry: an object with ``__geo_interface__``, or the GeoJSON-like mapping itself.
+GeometryLike = Union[SupportsGeoInterface, Mapping[str, Any]]
 
 
 @dataclass
@@ -39,22 +52,22 @@ class PLC:
         distinct points or zero area); their vertices stay as isolated vertices
     """
 
-    vertices: np.ndarray
-    segments: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.int64))
-    holes: np.ndarray | None = None
-    regions: np.ndarray | None = None
-    segment_ring: np.ndarray | None = None
-    ring_polygon: np.ndarray | None = None
-    ring_is_hole: np.ndarray | None = None
-    z: np.ndarray | None = None
-    degenerate_rings: list = field(default_factory=list)
+    vertices: NDArray[np.float64]
+    segments: NDArray[np.int64] = field(default_factory=lambda: np.empty((0, 2), np.int64))
+    holes: NDArray[np.float64] | None = None
+    regions: NDArray[np.float64] | None = None
+    segment_ring: NDArray[np.int64] | None = None
+    ring_polygon: NDArray[np.int64] | None = None
+    ring_is_hole: NDArray[np.bool_] | None = None
+    z: NDArray[np.float64] | None = None
+    degenerate_rings: list[tuple[int, int]] = field(default_factory=list)
 
     @property
     def has_rings(self) -> bool:
         return self.ring_polygon is not None and len(self.ring_polygon) > 0
 
     @classmethod
-    def from_geo_interface(cls, geometry) -> "PLC":
+    def from_geo_interface(cls, geometry: GeometryLike) -> PLC:
         """Read a geometry (an object with ``__geo_interface__`` or its mapping):
         Polygon, MultiPolygon, GeometryCollection, LinearRing, LineString,
         MultiLineString (constraints), Point, MultiPoint (isolated vertices).
@@ -248,7 +261,8 @@ class _Builder:
                 np.concatenate(ring_parts).astype(np.int64))
 
 
-def as_plc(vertices, segments=None, holes=None, regions=None) -> PLC:
+def as_plc(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | None = None,
+           holes: ArrayLike | None = None, regions: ArrayLike | None = None) -> PLC:
     """Validate user arrays (or a geometry, or a PLC) into a :class:`PLC`,
     raising precise errors that name the offending rows. A PLC passed in is
     not changed: the result is a checked copy."""
@@ -266,7 +280,7 @@ def as_plc(vertices, segments=None, holes=None, regions=None) -> PLC:
             if len(plc.vertices) == 0:
                 raise TooFewPointsError("the input has no vertices")
         else:
-            pts = as_points(vertices, "vertices")
+            pts = as_points(cast(ArrayLike, vertices), "vertices")     # (no geometry: arrays)
             segs = _NO_SEGMENTS if segments is None else _as_segments(segments, len(pts))
             plc = PLC(pts, segs, segment_ring=np.full(len(segs), -1, np.int64))
     if holes is not None:

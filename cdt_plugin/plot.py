@@ -25,11 +25,20 @@ keeps working without it.
 """
 from __future__ import annotations
 
-from typing import Any
+import os
+from typing import TYPE_CHECKING, Any, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from .report import ANGLE_BINS, Report, against_arrays, mesh_report, report as quality_report, triangle_quality
+from .report import (ANGLE_BINS, MeshLike, Report, against_arrays, mesh_report, report as quality_report,
+                     triangle_quality)
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from .triangulation import Triangulation
 
 __all__ = ["plot", "histogram", "figure", "save"]
 
@@ -47,15 +56,16 @@ def _pyplot():
     return plt
 
 
-def _axes(ax):
+def _axes(ax: Axes | None) -> Axes:
     if ax is None:
         _, ax = _pyplot().subplots()
     return ax
 
 
-def plot(tri, ax=None, *, worst: int = 3, circumcircles: bool = True, face_color: str = FACE,
+def plot(tri: MeshLike, ax: Axes | None = None, *, worst: int = 3, circumcircles: bool = True,
+         face_color: str = FACE,
          edge_color: str = EDGE, segment_color: str = SEGMENT, segment_width: float = 2.5,
-         worst_color: str = WORST, linewidth: float = 0.5, title: str | None = None):
+         worst_color: str = WORST, linewidth: float = 0.5, title: str | None = None) -> Axes:
     """Draw a triangulation on ``ax`` (a new figure's Axes if None) and return the Axes.
 
     ``tri``: a Triangulation, or another mesh as a ``(vertices, triangles)`` pair
@@ -86,7 +96,8 @@ def plot(tri, ax=None, *, worst: int = 3, circumcircles: bool = True, face_color
             for t in picked:
                 center = _circumcenter(V[T[t]])
                 if np.isfinite(center).all():
-                    ax.add_patch(Circle(center, q["circumradius"][t], fill=False, color=worst_color,
+                    xy = (float(center[0]), float(center[1]))
+                    ax.add_patch(Circle(xy, q["circumradius"][t], fill=False, color=worst_color,
                                         linestyle="--", linewidth=1.0, zorder=4))
     if len(V):
         used = V[np.unique(T)] if len(T) else V
@@ -121,8 +132,9 @@ def _circumcenter(P) -> np.ndarray:
     return P[0] + np.array([c[1] * bb - b[1] * cc, b[0] * cc - c[0] * bb]) / d
 
 
-def histogram(tri_or_report, ax=None, *, against=None, against_name: str = "against",
-              bins=ANGLE_BINS):
+def histogram(tri_or_report: Union[Triangulation, Report, Tuple[ArrayLike, ArrayLike]],
+              ax: Axes | None = None, *, against: MeshLike | None = None,
+              against_name: str = "against", bins: ArrayLike = ANGLE_BINS) -> Axes:
     """Angle histogram (degrees, all three angles of every triangle) on ``ax``.
 
     ``tri_or_report``: a Triangulation, a :class:`~cdt_plugin.report.Report`
@@ -155,8 +167,8 @@ def _as_report(obj, against, against_name, bins) -> Report:
     return mesh_report(*obj, bins=bins)
 
 
-def figure(tri, *, against=None, against_name: str = "against", worst: int = 3,
-           size: tuple[float, float] | None = None, **plot_kwargs: Any):
+def figure(tri: Triangulation, *, against: MeshLike | None = None, against_name: str = "against",
+           worst: int = 3, size: tuple[float, float] | None = None, **plot_kwargs: Any) -> Figure:
     """A Figure with the triangulation (left), the ``against`` triangulation (middle,
     when given, drawn the same way) and the angle histogram (right)."""
     plt = _pyplot()
@@ -176,8 +188,8 @@ def figure(tri, *, against=None, against_name: str = "against", worst: int = 3,
     return fig
 
 
-def save(tri, path, *, against=None, against_name: str = "against", dpi: int = 120,
-         **kwargs: Any) -> None:
+def save(tri: Triangulation, path: str | os.PathLike[str], *, against: MeshLike | None = None,
+         against_name: str = "against", dpi: int = 120, **kwargs: Any) -> None:
     """Write :func:`figure` to ``path`` (format from the extension: .png, .svg, .pdf)."""
     plt = _pyplot()
     fig = figure(tri, against=against, against_name=against_name, **kwargs)

@@ -29,9 +29,10 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field, fields
-from typing import Any
+from typing import TYPE_CHECKING, Any, Iterator, Protocol, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._core.certify import edge_lifted_values
 from ._core.jit import kernel
@@ -39,6 +40,10 @@ from .errors import CDTError, InputShapeError
 from .io import as_index
 from .validate import exact_range, near_unit
 from ._core.predicates import orient2d
+from .plc import GeometryLike
+
+if TYPE_CHECKING:
+    from .triangulation import Triangulation
 
 __all__ = ["Report", "report", "compare", "mesh_report", "triangle_quality", "mesh_neighbors",
            "earcut", "ANGLE_BINS"]
@@ -48,6 +53,21 @@ ANGLE_BINS = np.arange(0.0, 181.0, 10.0)
 
 #: Relative tolerance for the float rounding of a metric when comparing two meshes.
 RTOL = 1e-9
+
+
+class FacesMesh(Protocol):
+    """A mesh with ``vertices`` and ``faces`` (a ``trimesh.Trimesh``)."""
+
+    @property
+    def vertices(self) -> ArrayLike: ...
+
+    @property
+    def faces(self) -> ArrayLike: ...
+
+
+#: Another triangulation to compare with: a Triangulation, a mesh with ``vertices``
+#: and ``faces``, or a ``(vertices, triangles)`` pair.
+MeshLike = Union["Triangulation", FacesMesh, Tuple[ArrayLike, ArrayLike]]
 
 
 @dataclass
@@ -91,10 +111,10 @@ class Report:
     degenerate_triangles: int
     flips: int | None
     seconds: float | None
-    angle_bins: np.ndarray = field(repr=False)
-    angle_counts: np.ndarray = field(repr=False)
-    against: "Report | None" = field(default=None, repr=False)
-    comparison: dict | None = field(default=None, repr=False)
+    angle_bins: NDArray[np.float64] = field(repr=False)
+    angle_counts: NDArray[np.int64] = field(repr=False)
+    against: Report | None = field(default=None, repr=False)
+    comparison: dict[str, Any] | None = field(default=None, repr=False)
 
     # ------------------------------------------------------------ conversions
     def to_dict(self) -> dict[str, Any]:
@@ -113,7 +133,7 @@ class Report:
             out["comparison"] = {k: _plain(v) for k, v in (self.comparison or {}).items()}
         return out
 
-    def to_json(self, **kwargs) -> str:
+    def to_json(self, **kwargs: Any) -> str:
         """:meth:`to_dict` as JSON (keywords go to :func:`json.dumps`, default indent 2)."""
         kwargs.setdefault("indent", 2)
         return json.dumps(self.to_dict(), **kwargs)
@@ -123,7 +143,7 @@ class Report:
 
 
 # ---------------------------------------------------------------- per triangle
-def triangle_quality(vertices, triangles) -> dict[str, np.ndarray]:
+def triangle_quality(vertices: ArrayLike, triangles: ArrayLike) -> dict[str, NDArray[np.float64]]:
     """Per-triangle measurements, vectorised (float64, one row per triangle).
 
     Returns a dict with ``angles`` (k, 3) in degrees (angle at each corner),
@@ -183,7 +203,7 @@ def _lexicographic_corners(P) -> np.ndarray:
 
 
 # ----------------------------------------------------------------- topology
-def mesh_neighbors(triangles) -> tuple[np.ndarray, int]:
+def mesh_neighbors(triangles: ArrayLike) -> tuple[NDArray[np.int64], int]:
     """Neighbours of an indexed triangle mesh, vectorised: ``neighbors[t, j]`` is
     the triangle sharing the edge opposite corner ``j`` of ``t`` (-1: boundary).
     Edges in more than two triangles (non-manifold) get -1 on every side; their
@@ -237,7 +257,7 @@ def _count_signs(signs, flat=None) -> tuple[int, int, bool | None]:
     return non_delaunay, cocircular, (cocircular == 0) if non_delaunay == 0 else None
 
 
-def _mesh_certificate(V, T, segments) -> tuple[int, int, bool | None, int]:
+def _mesh_certificate(V, T, segments) -> tuple[int, int, bool | None, int, int | None]:
     """Exact certificate of a bare mesh (duplicate positions already merged):
     triangles made counter-clockwise, neighbours by shared index pairs, edges in
     ``segments`` exempt. Returns (non-Delaunay, cocircular, unique, flat count,
@@ -314,8 +334,8 @@ def _report_of_triangulation(tri, name, bins) -> Report:
         **_figures(V, T, bins))
 
 
-def mesh_report(vertices, triangles, *, segments=None, name: str = "mesh",
-                bins=ANGLE_BINS) -> Report:
+def mesh_report(vertices: ArrayLike, triangles: ArrayLike, *, segments: ArrayLike | None = None,
+                name: str = "mesh", bins: ArrayLike = ANGLE_BINS) -> Report:
     """The same figures as :func:`report` for a bare triangle mesh (any winding).
 
     ``vertices`` (n, 2) (or (n, 3): x and y are used), ``triangles`` (k, 3)
@@ -348,8 +368,8 @@ def mesh_report(vertices, triangles, *, segments=None, name: str = "mesh",
         degenerate_triangles=flat, flips=None, seconds=None, **_figures(V, T, bins))
 
 
-def report(tri, against=None, *, name: str = "cdt_plugin", against_name: str = "against",
-           bins=ANGLE_BINS) -> Report:
+def report(tri: Triangulation, against: MeshLike | None = None, *, name: str = "cdt_plugin",
+           against_name: str = "against", bins: ArrayLike = ANGLE_BINS) -> Report:
     """Quality report of a :class:`~cdt_plugin.Triangulation` (``tri.report()``).
 
     With ``against`` — another triangulation of the same input: a
@@ -381,19 +401,19 @@ def report(tri, against=None, *, name: str = "cdt_plugin", against_name: str = "
     theirs = mesh_report(V, T, segments=pieces[(pieces >= 0).all(axis=1)], name=against_name,
                          bins=bins)
     ours.against = theirs
-    ours.comparison = _comparison(tri, ours, V, T)
+    ours.comparison = _comparison(tri, ours, theirs, V, T)
     return ours
 
 
-def compare(tri, against, *, against_name: str = "against", **kwargs) -> Report:
+def compare(tri: Triangulation, against: MeshLike, *, against_name: str = "against",
+            **kwargs: Any) -> Report:
     """:func:`report` of ``tri`` side by side with ``against`` (required here)."""
     if against is None:
         raise CDTError("compare needs a triangulation to compare with (against=...)")
     return report(tri, against, against_name=against_name, **kwargs)
 
 
-def _comparison(tri, ours: Report, V, T) -> dict[str, Any]:
-    theirs = ours.against
+def _comparison(tri, ours: Report, theirs: Report, V, T) -> dict[str, Any]:
     T0 = np.asarray(tri.triangles, np.int64)
     mine = np.unique(np.asarray(tri.vertices, np.float64)[np.unique(T0)], axis=0)
     other = np.unique(V[np.unique(T)], axis=0)
@@ -415,7 +435,7 @@ def _comparison(tri, ours: Report, V, T) -> dict[str, Any]:
 
 
 # --------------------------------------------------------------- peers
-def earcut(geometry) -> tuple[np.ndarray, np.ndarray]:
+def earcut(geometry: GeometryLike) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """mapbox_earcut's triangulation of a polygonal geometry (anything with
     ``__geo_interface__``, or the GeoJSON-like mapping: Polygon, MultiPolygon,
     GeometryCollection, Feature, FeatureCollection), for comparisons. Each
@@ -449,7 +469,7 @@ def earcut(geometry) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate(verts), np.concatenate(tris)
 
 
-def _polygons(gi):
+def _polygons(gi: Any) -> Iterator[Any]:
     """Rings of every polygon in a GeoJSON-like mapping, polygon by polygon."""
     kind = gi.get("type") if isinstance(gi, dict) else None
     if kind == "Polygon":
@@ -483,14 +503,15 @@ def _as_arrays(vertices, triangles) -> tuple[np.ndarray, np.ndarray]:
     return np.ascontiguousarray(V[:, :2]), T
 
 
-def against_arrays(against) -> tuple[np.ndarray, np.ndarray]:
+def against_arrays(against: MeshLike) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """(vertices, triangles) of a pair, a Triangulation or a trimesh-like object."""
-    if hasattr(against, "triangles") and hasattr(against, "vertex_map"):
+    if isinstance(against, (tuple, list)):
+        if len(against) == 2:
+            return _as_arrays(*against)
+    elif hasattr(against, "triangles") and hasattr(against, "vertex_map"):
         return _as_arrays(against.vertices, against.triangles)
-    if hasattr(against, "faces") and hasattr(against, "vertices"):
+    elif hasattr(against, "faces") and hasattr(against, "vertices"):
         return _as_arrays(against.vertices, against.faces)
-    if isinstance(against, (tuple, list)) and len(against) == 2:
-        return _as_arrays(*against)
     raise InputShapeError("against must be (vertices, triangles), a Triangulation or a mesh "
                           f"with vertices and faces, got {type(against).__name__}")
 
@@ -590,12 +611,11 @@ def _table(r: Report) -> str:
     lines += [(label.ljust(width) + "".join(c.rjust(w) for c, w in zip(cells, colw))).rstrip()
               for label, cells in body]
     if r.comparison is not None:
-        lines.append(_verdict(r))
+        lines.append(_verdict(r.comparison))
     return "\n".join(lines)
 
 
-def _verdict(r: Report) -> str:
-    c = r.comparison
+def _verdict(c: dict[str, Any]) -> str:
     if not c["theorem_applies"]:
         why = ("the vertex sets differ" if not c["same_vertices"] else
                "Steiner points" if c["same_triangle_count"] else

@@ -12,7 +12,7 @@ _IGNORED = set("pzQVenBPNEIOA")
 _NUMBER = r"(\d+(?:\.\d*)?|\.\d+)?"
 
 
-def options_from_switches(switches: str) -> dict:
+def options_from_switches(switches: str) -> dict[str, float | bool | int]:
     """Translate a Triangle switch string into :func:`cdt_plugin.triangulate` options.
 
     ``q[angle]`` (20 degrees without a number) gives ``min_angle``, ``a<area>``
@@ -25,7 +25,7 @@ def options_from_switches(switches: str) -> dict:
     >>> options_from_switches("pqDY")
     {'min_angle': 20.0, 'conforming_delaunay': True, 'split_boundary': False}
     """
-    opts: dict = {}
+    opts: dict[str, float | bool | int] = {}
     for m in re.finditer(r"([A-Za-z])" + _NUMBER, switches or ""):
         key, num = m.group(1), m.group(2)
         if key == "q":

@@ -3,8 +3,10 @@ precise :class:`CDTError` subclass naming the offending rows."""
 from __future__ import annotations
 
 import warnings
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._core.checks import first_nonfinite_row
 from ._core.scaling import LOW, NO_FIT, TOP, exponents, fit_shift
@@ -14,13 +16,13 @@ from .errors import (CoordinateRangeError, InputShapeError, NonFiniteCoordinateE
 EXACT_INT = 2 ** 53     # every integer up to this is a float64, not every one beyond
 
 
-def _rows(idx: np.ndarray, limit: int = 5) -> str:
+def _rows(idx: NDArray[np.intp], limit: int = 5) -> str:
     shown = ", ".join(str(int(i)) for i in idx[:limit])
     more = f" and {len(idx) - limit} more" if len(idx) > limit else ""
     return shown + more
 
 
-def real_array(data, name: str) -> np.ndarray:
+def real_array(data: ArrayLike, name: str) -> NDArray[np.float64]:
     """``data`` as a float64 array. Ragged rows, complex values and anything but
     numbers raise :class:`InputShapeError` naming the place; integers that float64
     cannot hold exactly (beyond 2**53) are rounded with a :class:`PrecisionWarning`
@@ -41,7 +43,7 @@ def real_array(data, name: str) -> np.ndarray:
         raise InputShapeError(f"{name} must be numbers convertible to float64: {exc}") from None
 
 
-def as_array(data, name: str) -> np.ndarray:
+def as_array(data: ArrayLike, name: str) -> NDArray[Any]:
     """``np.asarray(data)``; ragged rows raise :class:`InputShapeError` naming the row."""
     try:
         return np.asarray(data)
@@ -49,7 +51,7 @@ def as_array(data, name: str) -> np.ndarray:
         raise InputShapeError(f"{name} must be rows of equal length: {_ragged_place(data)}") from None
 
 
-def _ragged_place(data) -> str:
+def _ragged_place(data: Any) -> str:
     """Where nested sequences stop having one length (for the error message)."""
     try:
         lengths = [len(row) for row in data]
@@ -61,13 +63,13 @@ def _ragged_place(data) -> str:
     return f"row {i} has {lengths[i]} entries, row 0 has {lengths[0]}"
 
 
-def _rows_where(mask: np.ndarray) -> np.ndarray:
+def _rows_where(mask: NDArray[np.bool_]) -> NDArray[np.intp]:
     """The rows (first index) where ``mask`` holds anywhere."""
     mask = np.atleast_1d(mask)
     return np.flatnonzero(mask.reshape(len(mask), -1).any(axis=1))
 
 
-def _warn_if_rounded(raw: np.ndarray, name: str) -> None:
+def _warn_if_rounded(raw: NDArray[Any], name: str) -> None:
     big = (raw > EXACT_INT) | (raw < -EXACT_INT)
     if not big.any():
         return
@@ -79,8 +81,16 @@ def _warn_if_rounded(raw: np.ndarray, name: str) -> None:
                       "to the same value are merged as duplicates", PrecisionWarning, stacklevel=4)
 
 
-def as_points(points, name: str = "points") -> np.ndarray:
-    """``points`` as a C-contiguous (n, 2) float64 array with n >= 1, all finite."""
+def as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
+    """``points`` as a C-contiguous (n, 2) float64 array with n >= 1, all finite.
+
+    >>> as_points([[0, 0], [1, 2]]).dtype
+    dtype('float64')
+    >>> as_points([[0, 0], [1, float("nan")]])
+    Traceback (most recent call last):
+    ...
+    cdt_plugin.errors.NonFiniteCoordinateError: points has NaN or infinite coordinates at row(s) 1 (row 1 is (1.0, nan))
+    """
     arr = real_array(points, name)
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise InputShapeError(f"{name} must have shape (n, 2), got {arr.shape}")
@@ -92,7 +102,7 @@ def as_points(points, name: str = "points") -> np.ndarray:
     return arr
 
 
-def raise_nonfinite(xy: np.ndarray, name: str) -> None:
+def raise_nonfinite(xy: NDArray[np.float64], name: str) -> None:
     """Raise :class:`NonFiniteCoordinateError` naming the rows of ``xy`` (n, 2)
     with a NaN or infinite coordinate, if there are any."""
     bad = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
@@ -103,7 +113,7 @@ def raise_nonfinite(xy: np.ndarray, name: str) -> None:
             f"(row {i} is ({float(xy[i, 0])!r}, {float(xy[i, 1])!r}))")
 
 
-def as_weights(weights, n: int) -> np.ndarray | None:
+def as_weights(weights: ArrayLike | None, n: int) -> NDArray[np.float64] | None:
     """``weights`` as a finite float64 array of length ``n`` (or None)."""
     if weights is None:
         return None
@@ -119,7 +129,9 @@ def as_weights(weights, n: int) -> np.ndarray | None:
 _NO_WEIGHTS = np.empty(0)
 
 
-def exact_range(x: np.ndarray, y: np.ndarray, w: np.ndarray | None = None, name: str = "points"):
+def exact_range(x: NDArray[np.float64], y: NDArray[np.float64], w: NDArray[np.float64] | None = None,
+                name: str = "points"
+                ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None, int]:
     """``(x, y, w, shift)``: copies of the coordinates (and weights) times
     ``2**shift``, the power of two that brings them into the exact predicates'
     range (:mod:`cdt_plugin._core.scaling`; ``shift`` is 0 and the arrays are
@@ -137,7 +149,7 @@ def exact_range(x: np.ndarray, y: np.ndarray, w: np.ndarray | None = None, name:
     return x * s, y * s, None if w is None else w * s * s, int(shift)
 
 
-def near_unit(v: np.ndarray) -> tuple[np.ndarray, int]:
+def near_unit(v: NDArray[np.float64]) -> tuple[NDArray[np.float64], int]:
     """``(v * 2**-e, e)``: float arrays far from unit scale (beyond 2**+-64)
     brought near 1 by a power of two (exact), so that products of a few
     coordinates (areas, radii, interpolation weights) neither overflow nor
@@ -149,13 +161,14 @@ def near_unit(v: np.ndarray) -> tuple[np.ndarray, int]:
     return np.ldexp(v, -e), e
 
 
-def range_error(name: str, x, y, w, fine: int, large: int) -> CoordinateRangeError:
+def range_error(name: str, x: NDArray[np.float64], y: NDArray[np.float64],
+                w: NDArray[np.float64] | None, fine: int, large: int) -> CoordinateRangeError:
     """The error for coordinates no power of two brings into range: the row
     with the finest bit and the row with the largest magnitude."""
-    def values(i):
+    def values(i: int) -> list[float]:
         return [float(x[i]), float(y[i])] + ([] if w is None else [float(w[i])])
 
-    def bits(i):        # (top, low) of row i's nonzero values (weights count half)
+    def bits(i: int) -> list[tuple[int, int]]:   # (top, low) of row i's nonzero values (weights count half)
         out = []
         for j, v in enumerate(values(i)):
             if v:
