@@ -19,10 +19,20 @@ extrude_polygon(polygon, height, transform=None, mid_plane=False, **kwargs)
     Drop-in for ``trimesh.creation.extrude_polygon``: a watertight solid.
 extrude_path(path, height, **kwargs)
     Every polygon of a ``Path2D`` extruded, one ``Trimesh`` each.
+register(default=False), unregister(), registered(default=False)
+    Hook this engine into trimesh itself: ``engine="cdt_plugin"`` in
+    ``trimesh.creation.triangulate_polygon`` and in everything that calls it
+    (``extrude_polygon``, ``sweep_polygon``, ``Path2D.triangulate`` /
+    ``extrude``, ``Trimesh.slice_plane(cap=True)``); with ``default=True`` also
+    when no engine is named.
 
+Notes
+-----
 Extra keyword arguments of the triangulating functions go to
 :func:`cdt_plugin.triangulate` (``intersections=``, ``holes=``, ...).
 
+Examples
+--------
 >>> import shapely, cdt_plugin.adapters.trimesh as ct
 >>> square = shapely.box(0, 0, 4, 4).difference(shapely.box(1, 1, 3, 3))
 >>> v, f = ct.triangulate_polygon(square)
@@ -34,8 +44,13 @@ Extra keyword arguments of the triangulating functions go to
 """
 from __future__ import annotations
 
+import contextlib
+import warnings
+from typing import Iterator
+
 import numpy as np
 import trimesh
+import trimesh.creation
 import trimesh.path
 from trimesh import transformations
 
@@ -44,7 +59,16 @@ from cdt_plugin import PLC
 from cdt_plugin.switches import options_from_switches
 
 __all__ = ["from_path2d", "to_trimesh", "triangulate_polygon", "extrude_polygon",
-           "extrude_triangulation", "extrude_path"]
+           "extrude_triangulation", "extrude_path", "register", "unregister", "registered",
+           "is_registered", "ENGINE", "DroppedZWarning"]
+
+ENGINE = "cdt_plugin"
+"""The engine name that :func:`register` teaches ``trimesh.creation.triangulate_polygon``."""
+
+
+class DroppedZWarning(UserWarning):
+    """A polygon with z coordinates was triangulated into 2D vertices (trimesh's
+    ``(n, 2)`` convention): its z values are not in the result."""
 
 
 # ------------------------------------------------------------------ Path2D -> PLC
@@ -147,7 +171,8 @@ def triangulate_polygon(polygon, triangle_args=None, engine=None, force_vertices
     -------
     vertices : (n, 2) float64
         Only the vertices used by ``faces`` (trimesh's convention); exact
-        duplicates (such as the closing point of a ring) appear once.
+        duplicates (such as the closing point of a ring) appear once. A polygon
+        with z coordinates gives 2D vertices too, with a :class:`DroppedZWarning`.
     faces : (m, 3) int64
         Counter-clockwise triangles.
     """
@@ -155,6 +180,9 @@ def triangulate_polygon(polygon, triangle_args=None, engine=None, force_vertices
         kwargs = {**options_from_switches(triangle_args), **kwargs}
     if polygon is None or polygon.is_empty:
         return np.empty((0, 2), np.float64), np.empty((0, 3), np.int64)
+    if getattr(polygon, "has_z", False):
+        warnings.warn("the polygon has z coordinates: trimesh's triangulate_polygon returns "
+                      "(n, 2) vertices, so z is dropped", DroppedZWarning, stacklevel=2)
     tri = cdt_plugin.triangulate(polygon, **kwargs)
     if force_vertices and len(tri.steiner):
         raise ValueError(f"the triangulation inserted {len(tri.steiner)} vertices "
@@ -305,3 +333,102 @@ def extrude_path(path, height, transform=None, mid_plane: bool = False,
         raise TypeError(f"expected a trimesh.path.Path2D, got {type(path).__name__}")
     return [extrude_polygon(polygon, height, transform=transform, mid_plane=mid_plane, **kwargs)
             for polygon in path.polygons_full if polygon is not None and not polygon.is_empty]
+
+
+# ------------------------------------------------- hooking into trimesh itself
+# trimesh has no engine registry: register() replaces the module attribute
+# trimesh.creation.triangulate_polygon by _hook. Every caller in trimesh looks the
+# attribute up when it runs (extrude_polygon, sweep_polygon and revolve read the
+# module global; Path2D.triangulate and slice_mesh_plane import it at call time),
+# so that one replacement reaches them all.
+_hooked = {"original": None, "default": False}
+
+
+def _hook(polygon, triangle_args=None, engine=None, force_vertices=False, **kwargs):
+    """trimesh's ``triangulate_polygon`` while :func:`register` is in force:
+    ``engine="cdt_plugin"`` (or no engine, after ``register(default=True)``) runs
+    :func:`triangulate_polygon`; any other engine runs trimesh's own function."""
+    if engine == ENGINE or (engine is None and _hooked["default"]):
+        return triangulate_polygon(polygon, triangle_args=triangle_args,
+                                   force_vertices=force_vertices, **kwargs)
+    return _hooked["original"](polygon, triangle_args=triangle_args, engine=engine,
+                               force_vertices=force_vertices, **kwargs)
+
+
+def is_registered() -> bool:
+    """Whether ``trimesh.creation.triangulate_polygon`` is this module's hook."""
+    return trimesh.creation.triangulate_polygon is _hook
+
+
+def register(default: bool = False) -> None:
+    """Make ``engine="cdt_plugin"`` an engine of ``trimesh.creation.triangulate_polygon``.
+
+    After this, trimesh meshes with :func:`triangulate_polygon` whenever the
+    engine is ``"cdt_plugin"``, in every trimesh function that goes through
+    ``triangulate_polygon`` and passes the engine on: ``extrude_polygon``,
+    ``sweep_polygon``, ``Path2D.triangulate`` and ``Trimesh.slice_plane(...,
+    cap=True)`` (``engine=`` and, except for ``slice_plane``, the keywords of
+    :func:`cdt_plugin.triangulate` or ``triangle_args``). With ``default=True`` it
+    is also the engine when none is named, which reaches the callers that pass
+    no engine: ``Path2D.extrude``, the ``Extrusion`` primitive, ``revolve(cap=True)``.
+    Other engine names (``"earcut"``, ``"manifold"``, ``"triangle"``) still go to
+    trimesh's own function.
+
+    Calling it again only updates ``default`` (nothing is wrapped twice);
+    :func:`unregister` puts trimesh's function back, and :func:`registered` does
+    both around a ``with`` block.
+
+    >>> import shapely, trimesh, cdt_plugin.adapters.trimesh as ct
+    >>> ct.register()
+    >>> v, f = trimesh.creation.triangulate_polygon(shapely.box(0, 0, 2, 1), engine="cdt_plugin")
+    >>> v.shape, f.shape
+    ((4, 2), (2, 3))
+    >>> solid = trimesh.creation.extrude_polygon(shapely.box(0, 0, 2, 1), 3.0, engine="cdt_plugin")
+    >>> bool(solid.is_watertight), float(solid.volume)
+    (True, 6.0)
+    >>> ct.unregister()
+    """
+    if not isinstance(default, bool):
+        raise cdt_plugin.CDTError(f"default must be True or False, got {default!r}")
+    if not is_registered():
+        _hooked["original"] = trimesh.creation.triangulate_polygon
+        trimesh.creation.triangulate_polygon = _hook
+    _hooked["default"] = default
+
+
+def unregister() -> None:
+    """Put trimesh's own ``triangulate_polygon`` back (the very function object
+    :func:`register` replaced); does nothing if the hook is not registered.
+
+    >>> import trimesh, cdt_plugin.adapters.trimesh as ct
+    >>> original = trimesh.creation.triangulate_polygon
+    >>> ct.register(); ct.unregister()
+    >>> trimesh.creation.triangulate_polygon is original
+    True
+    """
+    if is_registered():
+        trimesh.creation.triangulate_polygon = _hooked["original"]
+    _hooked["default"] = False
+
+
+@contextlib.contextmanager
+def registered(default: bool = False) -> Iterator[None]:
+    """:func:`register` for the duration of a ``with`` block, then the state
+    before it (unregistered, or registered with the earlier ``default``), even
+    if the block raises.
+
+    >>> import shapely, trimesh, cdt_plugin.adapters.trimesh as ct
+    >>> with ct.registered(default=True):
+    ...     v, f = trimesh.creation.triangulate_polygon(shapely.box(0, 0, 1, 1))
+    >>> len(f), ct.is_registered()
+    (2, False)
+    """
+    before = is_registered(), _hooked["default"]
+    register(default)
+    try:
+        yield
+    finally:
+        if before[0]:
+            register(before[1])
+        else:
+            unregister()

@@ -213,6 +213,30 @@ class Triangulation:
         from cdt_plugin.adapters.shapely import to_shapely
         return to_shapely(self)
 
+    def to_matplotlib(self):
+        """This triangulation as a ``matplotlib.tri.Triangulation`` (needs
+        matplotlib, the ``plot`` extra): x and y are the columns of
+        ``self.vertices``, copied (unreferenced vertices included, so indices agree) and
+        ``triangles`` is ``self.triangles``, counter-clockwise; ready for
+        ``triplot``, ``tripcolor``, ``tricontour`` or a ``TriInterpolator``.
+
+        >>> import cdt_plugin
+        >>> tri = cdt_plugin.triangulate([[0, 0], [2, 0], [2, 1], [0, 1]], [[0, 1], [1, 2], [2, 3], [3, 0]])
+        >>> mtri = tri.to_matplotlib()
+        >>> mtri.x.tolist(), mtri.triangles.shape
+        ([0.0, 2.0, 2.0, 0.0], (2, 3))
+        """
+        try:
+            import matplotlib.tri
+        except ImportError as exc:
+            from .cli import _missing
+            raise ImportError(_missing("matplotlib", "Triangulation.to_matplotlib")) from exc
+        if len(self.triangles) == 0:
+            raise CDTError(f"{self!r} has no triangles (all-collinear input, or nothing "
+                           "inside the domain): matplotlib.tri.Triangulation needs at least one")
+        x, y = self.vertices.T.copy()          # a copy: matplotlib keeps what it is given
+        return matplotlib.tri.Triangulation(x, y, self.triangles)
+
     # ------------------------------------------------------- report and plots
     def report(self, against=None, **kwargs):
         """Quality report (angles, circumdisks, certificate), optionally side by side

@@ -2,6 +2,9 @@
 engines, mapbox_earcut and manifold3d): same area and boundary, never a worse
 minimum angle, watertight extrusions with exact volumes, Path2D read as trimesh
 reads it."""
+import doctest
+import warnings
+
 import numpy as np
 import pytest
 
@@ -12,7 +15,36 @@ import cdt_plugin  # noqa: E402
 import cdt_plugin.adapters.trimesh as ct  # noqa: E402
 from trimesh.path.entities import Arc, Line  # noqa: E402
 
-from checker import assert_valid  # noqa: E402
+from checker import assert_valid, canonical_triangles  # noqa: E402
+
+# trimesh's own function, read before any test can register the hook
+TRIMESH_TRIANGULATE = trimesh.creation.triangulate_polygon
+assert not ct.is_registered()
+
+
+@pytest.fixture(autouse=True)
+def trimesh_left_unpatched():
+    """Every test leaves trimesh as it found it: a leaked hook is undone and fails the test."""
+    yield
+    leaked = trimesh.creation.triangulate_polygon is not TRIMESH_TRIANGULATE
+    if leaked:
+        trimesh.creation.triangulate_polygon = TRIMESH_TRIANGULATE
+    ct.unregister()
+    assert not leaked, "a test left trimesh.creation.triangulate_polygon patched"
+
+
+@pytest.fixture
+def hooked():
+    """engine="cdt_plugin" registered in trimesh for the test."""
+    with ct.registered():
+        yield
+
+
+@pytest.fixture
+def hooked_default():
+    """cdt_plugin registered as trimesh's default engine for the test."""
+    with ct.registered(default=True):
+        yield
 
 
 # ---------------------------------------------------------------- polygons
@@ -79,15 +111,25 @@ def _ring_edges(polygon):
     return _edge_set(edges)
 
 
-def _boundary_edges(vertices, faces):
+def _boundary_pairs(faces):
+    """Directed edges (index pairs) of the faces that no other face shares."""
     directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     und = np.sort(directed, axis=1)
     _, inverse, counts = np.unique(und, axis=0, return_inverse=True, return_counts=True)
-    once = directed[counts[inverse.ravel()] == 1]
+    return directed[counts[inverse.ravel()] == 1]
+
+
+def _boundary_edges(vertices, faces):
+    once = _boundary_pairs(faces)
     return _edge_set(zip(vertices[once[:, 0]], vertices[once[:, 1]]))
 
 
 # ------------------------------------------------------ triangulate_polygon
+def test_docstring_examples():
+    result = doctest.testmod(ct)
+    assert result.attempted >= 20 and result.failed == 0
+
+
 @pytest.mark.parametrize("name", list(POLYGONS))
 def test_triangulate_polygon_matches_polygon(name):
     polygon = POLYGONS[name]
@@ -362,3 +404,247 @@ def test_extrude_path_every_polygon(needs_rtree):
     assert len(meshes) == 2
     assert sorted(m.volume for m in meshes) == pytest.approx(sorted(p.area for p in two.geoms), rel=1e-9)
     assert all(m.is_watertight and m.is_winding_consistent for m in meshes)
+
+
+# ------------------------------------------- register(): trimesh's own functions
+def _ring_segments(vertices, polygon):
+    """The ring edges of ``polygon`` as index pairs into ``vertices`` (exact
+    coordinates); a KeyError means an input vertex is missing from the mesh."""
+    index = {tuple(p): k for k, p in enumerate(np.asarray(vertices)[:, :2].tolist())}
+    segments = []
+    for part in shapely.get_parts(polygon):
+        for ring in [part.exterior, *part.interiors]:
+            ids = [index[tuple(c)] for c in np.asarray(ring.coords)[:, :2].tolist()]
+            segments += [(a, b) for a, b in zip(ids[:-1], ids[1:]) if a != b]
+    return np.array(segments, dtype=np.int64)
+
+
+def _assert_cdt_of(polygon, vertices, faces):
+    """(vertices, faces) is the constrained Delaunay triangulation of ``polygon``:
+    verified from scratch by the exact checker (every ring edge an edge, bounded by
+    the rings, every other edge locally Delaunay) and the same triangles as
+    cdt_plugin's own result."""
+    vertices, faces = np.asarray(vertices, dtype=np.float64), np.asarray(faces)
+    assert_valid(vertices, faces, segments=_ring_segments(vertices, polygon), domain="segments")
+    ours = cdt_plugin.triangulate(polygon)
+    assert canonical_triangles(vertices, faces) == canonical_triangles(ours.vertices, ours.triangles)
+
+
+def _cap(mesh, z):
+    """The faces of ``mesh`` lying in the plane ``z`` as a 2D triangulation,
+    counter-clockwise seen from +z, with only the vertices they use."""
+    on = np.abs(mesh.vertices[:, 2] - z) <= 1e-9
+    faces = mesh.faces[on[mesh.faces].all(axis=1)]
+    assert len(faces) and np.allclose(np.abs(mesh.face_normals[on[mesh.faces].all(axis=1), 2]), 1.0)
+    used, faces = np.unique(faces, return_inverse=True)
+    faces = faces.reshape(-1, 3)
+    return _ccw(mesh.vertices[used, :2], faces)
+
+
+def _ccw(vertices, faces):
+    """The faces turned counter-clockwise where they are not."""
+    faces = np.array(faces)
+    clockwise = _areas(vertices, faces) < 0
+    faces[clockwise] = faces[clockwise][:, ::-1]
+    return vertices, faces
+
+
+def _cap_polygon(vertices, faces):
+    """The polygon (with holes) that the boundary edges of a 2D triangulation enclose."""
+    edges = [list(edge) for edge in _boundary_edges(vertices, faces)]
+    return shapely.build_area(shapely.MultiLineString(edges))
+
+
+def _turned_back(vertices, polygon, tol=1e-9):
+    """``vertices`` moved back onto ``polygon``'s vertices, exactly: sweep_polygon
+    places the profile in a frame turned (or mirrored) by a multiple of 90 degrees
+    and rounds; find that map, undo it and snap each vertex to the polygon vertex
+    it came from."""
+    coords = shapely.get_coordinates(polygon)
+    for quarter in range(4):
+        for mirror in (1.0, -1.0):
+            c, s = np.rint(np.cos(quarter * np.pi / 2)), np.rint(np.sin(quarter * np.pi / 2))
+            back = vertices @ np.array([[c, -s], [s, c]]) * [1.0, mirror]
+            distance = np.linalg.norm(back[:, None, :] - coords[None, :, :], axis=2)
+            if (distance.min(axis=1) <= tol).all():
+                return coords[distance.argmin(axis=1)]
+    raise AssertionError("the cap is not the polygon turned by a multiple of 90 degrees")
+
+
+# trimesh's own extrusion merges wall vertices by tolerance: at a pinch vertex (a hole
+# touching its shell) its solid is not watertight whatever the engine (see
+# test_extrude_pinch_vertex_stays_watertight for ours)
+MANIFOLD_POLYGONS = [name for name in POLYGONS if name != "hole_touches_shell"]
+# a polygon with no four cocircular vertices: its CDT is unique, also after trimesh
+# rotates a slice into its own 2D frame
+IRREGULAR = shapely.Polygon([(0, 0), (7.3, 0.4), (9.1, 5.2), (4.4, 8.7), (1.2, 6.1), (2.5, 3.3)],
+                            [[(3.1, 2.2), (5.9, 2.9), (4.8, 5.1)]])
+
+
+@pytest.mark.parametrize("name", list(POLYGONS))
+def test_hook_engine_name_in_trimesh_triangulate_polygon(hooked, name):
+    polygon = POLYGONS[name]
+    vertices, faces = trimesh.creation.triangulate_polygon(polygon, engine=ct.ENGINE)
+    assert vertices.shape[1] == 2 and faces.dtype == np.int64
+    _assert_cdt_of(polygon, vertices, faces)
+
+
+@pytest.mark.parametrize("name", MANIFOLD_POLYGONS)
+def test_hook_trimesh_extrude_polygon_is_watertight_with_our_caps(hooked, name):
+    polygon, height = POLYGONS[name], 2.5
+    mesh = trimesh.creation.extrude_polygon(polygon, height, engine=ct.ENGINE)
+    _check_solid(mesh, polygon, height)
+    _check_outward(mesh, polygon)
+    _assert_cdt_of(polygon, *_cap(mesh, height))
+    _assert_cdt_of(polygon, *_cap(mesh, 0.0))
+
+
+def test_hook_keywords_reach_the_engine(hooked):
+    polygon = POLYGONS["letter_a"]
+    # Triangle's switches and cdt_plugin.triangulate keywords, through trimesh
+    v, f = trimesh.creation.triangulate_polygon(polygon, engine=ct.ENGINE, triangle_args="pq30a0.5")
+    assert np.isclose(_areas(v, f).sum(), polygon.area, rtol=1e-12) and _areas(v, f).max() <= 0.5
+    assert _min_angle(v, f) >= 30 * (1 - 1e-9)
+    assert_valid(v, f, segments=_boundary_pairs(f), domain="segments")    # refined: pieces of the rings
+    with pytest.raises(cdt_plugin.CDTError, match="intersections"):
+        trimesh.creation.triangulate_polygon(polygon, engine=ct.ENGINE, intersections="bogus")
+    with pytest.raises(ValueError, match="force_vertices"):
+        trimesh.creation.triangulate_polygon(polygon, engine=ct.ENGINE, min_angle=30,
+                                             force_vertices=True)
+    mesh = trimesh.creation.extrude_polygon(polygon, 1.0, engine=ct.ENGINE, max_area=0.5)
+    _check_solid(mesh, polygon, 1.0)
+    assert _areas(*_cap(mesh, 1.0)).max() <= 0.5
+
+
+def test_hook_sweep_polygon(hooked):
+    polygon = IRREGULAR
+    path = [[0, 0, 0], [0, 0, 1.5], [0, 0, 3.0]]           # straight: volume area * 3
+    mesh = trimesh.creation.sweep_polygon(polygon, path, engine=ct.ENGINE)
+    _check_solid(mesh, polygon, 3.0)
+    for z in (0.0, 3.0):
+        vertices, faces = _cap(mesh, z)
+        _assert_cdt_of(polygon, *_ccw(_turned_back(vertices, polygon), faces))
+
+
+def test_hook_path2d_triangulate(hooked, needs_rtree):
+    two = shapely.MultiPolygon([POLYGONS["letter_a"],
+                                shapely.affinity.translate(POLYGONS["square_two_holes"], xoff=10)])
+    path = trimesh.load_path(two)
+    vertices, faces = path.triangulate(engine=ct.ENGINE)
+    _assert_cdt_of(two, vertices, faces)
+
+
+def test_hook_default_path2d_extrude(hooked_default, needs_rtree):
+    # Path2D.extrude passes no engine (its keywords go to the Extrusion primitive):
+    # only the default reaches it
+    polygon = POLYGONS["letter_a"]
+    extrusion = trimesh.load_path(polygon).extrude(2.0)
+    assert isinstance(extrusion, trimesh.primitives.Extrusion)
+    _check_solid(extrusion, polygon, 2.0)                 # the mesh is made here, hook in force
+    _assert_cdt_of(polygon, *_cap(extrusion, 2.0))
+
+
+@pytest.mark.parametrize("name", ["letter_a", "irregular"])
+def test_hook_slice_plane_cap(hooked, name):
+    polygon = IRREGULAR if name == "irregular" else POLYGONS[name]
+    solid = ct.extrude_polygon(polygon, 4.0)
+    upper = solid.slice_plane([0, 0, 1.0], [0, 0, 1.0], cap=True, engine=ct.ENGINE)
+    _check_solid(upper, polygon, 3.0)
+    # the plane also cuts the diagonals of the wall quads: the cap's boundary has the
+    # polygon's vertices plus one (rounded) point on each ring edge
+    vertices, faces = _cap(upper, 1.0)
+    section = _cap_polygon(vertices, faces)
+    assert np.isclose(section.area, polygon.area, rtol=1e-12)
+    assert set(map(tuple, shapely.get_coordinates(polygon))) <= set(map(tuple, vertices.tolist()))
+    if name == "irregular":     # no near-ties: exactly cdt_plugin's CDT of the section
+        _assert_cdt_of(section, vertices, faces)
+    else:                       # cocircular vertices: a valid CDT, ties broken either way
+        assert_valid(vertices, faces, segments=_ring_segments(vertices, section), domain="segments")
+
+
+def test_hook_default_engine_and_other_engines(hooked_default):
+    pytest.importorskip("mapbox_earcut")
+    polygon = IRREGULAR
+    _assert_cdt_of(polygon, *trimesh.creation.triangulate_polygon(polygon))
+    # a named engine still goes to trimesh's own function, with the same result
+    v, f = trimesh.creation.triangulate_polygon(polygon, engine="earcut")
+    v0, f0 = TRIMESH_TRIANGULATE(polygon, engine="earcut")
+    assert np.array_equal(v, v0) and np.array_equal(f, f0)
+    earcut = canonical_triangles(v, f)
+    ours = cdt_plugin.triangulate(polygon)
+    assert earcut != canonical_triangles(ours.vertices, ours.triangles)   # the test can tell them apart
+    mesh = trimesh.creation.extrude_polygon(polygon, 1.0, engine="earcut")
+    _check_solid(mesh, polygon, 1.0)
+    assert canonical_triangles(*_cap(mesh, 1.0)) == earcut
+
+
+def test_hook_without_default_leaves_trimesh_default(hooked):
+    pytest.importorskip("mapbox_earcut")
+    polygon = IRREGULAR
+    v, f = trimesh.creation.triangulate_polygon(polygon)          # trimesh picks its own engine
+    v0, f0 = TRIMESH_TRIANGULATE(polygon)
+    assert np.array_equal(v, v0) and np.array_equal(f, f0)
+
+
+def test_register_is_idempotent_and_unregister_restores_trimesh():
+    ct.register()
+    hook = trimesh.creation.triangulate_polygon
+    assert hook is not TRIMESH_TRIANGULATE and ct.is_registered()
+    ct.register()                                   # no second wrapper
+    assert trimesh.creation.triangulate_polygon is hook
+    ct.register(default=True)                       # only the default changes
+    assert trimesh.creation.triangulate_polygon is hook
+    _assert_cdt_of(IRREGULAR, *trimesh.creation.triangulate_polygon(IRREGULAR))
+    ct.unregister()
+    assert trimesh.creation.triangulate_polygon is TRIMESH_TRIANGULATE
+    assert not ct.is_registered()
+    ct.unregister()                                 # a no-op when not registered
+    assert trimesh.creation.triangulate_polygon is TRIMESH_TRIANGULATE
+    # trimesh no longer knows the engine name
+    with pytest.raises(ValueError, match="No available triangulation engine"):
+        trimesh.creation.triangulate_polygon(IRREGULAR, engine=ct.ENGINE)
+
+
+def test_register_validates_default_before_patching():
+    with pytest.raises(cdt_plugin.CDTError, match="default must be True or False, got 'yes'"):
+        ct.register(default="yes")
+    assert trimesh.creation.triangulate_polygon is TRIMESH_TRIANGULATE
+
+
+def test_registered_context_restores_the_state_before_it():
+    with pytest.raises(RuntimeError):
+        with ct.registered(default=True):
+            assert ct.is_registered()
+            raise RuntimeError("boom")
+    assert trimesh.creation.triangulate_polygon is TRIMESH_TRIANGULATE
+    with ct.registered():
+        with ct.registered(default=True):
+            _assert_cdt_of(IRREGULAR, *trimesh.creation.triangulate_polygon(IRREGULAR))
+        assert ct.is_registered()                   # the outer registration stays...
+        pytest.importorskip("mapbox_earcut")
+        v, f = trimesh.creation.triangulate_polygon(IRREGULAR)
+        assert np.array_equal(f, TRIMESH_TRIANGULATE(IRREGULAR)[1])   # ...without the default
+    assert trimesh.creation.triangulate_polygon is TRIMESH_TRIANGULATE
+
+
+def test_hook_polygon_with_z_warns_that_z_is_dropped(hooked):
+    polygon = shapely.Polygon([(0, 0, 5), (4, 0, 5), (4, 3, 5), (0, 3, 5)])
+    with pytest.warns(ct.DroppedZWarning, match="z is dropped"):
+        vertices, faces = trimesh.creation.triangulate_polygon(polygon, engine=ct.ENGINE)
+    assert vertices.shape == (4, 2)
+    _assert_cdt_of(shapely.force_2d(polygon), vertices, faces)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")              # a 2D polygon: no warning
+        trimesh.creation.triangulate_polygon(shapely.force_2d(polygon), engine=ct.ENGINE)
+
+
+def test_hook_default_revolve_cap(hooked_default):
+    # revolve(cap=True) triangulates its profile with no engine named: the default's route
+    profile = np.array([[1.0, 0.0], [2.3, 0.2], [2.1, 1.1], [1.6, 1.9], [1.2, 1.3], [1.0, 0.0]])
+    mesh = trimesh.creation.revolve(profile, angle=np.pi / 2, cap=True)     # a closed profile
+    assert mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0
+    start = np.abs(mesh.vertices[:, 1]) == 0.0                   # the cap at angle 0: the xz plane
+    faces = mesh.faces[start[mesh.faces].all(axis=1)]
+    used, faces = np.unique(faces, return_inverse=True)
+    vertices = mesh.vertices[used][:, [0, 2]]
+    _assert_cdt_of(shapely.Polygon(profile), *_ccw(vertices, faces.reshape(-1, 3)))

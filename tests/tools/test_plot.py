@@ -5,6 +5,7 @@ triangulation overlaid."""
 from __future__ import annotations
 
 import doctest
+import sys
 
 import numpy as np
 import pytest
@@ -13,6 +14,7 @@ matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg")
 import matplotlib.image  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.tri  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 from matplotlib.colors import to_rgb  # noqa: E402
 from matplotlib.patches import Circle, Rectangle, StepPatch  # noqa: E402
@@ -20,6 +22,7 @@ from matplotlib.patches import Circle, Rectangle, StepPatch  # noqa: E402
 import cdt_plugin  # noqa: E402
 import cdt_plugin.plot as cplot  # noqa: E402
 from cdt_plugin.report import triangle_quality  # noqa: E402
+from checker import assert_valid  # noqa: E402
 
 SQUARE_WITH_HOLE = ([[0, 0], [4, 0], [4, 4], [0, 4], [1, 1], [3, 1], [3, 3], [1, 3]],
                     [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4]])
@@ -134,3 +137,56 @@ def test_save_writes_both_panels(tmp_path):
     assert len(drawn.get_paths()) == 8
     assert theirs.get_xlim() == ours.get_xlim() and theirs.get_ylim() == ours.get_ylim()
     plt.close(fig)
+
+
+# ------------------------------------------------------------- to_matplotlib
+def test_to_matplotlib_is_the_same_triangulation(tmp_path):
+    tri = cdt_plugin.triangulate(*SQUARE_WITH_HOLE)
+    assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
+    mtri = tri.to_matplotlib()
+    assert isinstance(mtri, matplotlib.tri.Triangulation)
+    assert np.array_equal(mtri.x, tri.vertices[:, 0]) and np.array_equal(mtri.y, tri.vertices[:, 1])
+    assert np.array_equal(mtri.triangles, tri.triangles)
+    assert_valid(np.column_stack([mtri.x, mtri.y]), mtri.triangles, segments=tri.segments, domain="segments")
+    # matplotlib's neighbour j lies across edge (j, j+1): ours across the edge opposite vertex j+2
+    assert np.array_equal(mtri.neighbors, tri.neighbors[:, [2, 0, 1]])
+    # matplotlib's own point location and interpolation on it: the hole is no triangle,
+    # and a linear field is reproduced exactly inside
+    finder = mtri.get_trifinder()
+    assert finder(2.0, 2.0) == -1 and finder(0.5, 2.0) >= 0
+    field = matplotlib.tri.LinearTriInterpolator(mtri, mtri.x + 2 * mtri.y)
+    assert float(field(0.5, 2.0)) == pytest.approx(4.5, rel=1e-12)
+    assert np.ma.is_masked(field(2.0, 2.0))
+    # and it draws: triangles filled, the hole left white
+    fig, ax = plt.subplots(figsize=(4, 4))
+    ax.tripcolor(mtri, facecolors=np.ones(len(tri.triangles)), cmap="Greys", vmin=0, vmax=1)
+    ax.set_xlim(-0.5, 4.5)
+    ax.set_ylim(-0.5, 4.5)
+    img = _render(fig, tmp_path / "tripcolor.png")
+    assert np.allclose(_pixel(img, ax, fig, (2.0, 2.0)), 1.0)
+    assert _pixel(img, ax, fig, (0.5, 2.0)).max() < 0.2
+    plt.close(fig)
+
+
+def test_to_matplotlib_copies_coordinates():
+    tri = cdt_plugin.triangulate([[0, 0], [2, 0], [2, 1], [0, 1], [5, 5]], [[0, 1], [1, 2], [2, 3], [3, 0]])
+    assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments",
+                 require_all_vertices=False)
+    mtri = tri.to_matplotlib()
+    assert len(mtri.x) == 5                              # the outside vertex stays: indices agree
+    mtri.x[0] = 99.0
+    assert tri.vertices[0, 0] == 0.0
+
+
+def test_to_matplotlib_without_triangles_is_an_error():
+    tri = cdt_plugin.triangulate([[0, 0], [1, 1], [2, 2]])      # all collinear: edges only
+    assert len(tri.triangles) == 0 and len(tri.edges) == 2
+    with pytest.raises(cdt_plugin.CDTError, match="has no triangles"):
+        tri.to_matplotlib()
+
+
+def test_to_matplotlib_names_the_extra_when_matplotlib_is_missing(monkeypatch):
+    tri = cdt_plugin.triangulate(*SQUARE_WITH_HOLE)
+    monkeypatch.setitem(sys.modules, "matplotlib.tri", None)       # import matplotlib.tri fails
+    with pytest.raises(ImportError, match=r"to_matplotlib needs matplotlib \(pip install 'cdt-plugin\[plot\]'\)"):
+        tri.to_matplotlib()
