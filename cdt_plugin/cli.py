@@ -61,7 +61,7 @@ EXAMPLES = """\
 examples:
   cdt-plugin mesh letter.poly -o letter.ply
   cdt-plugin mesh countries.geojson -o countries.geojson --report
-  cdt-plugin mesh countries.shp -o triangles.gpkg --project aeqd --min-angle 25
+  cdt-plugin mesh countries.shp -o triangles.gpkg --project aeqd --min-angle 25 --repair --errors skip
   cdt-plugin mesh regions.gpkg --layer parcels -o parcels_mesh.gpkg
   cdt-plugin mesh countries.geojson -o countries.glb --extrude 0.5
   cdt-plugin mesh shape.wkt -o shape.stl --extrude 2 --plot shape.png
@@ -112,6 +112,10 @@ def build_parser() -> argparse.ArgumentParser:
                              "crossing (polygons are then not validated: even-odd inside)")
     common.add_argument("--repair", action="store_true",
                         help="repair invalid polygons with shapely.make_valid instead of failing")
+    common.add_argument("--errors", choices=("raise", "skip"), default="raise",
+                        help="a feature that cannot be meshed: stop with its error (default), or "
+                             "leave it out and name it and the reason on stderr (as the Python "
+                             "API's errors='skip')")
     common.add_argument("--plot", metavar="PNG", type=Path,
                         help="also draw the mesh and its angle histogram to this image")
     common.add_argument("--workers", type=_workers_arg, metavar="N",
@@ -188,16 +192,12 @@ def read_input(path: Path, layer: str | None = None) -> list[Feature]:
     if not path.exists():
         raise CLIError(f"{path}: no such file")
     if suffix in GIS_FORMATS:
-        return _layer_features(path, read_layer(path, layer))
+        return _require_polygons(path, _layer_features(path, read_layer(path, layer)))
     if layer is not None:
         raise CLIError(f"--layer applies to GIS layers (.gpkg, .shp), not {suffix}")
     from . import io
     if suffix == ".poly":
-        pd = io.read_poly(path)
-        arrays = {"vertices": pd.vertices, "segments": pd.segments, "holes": pd.holes}
-        if len(pd.regions):
-            arrays["regions"] = pd.regions
-        return [Feature(path.name, arrays=arrays)]
+        return [Feature(path.name, arrays={"vertices": io.read_poly(path).to_plc()})]
     if suffix == ".node":
         return [Feature(path.name, arrays={"vertices": io.read_node(path).vertices})]
     if suffix == ".wkt":
@@ -206,8 +206,38 @@ def read_input(path: Path, layer: str | None = None) -> list[Feature]:
             geometry = shapely.from_wkt(path.read_text(encoding="utf-8").strip())
         except shapely.errors.GEOSException as exc:
             raise CLIError(f"{path}: not valid WKT ({exc})") from None
-        return [Feature(path.name, geometry=geometry)]
-    return _read_json(path)
+        return _require_polygons(path, [Feature(path.name, geometry=geometry)])
+    return _require_polygons(path, _read_json(path))
+
+
+def _geometry_type(geometry) -> str:
+    """The GeoJSON type name of a geometry (a GeoJSON mapping or a shapely geometry)."""
+    if isinstance(geometry, dict):
+        return str(geometry.get("type"))
+    return "empty " + geometry.geom_type if geometry.is_empty else geometry.geom_type
+
+
+def _is_polygonal(geometry) -> bool:
+    """A Polygon or MultiPolygon, or a GeometryCollection holding one."""
+    if isinstance(geometry, dict) and geometry.get("type") == "GeometryCollection":
+        return any(_is_polygonal(g) for g in geometry.get("geometries") or [] if g)
+    if not isinstance(geometry, dict) and geometry.geom_type == "GeometryCollection":
+        return any(_is_polygonal(g) for g in geometry.geoms)
+    return _geometry_type(geometry) in ("Polygon", "MultiPolygon")
+
+
+def _require_polygons(path: Path, features: list[Feature]) -> list[Feature]:
+    """``features`` unchanged, or the geo adapter's NoPolygonsError when none of
+    them is polygonal (a Point-only GeoJSON would otherwise give an empty mesh)."""
+    if any(_is_polygonal(f.geometry) for f in features):
+        return features
+    from .adapters.geo import NoPolygonsError
+    kinds: dict = {}
+    for f in features:
+        kinds[_geometry_type(f.geometry)] = kinds.get(_geometry_type(f.geometry), 0) + 1
+    held = ", ".join(f"{n} {kind}" for kind, n in sorted(kinds.items()))
+    raise NoPolygonsError(f"{path}: no Polygon or MultiPolygon feature to triangulate "
+                          f"({len(features)} feature(s): {held}); a point set goes in a .node file")
 
 
 def _read_json(path: Path) -> list[Feature]:
@@ -368,14 +398,18 @@ def _options(args) -> dict:
 
 
 def triangulate_features(features: Sequence[Feature], options: dict, *, repair: bool = False,
-                         progress: bool | None = None, workers: int | None = None) -> list:
+                         progress: bool | None = None, workers: int | None = None,
+                         errors: str = "raise") -> list:
     """Triangulate each feature (a progress bar over many features when ``progress``
     is True, or None and stderr is a terminal), on ``workers`` threads (default:
-    every core when there are many features). Errors name the feature."""
+    every core when there are many features). Errors name the feature; with
+    ``errors="skip"`` a feature that fails has its ``CLIError`` in its place in the
+    list instead of stopping the others."""
     from .parallel import map_ordered, resolve_workers
     bar = _bar(progress, "triangulating", "feature", len(features)) if len(features) > 1 else None
     try:
-        return map_ordered(lambda feature: _triangulate_feature(feature, features, options, repair),
+        return map_ordered(lambda feature: _triangulate_feature(feature, features, options, repair,
+                                                                errors),
                            features, resolve_workers(workers, len(features) // MANY_FEATURES),
                            done=None if bar is None else lambda *_: bar.update(1))
     finally:
@@ -384,7 +418,7 @@ def triangulate_features(features: Sequence[Feature], options: dict, *, repair: 
 
 
 def _triangulate_feature(feature: Feature, features: Sequence[Feature], options: dict,
-                         repair: bool):
+                         repair: bool, errors: str = "raise"):
     from . import triangulate
     # Geometry goes through the shapely adapter (GEOS validity check, optional
     # repair) unless crossings are to be split: the engine then meshes the rings
@@ -402,6 +436,8 @@ def _triangulate_feature(feature: Feature, features: Sequence[Feature], options:
             "pass repair=True to repair it with shapely.make_valid",
             "pass --repair to repair it with shapely.make_valid, or --intersections split "
             "to mesh its rings as they are")
+        if errors == "skip":
+            return CLIError(f"{feature.name}: {message}")
         raise CLIError(f"{feature.name}: {message}" if len(features) > 1 else message) from None
 
 
@@ -491,10 +527,7 @@ def write_output(path: Path, features: Sequence[Feature], tris: Sequence, combin
         return f"wrote {path}: {len(tris)} feature(s), {len(combined.triangles):,} triangles"
     from . import io
     base = path.with_suffix("")
-    attributes = combined.regions if len(tris) > 1 else None
-    io.write_node(base.with_suffix(".node"), combined.vertices)
-    io.write_ele(base.with_suffix(".ele"), combined.triangles, attributes=attributes)
-    io.write_poly(base.with_suffix(".poly"), combined.vertices, combined.segments)
+    io.write_triangulation(path, combined, attributes=combined.regions if len(tris) > 1 else None)
     return (f"wrote {base}.node/.ele/.poly: {len(combined.vertices):,} vertices, "
             f"{len(combined.triangles):,} triangles, {len(combined.segments):,} segment edges")
 
@@ -575,15 +608,24 @@ def _triangulate_layer(frame, args, options: dict):
         warnings.simplefilter("always")
         try:
             mesh = geo.triangulate(frame, output="mesh", project=args.project, repair=args.repair,
-                                   progress=progress, workers=args.workers, **options)
+                                   errors=args.errors, progress=progress, workers=args.workers,
+                                   **options)
         except CDTError as exc:
             raise CLIError(_layer_error(exc, frame)) from None
+    for i in sorted(mesh.errors):
+        _warn(f"skipped {_layer_error(mesh.errors[i], frame)}")
+    if mesh.errors and len(mesh.errors) == len(frame):
+        raise CLIError(f"{args.input}: no feature could be meshed ({len(frame)} skipped)")
     for w in caught:
         if issubclass(w.category, geo.GeographicCRSWarning):
             message = str(w.message).replace("pass project='utm', 'aeqd' or a projected CRS",
                                              "pass --project utm or --project aeqd")
-            print(f"cdt-plugin: warning: {message}", file=sys.stderr)
+            _warn(message)
     return mesh
+
+
+def _warn(message: str) -> None:
+    print(f"cdt-plugin: warning: {' '.join(message.split())}", file=sys.stderr)
 
 
 def _layer_error(exc: CDTError, frame) -> str:
@@ -636,7 +678,13 @@ def _mesh_all(args):
     if args.plot is not None:
         _check_plot(args.plot)
     tris = triangulate_features(features, options, repair=args.repair, progress=args.progress,
-                                workers=args.workers)
+                                workers=args.workers, errors=args.errors)
+    kept = [i for i, t in enumerate(tris) if not isinstance(t, CLIError)]
+    for i in sorted(set(range(len(tris))) - set(kept)):
+        _warn(f"skipped {tris[i]}")
+    if not kept:
+        raise CLIError(f"{args.input}: no feature could be meshed ({len(tris)} skipped)")
+    features, tris = [features[i] for i in kept], [tris[i] for i in kept]
     return features, tris, concatenate(tris)
 
 

@@ -48,7 +48,7 @@ from .errors import FileFormatError, InputShapeError, NonFiniteCoordinateError
 __all__ = [
     "NodeData", "PolyData", "EleData", "EdgeData",
     "read_node", "read_poly", "read_ele", "read_edge", "read_neigh",
-    "write_node", "write_poly", "write_ele", "write_edge", "write_neigh",
+    "write_node", "write_poly", "write_ele", "write_edge", "write_neigh", "write_triangulation",
     "WRITE_FIRST_INDEX",
 ]
 
@@ -81,6 +81,23 @@ class PolyData:
     regions: np.ndarray                     # (r, 4) float64: x, y, attribute, max_area
     first_index: int                        # numbering base of the file (0 or 1)
     node_path: Optional[Path] = None        # the .node file the vertices came from, if any
+
+    def to_plc(self):
+        """The file's PLC (vertices, segments, holes, region seeds), ready for
+        :func:`cdt_plugin.triangulate`. Hole points are kept as Triangle uses them
+        (triangles reachable from outside the segments are removed too), and a
+        region's positive maximum area bounds its triangles.
+
+        >>> import os, tempfile, cdt_plugin
+        >>> path = os.path.join(tempfile.mkdtemp(), "square.poly")
+        >>> write_poly(path, [[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1], [1, 2], [2, 3], [3, 0]])
+        >>> tri = cdt_plugin.triangulate(read_poly(path).to_plc())
+        >>> len(tri.triangles), tri.is_delaunay()
+        (2, True)
+        """
+        from .plc import as_plc
+        return as_plc(self.vertices, self.segments, self.holes,
+                      self.regions if len(self.regions) else None)
 
     @property
     def vertex_attributes(self) -> np.ndarray:
@@ -539,19 +556,46 @@ def _write(path, lines: List[str], kind: str) -> None:
         f.write(header + "\n" + "\n".join(lines) + "\n")
 
 
+def _mesh_array(data, name: str):
+    """``data.<name>`` when ``data`` is a :class:`~cdt_plugin.Triangulation`, else ``data``."""
+    from .triangulation import Triangulation
+    return getattr(data, name) if isinstance(data, Triangulation) else data
+
+
 def write_node(path, vertices, attributes=None, markers=None) -> None:
-    """Write a ``.node`` file, vertices numbered from 1; floats round-trip exactly."""
-    _write(path, _node_lines(vertices, attributes, markers), "Triangle .node")
+    """Write a ``.node`` file, vertices numbered from 1; floats round-trip exactly.
+    ``vertices``: an (n, 2) array or a Triangulation (its vertices).
+
+    >>> import os, tempfile, cdt_plugin
+    >>> path = os.path.join(tempfile.mkdtemp(), "tri.node")
+    >>> write_node(path, cdt_plugin.delaunay([[0, 0], [1, 0], [0, 1]]))
+    >>> read_node(path).vertices.tolist()
+    [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
+    """
+    _write(path, _node_lines(_mesh_array(vertices, "vertices"), attributes, markers),
+           "Triangle .node")
 
 
-def write_poly(path, vertices, segments, holes=None, regions=None, segment_markers=None,
+def write_poly(path, vertices, segments=None, holes=None, regions=None, segment_markers=None,
                attributes=None, markers=None) -> None:
     """Write a ``.poly`` file (vertices inline, numbered from 1).
 
     ``segments`` are zero-based in memory; ``regions`` rows are (x, y, attribute, max_area),
-    a NaN max_area is written as -1 (no constraint, in Triangle's reading).
+    a NaN max_area is written as -1 (no constraint, in Triangle's reading). ``vertices``
+    may be a Triangulation: its vertices and (unless given) its segment pieces are
+    written, as Triangle writes its output ``.poly``.
+
+    >>> import os, tempfile
+    >>> path = os.path.join(tempfile.mkdtemp(), "seg.poly")
+    >>> write_poly(path, [[0, 0], [1, 0]], [[0, 1]])
+    >>> read_poly(path).segments.tolist()
+    [[0, 1]]
     """
-    lines = _node_lines(vertices, attributes, markers)
+    if segments is None:
+        segments = _mesh_array(vertices, "segments")
+        if segments is vertices:
+            raise InputShapeError("write_poly needs segments (or a Triangulation)")
+    lines = _node_lines(_mesh_array(vertices, "vertices"), attributes, markers)
     n = int(lines[0].split()[0])
     s = as_index(segments, "segments", 2, n)
     smarks = _opt_rows(segment_markers, s.shape[0], "segment_markers", np.int64)
@@ -582,8 +626,16 @@ def write_poly(path, vertices, segments, holes=None, regions=None, segment_marke
 
 
 def write_ele(path, triangles, attributes=None) -> None:
-    """Write a ``.ele`` file (triangles and corners numbered from 1)."""
-    t = np.asarray(triangles)
+    """Write a ``.ele`` file (triangles and corners numbered from 1). ``triangles``: a
+    (k, 3) or (k, 6) index array or a Triangulation (its triangles).
+
+    >>> import os, tempfile, cdt_plugin
+    >>> path = os.path.join(tempfile.mkdtemp(), "tri.ele")
+    >>> write_ele(path, cdt_plugin.delaunay([[0, 0], [1, 0], [0, 1]]))
+    >>> read_ele(path).triangles.tolist()
+    [[0, 1, 2]]
+    """
+    t = np.asarray(_mesh_array(triangles, "triangles"))
     cols = t.shape[1] if t.ndim == 2 and t.shape[1] in (3, 6) else 3
     t = as_index(t, "triangles", cols)
     if (t < 0).any():
@@ -603,8 +655,9 @@ def write_ele(path, triangles, attributes=None) -> None:
 
 
 def write_edge(path, edges, markers=None) -> None:
-    """Write a ``.edge`` file (edges and endpoints numbered from 1)."""
-    e = as_index(edges, "edges", 2)
+    """Write a ``.edge`` file (edges and endpoints numbered from 1). ``edges``: an (m, 2)
+    index array or a Triangulation (every edge of its triangles)."""
+    e = as_index(_mesh_array(edges, "edges"), "edges", 2)
     if (e < 0).any():
         raise InputShapeError("edges contain negative vertex indices")
     marks = _opt_rows(markers, e.shape[0], "markers", np.int64)
@@ -619,8 +672,10 @@ def write_edge(path, edges, markers=None) -> None:
 
 
 def write_neigh(path, neighbors) -> None:
-    """Write a ``.neigh`` file (triangles numbered from 1, -1 for no neighbour)."""
-    nb = as_index(neighbors, "neighbors", 3)
+    """Write a ``.neigh`` file (triangles numbered from 1, -1 for no neighbour).
+    ``neighbors``: a (k, 3) array (column j: across the edge opposite corner j, as
+    Triangle numbers them) or a Triangulation (its neighbours)."""
+    nb = as_index(_mesh_array(neighbors, "neighbors"), "neighbors", 3)
     k = nb.shape[0]
     if ((nb < -1) | (nb >= k)).any():
         raise InputShapeError(f"neighbors must be -1 or in 0..{k - 1}")
@@ -630,3 +685,25 @@ def write_neigh(path, neighbors) -> None:
         lines.append(" ".join([str(i + f0)] + [str(int(x) + f0) if x >= 0 else "-1"
                                                 for x in nb[i]]))
     _write(path, lines, "Triangle .neigh")
+
+
+def write_triangulation(path, tri, attributes=None) -> List[Path]:
+    """Write a Triangulation as Triangle writes its output: ``<base>.node``,
+    ``<base>.ele`` (with ``attributes`` per triangle, if given) and ``<base>.poly``
+    (its segment pieces), ``<base>`` being ``path`` without its extension. Returns
+    the three paths.
+
+    >>> import os, tempfile, cdt_plugin
+    >>> base = os.path.join(tempfile.mkdtemp(), "square")
+    >>> tri = cdt_plugin.triangulate([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1], [1, 2], [2, 3], [3, 0]])
+    >>> [p.name for p in write_triangulation(base + ".ele", tri)]
+    ['square.node', 'square.ele', 'square.poly']
+    >>> read_ele(base + ".ele").triangles.shape
+    (2, 3)
+    """
+    base = Path(path).with_suffix("")
+    paths = [base.with_suffix(s) for s in (".node", ".ele", ".poly")]
+    write_node(paths[0], tri)
+    write_ele(paths[1], tri, attributes=attributes)
+    write_poly(paths[2], tri)
+    return paths

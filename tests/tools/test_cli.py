@@ -381,3 +381,122 @@ def test_first_use_notice_says_once_that_a_route_compiles(caplog):
     assert len([m for m in messages if "compiling" in m]) == 1, messages
     assert "cdt_plugin.probe_for_test.probe" in messages[0] and "cached" in messages[0]
     assert any(m.startswith("cdt_plugin: compiled") for m in messages)
+
+
+# ------------------------------------------------- --errors skip, no polygons (#17)
+def _collection(*geometries) -> dict:
+    return {"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": f"f{i}"}, "geometry": g}
+        for i, g in enumerate(geometries)]}
+
+
+SQUARE = {"type": "Polygon", "coordinates": [[[0, 0], [2, 0], [2, 2], [0, 2], [0, 0]]]}
+BOWTIE = {"type": "Polygon", "coordinates": [[[0, 0], [2, 2], [2, 0], [0, 2], [0, 0]]]}
+
+
+def test_errors_skip_leaves_out_failing_features_and_names_them(tmp_path, capsys):
+    pytest.importorskip("shapely")
+    from checker import assert_valid
+    src = tmp_path / "two.json"
+    src.write_text(json.dumps(_collection(BOWTIE, SQUARE)))
+    out = tmp_path / "two.ele"
+    assert cli.main(["mesh", str(src), "-o", str(out)]) == 1         # default: raise
+    assert "feature 0 (f0): Polygon is not valid" in capsys.readouterr().err
+    assert not out.exists()
+    assert cli.main(["mesh", str(src), "-o", str(out), "--errors", "skip"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err.startswith("cdt-plugin: warning: skipped feature 0 (f0): Polygon is not "
+                                   "valid: Self-intersection[1 1]")
+    assert len(captured.err.splitlines()) == 1
+    V = tio.read_node(tmp_path / "two.node").vertices
+    T = tio.read_ele(out).triangles
+    S = tio.read_poly(tmp_path / "two.poly").segments
+    assert V.tolist() == [[0, 0], [2, 0], [2, 2], [0, 2]] and len(T) == 2   # the square only
+    assert_valid(V, T, segments=S, domain="segments")
+
+
+def test_errors_skip_with_nothing_left_is_an_error(tmp_path, capsys):
+    pytest.importorskip("shapely")
+    src = tmp_path / "bowtie.json"
+    src.write_text(json.dumps(BOWTIE))
+    assert cli.main(["mesh", str(src), "-o", str(tmp_path / "b.ele"), "--errors", "skip"]) == 1
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith("cdt-plugin: warning: skipped bowtie.json: Polygon is not valid")
+    assert err[1] == f"cdt-plugin: error: {src}: no feature could be meshed (1 skipped)"
+    assert not (tmp_path / "b.ele").exists()
+    assert cli.main(["mesh", str(src), "-o", "b.ele", "--errors", "ignore"]) == 2   # usage
+
+
+@needs_corpus
+def test_errors_skip_on_a_projected_world_layer(tmp_path, capsys):
+    """The README's world line: in one azimuthal equidistant projection Russia (split
+    at the antimeridian) cannot be meshed; --errors skip names it and meshes the rest."""
+    gpd = pytest.importorskip("geopandas")
+    src = CORPUS / "gis" / "naturalearth_lowres.geojson"
+    out = tmp_path / "world.gpkg"
+    args = ["mesh", str(src), "-o", str(out), "--project", "aeqd", "--repair", "--no-progress"]
+    assert cli.main(args) == 1
+    assert "error: feature 18 (Russia): " in capsys.readouterr().err
+    assert cli.main(args + ["--errors", "skip"]) == 0
+    captured = capsys.readouterr()
+    skipped = [line for line in captured.err.splitlines() if "skipped" in line]
+    assert skipped == [line for line in skipped if line.startswith(
+        "cdt-plugin: warning: skipped feature ")]
+    assert any("skipped feature 18 (Russia): " in line and "turn clockwise" in line
+               for line in skipped)
+    written = gpd.read_file(out)
+    names = set(written["name"])
+    assert "Russia" not in names and {"France", "Brazil", "Sudan"} <= names
+    assert captured.out.strip() == (f"wrote {out}: {177 - len(skipped)} feature(s), "
+                                    f"{len(written):,} triangles")
+    given = gpd.read_file(src)
+    for name in ("France", "Brazil", "Sudan"):       # the triangles tile each feature
+        mine = written[written["name"] == name]
+        assert (mine.geom_type == "Polygon").all()
+        polygon = given[given["name"] == name].geometry.iloc[0]
+        assert mine.area.sum() == pytest.approx(polygon.area, rel=1e-6)
+
+
+@pytest.mark.parametrize("output", ["out.ply", "out.ele", "out.geojson", "out.gpkg"])
+@pytest.mark.parametrize("content, kinds", [
+    (_collection({"type": "Point", "coordinates": [1, 2]}), "1 feature(s): 1 Point"),
+    ({"type": "MultiPoint", "coordinates": [[0, 0], [1, 0], [0, 1]]}, "1 feature(s): 1 MultiPoint"),
+    (_collection({"type": "Point", "coordinates": [1, 2]},
+                 {"type": "LineString", "coordinates": [[0, 0], [1, 1]]}),
+     "2 feature(s): 1 LineString, 1 Point"),
+])
+def test_no_polygon_is_an_error_naming_it(tmp_path, capsys, output, content, kinds):
+    """A GeoJSON without any Polygon or MultiPolygon: NoPolygonsError (exit 1), never an
+    empty mesh written with exit 0, whatever the output."""
+    pytest.importorskip("geopandas")
+    src = tmp_path / "points.geojson"
+    src.write_text(json.dumps(content))
+    assert cli.main(["mesh", str(src), "-o", str(tmp_path / output)]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("cdt-plugin: error: ") and len(err.splitlines()) == 1
+    assert "no Polygon or MultiPolygon feature to triangulate" in err
+    assert kinds in err
+    assert not list(tmp_path.glob("out.*"))
+
+
+def test_no_polygon_in_wkt_is_an_error(tmp_path, capsys):
+    pytest.importorskip("shapely")
+    src = tmp_path / "point.wkt"
+    src.write_text("POINT (1 2)")
+    assert cli.main(["mesh", str(src), "-o", str(tmp_path / "p.ele")]) == 1
+    assert ("no Polygon or MultiPolygon feature to triangulate (1 feature(s): 1 Point)"
+            in capsys.readouterr().err)
+
+
+@needs_corpus
+def test_poly_regions_and_holes_reach_the_engine(tmp_path, capsys):
+    """A .poly's hole points and region max areas are used (io.PolyData.to_plc)."""
+    from checker import assert_valid
+    out = tmp_path / "la.ele"
+    assert cli.main(["mesh", str(CORPUS / "triangle" / "la.poly"), "-o", str(out)]) == 0
+    tri = cdt_plugin.triangulate(tio.read_poly(CORPUS / "triangle" / "la.poly").to_plc())
+    V = tio.read_node(tmp_path / "la.node").vertices
+    T = tio.read_ele(out).triangles
+    assert np.array_equal(V, tri.vertices) and np.array_equal(T, tri.triangles)
+    assert len(tri.steiner) > 0                        # la.poly's region areas refine
+    assert_valid(V, T, segments=tio.read_poly(tmp_path / "la.poly").segments, domain="segments")

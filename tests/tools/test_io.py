@@ -6,8 +6,10 @@ import math
 import numpy as np
 import pytest
 
+import cdt_plugin
 import corpus
 from cdt_plugin import io as tio
+from checker import assert_valid
 from cdt_plugin.errors import (CDTError, FileFormatError, InputShapeError,
                                NonFiniteCoordinateError)
 
@@ -408,3 +410,65 @@ def test_error_carries_line_number(tmp_path):
     with pytest.raises(FileFormatError) as info:
         tio.read_node(p)
     assert info.value.line == 4
+
+
+# ------------------------------------------------- PolyData -> triangulate, Triangulation -> files (#17)
+@needs_corpus
+@pytest.mark.parametrize("fname", ["A.poly", "face.poly", "square_circle_hole.poly", "la.poly"])
+def test_read_poly_output_triangulates(fname):
+    """``triangulate(read_poly(f).to_plc())``: the file's vertices, segments, hole
+    points and region seeds all reach the engine, as Triangle reads them."""
+    pd = tio.read_poly(CORPUS / "triangle" / fname)
+    with pytest.raises(InputShapeError):
+        cdt_plugin.triangulate(pd)                         # the file's data, not a PLC
+    tri = cdt_plugin.triangulate(pd.to_plc())
+    same = cdt_plugin.triangulate(pd.vertices, pd.segments, holes=pd.holes,
+                                  regions=pd.regions if len(pd.regions) else None)
+    assert np.array_equal(tri.triangles, same.triangles) and np.array_equal(tri.vertices, same.vertices)
+    assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
+    if fname == "la.poly":                                # its regions bound the areas
+        assert len(tri.steiner) and tri.region_attributes is not None
+
+
+def test_region_max_area_bounds_its_region(tmp_path):
+    """The README's two squares: a region seed's max_area refines its region alone."""
+    V = [[0, 0], [4, 0], [4, 4], [0, 4], [2, 0], [2, 4]]
+    S = [[0, 4], [4, 1], [1, 2], [2, 5], [5, 3], [3, 0], [4, 5]]
+    path = tmp_path / "two.poly"
+    tio.write_poly(path, V, S, regions=[[1, 2, 7, 0.05], [3, 2, 8, 1.0]])
+    tri = cdt_plugin.triangulate(tio.read_poly(path).to_plc())
+    P = tri.vertices[tri.triangles]
+    area = 0.5 * np.abs((P[:, 1, 0] - P[:, 0, 0]) * (P[:, 2, 1] - P[:, 0, 1])
+                        - (P[:, 1, 1] - P[:, 0, 1]) * (P[:, 2, 0] - P[:, 0, 0]))
+    left, right = tri.region_attributes == 7, tri.region_attributes == 8
+    assert left.sum() + right.sum() == len(tri.triangles)
+    assert area[left].max() <= 0.05 and area[left].sum() == pytest.approx(8.0)
+    assert area[right].max() <= 1.0 and area[right].sum() == pytest.approx(8.0)
+    assert left.sum() > 10 * right.sum()                  # the left square is much finer
+    assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
+
+
+def test_writers_take_a_triangulation(tmp_path):
+    sq = [[0, 0], [4, 0], [4, 4], [0, 4], [1, 1], [3, 1], [3, 3], [1, 3]]
+    rings = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4]]
+    tri = cdt_plugin.triangulate(sq, rings, min_angle=25)
+    tio.write_node(tmp_path / "t.node", tri)
+    tio.write_ele(tmp_path / "t.ele", tri)
+    tio.write_poly(tmp_path / "t.poly", tri)
+    tio.write_edge(tmp_path / "t.edge", tri)
+    tio.write_neigh(tmp_path / "t.neigh", tri)
+    V = tio.read_node(tmp_path / "t.node").vertices
+    T = tio.read_ele(tmp_path / "t.ele").triangles
+    poly = tio.read_poly(tmp_path / "t.poly")
+    assert np.array_equal(V, tri.vertices) and np.array_equal(T, tri.triangles)
+    assert np.array_equal(poly.vertices, tri.vertices) and np.array_equal(poly.segments, tri.segments)
+    assert np.array_equal(tio.read_edge(tmp_path / "t.edge").edges, tri.edges)
+    assert np.array_equal(tio.read_neigh(tmp_path / "t.neigh"), tri.neighbors)
+    assert_valid(V, T, segments=poly.segments, domain="segments")
+    paths = tio.write_triangulation(tmp_path / "all.ele", tri, attributes=np.arange(len(T)))
+    assert [p.name for p in paths] == ["all.node", "all.ele", "all.poly"]
+    ele = tio.read_ele(paths[1])
+    assert np.array_equal(ele.triangles, T) and ele.attributes[:, 0].tolist() == list(range(len(T)))
+    assert np.array_equal(tio.read_poly(paths[2]).segments, tri.segments)
+    with pytest.raises(InputShapeError, match="needs segments"):
+        tio.write_poly(tmp_path / "x.poly", tri.vertices)
