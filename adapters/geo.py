@@ -11,6 +11,9 @@ Polygon with its holes, or a MultiPolygon's parts together) -> :class:`GeoMesh`
 * :func:`triangulate` -- the whole layer on one machine.
 * :func:`triangulate_dask` -- a dask-geopandas GeoDataFrame, partition by partition
   (``map_partitions``), on any Dask cluster.
+* ``gdf.cdt.triangulate(...)`` / ``gs.cdt.triangulate(...)`` -- :func:`triangulate` as
+  a method of a GeoDataFrame or GeoSeries (:class:`CDTAccessor`, a pandas accessor
+  registered when this module is imported).
 
 Coordinates. Projected CRSs (UTM: 1e5 to 1e7 metres) need nothing special: the
 engine decides every topological question with exact predicates on the coordinates
@@ -57,6 +60,7 @@ import sys
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import FrameType
 from typing import Any
 
 import numpy as np
@@ -65,10 +69,11 @@ import shapely
 from cdt_plugin import CDTError, InputShapeError
 from cdt_plugin.batch import MeshBatch, check_batch_options
 
-from .shapely import triangulate_batch
+from .shapely import _triangle_polygons, triangulate_batch
 
 __all__ = ["triangulate", "triangulate_dask", "read", "write_geojson", "GeoMesh", "GeographicCRSWarning",
-           "SkippedFeaturesWarning", "NoPolygonsError", "ProjectionError"]
+           "SkippedFeaturesWarning", "NoPolygonsError", "ProjectionError", "NotGeographicError",
+           "CDTAccessor"]
 
 OUTPUTS = ("geodataframe", "trimesh", "mesh")
 AUTO_PROGRESS_FEATURES = 5000       # progress=None: a bar above this many features (on a tty)
@@ -94,6 +99,12 @@ class NoPolygonsError(CDTError):
 class ProjectionError(CDTError):
     """``project=`` cannot be applied (no CRS, not a projected CRS, coordinates that
     do not project to finite values, a feature that does not map back)."""
+
+
+class NotGeographicError(CDTError, AttributeError):
+    """``.cdt`` on a pandas object that is not a GeoDataFrame with an active
+    geometry column or a GeoSeries. Also an ``AttributeError``, so that
+    ``hasattr(frame, "cdt")`` is False for it, as pandas accessors expect."""
 
 
 # ------------------------------------------------------------------------ reading
@@ -375,6 +386,70 @@ def triangulate(data, *, output: str = "geodataframe", project=None, repair=Fals
     return mesh.to_geodataframe()
 
 
+# ----------------------------------------------------------------- pandas accessor
+class CDTAccessor:
+    """``gdf.cdt`` / ``gs.cdt``: this module's meshing as a method of a GeoDataFrame
+    or GeoSeries. Registered through pandas' extension API
+    (``pandas.api.extensions.register_dataframe_accessor`` and
+    ``register_series_accessor``) when this module is imported; geopandas has no
+    registry of its own, and its classes subclass pandas', so they inherit it.
+    On a pandas object that is not geographic (a DataFrame or Series of plain
+    values), ``.cdt`` raises :class:`NotGeographicError`.
+
+    >>> import geopandas, pandas, shapely
+    >>> from cdt_plugin.adapters import geo           # registers .cdt
+    >>> layer = geopandas.GeoDataFrame({"name": ["a", "b"]}, crs="EPSG:32633",
+    ...     geometry=[shapely.box(0, 0, 1, 1), shapely.box(2, 0, 3, 2)])
+    >>> layer.cdt.triangulate()["name"].tolist()
+    ['a', 'a', 'b', 'b']
+    >>> tris = layer.geometry.cdt.triangulate(max_area=0.5)
+    >>> len(tris), tris.crs.to_epsg()
+    (6, 32633)
+    >>> hasattr(pandas.DataFrame({"x": [1]}), "cdt")
+    False
+    """
+
+    def __init__(self, obj: Any) -> None:
+        self._obj = _geographic(obj)
+
+    def triangulate(self, **options: Any) -> Any:
+        """``triangulate(self)``: :func:`triangulate` of this GeoDataFrame or
+        GeoSeries, with the same options (``output``, ``project``, ``repair``,
+        ``errors``, ``progress``, ``workers``, ``min_angle``, ``max_area``, ...)
+        and the same result."""
+        return triangulate(self._obj, **options)
+
+
+def _geographic(obj: Any) -> Any:
+    """``obj`` when it is a GeoSeries or a GeoDataFrame with an active geometry
+    column; else :class:`NotGeographicError` saying how to make one."""
+    geopandas = sys.modules.get("geopandas")      # not imported: obj cannot be geographic
+    if geopandas is not None and isinstance(obj, geopandas.GeoSeries):
+        return obj
+    if geopandas is not None and isinstance(obj, geopandas.GeoDataFrame):
+        try:
+            _ = obj.geometry              # raises without an active geometry column
+        except AttributeError:
+            raise NotGeographicError(
+                ".cdt: the GeoDataFrame has no active geometry column (columns: "
+                f"{list(obj.columns)}); set one with gdf.set_geometry(column)") from None
+        return obj
+    hint = ("geopandas.GeoDataFrame(frame, geometry=column)" if hasattr(obj, "columns") else
+            "geopandas.GeoSeries(series)")
+    raise NotGeographicError(f".cdt needs a GeoDataFrame or a GeoSeries, got a pandas "
+                             f"{type(obj).__name__} with no geometry; make one with {hint}")
+
+
+def _register_accessor() -> None:
+    """``.cdt`` on every pandas DataFrame and Series (so on geopandas' subclasses)."""
+    try:
+        import pandas
+    except ImportError:                 # no pandas, so no geopandas: nothing to hook into
+        return
+    pandas.api.extensions.register_dataframe_accessor("cdt")(CDTAccessor)
+    pandas.api.extensions.register_series_accessor("cdt")(CDTAccessor)
+
+
 def triangulate_dask(dask_geodataframe, *, project=None, repair=False, errors: str = "raise",
                      **options):
     """:func:`triangulate` for a dask-geopandas GeoDataFrame: every partition is
@@ -407,7 +482,7 @@ def triangulate_dask(dask_geodataframe, *, project=None, repair=False, errors: s
     elif project is not None:
         project = _target_crs(project, crs, None)
     elif _is_geographic(crs):
-        _warn_geographic(crs, stacklevel=3)
+        _warn_geographic(crs)
     kwargs = dict(project=project, repair=repair, errors=errors, **options)
     meta = _triangulate_partition(dask_geodataframe._meta, **kwargs)
     return dask_geodataframe.map_partitions(_triangulate_partition, meta=meta, **kwargs)
@@ -443,7 +518,7 @@ def _mesh(frame, *, project, repair, errors, progress, options, require_polygons
     extent = _extent(geoms, _is_geographic(frame.crs)) if _centred(project) else None
     target = _target_crs(project, frame.crs, extent)
     if warn and target is None and _is_geographic(frame.crs):
-        _warn_geographic(frame.crs, stacklevel=4)
+        _warn_geographic(frame.crs)
     meshed = _uniform_z(geoms if target is None else _project(geoms, frame, target))
     if progress is None:
         progress = len(geoms) > AUTO_PROGRESS_FEATURES and sys.stderr.isatty()
@@ -559,7 +634,7 @@ def _warn_skipped(failed: dict, frame) -> None:
     shown = ", ".join(labels[:10]) + (", ..." if len(labels) > 10 else "")
     warnings.warn(SkippedFeaturesWarning(
         f"{len(failed)} feature(s) could not be meshed and have no triangles ({shown}); "
-        'their errors are in result.attrs["cdt_errors"]'), stacklevel=4)
+        'their errors are in result.attrs["cdt_errors"]'), stacklevel=_caller_stacklevel())
 
 
 # --------------------------------------------------------------------- projection
@@ -567,13 +642,24 @@ def _is_geographic(crs) -> bool:
     return crs is not None and bool(crs.is_geographic)
 
 
-def _warn_geographic(crs, stacklevel: int) -> None:
+def _caller_stacklevel() -> int:
+    """The ``stacklevel`` (for ``warnings.warn`` called by the caller of this function)
+    that points at the first frame outside this module: the user's line, whether it
+    called :func:`triangulate`, :func:`triangulate_dask` or ``gdf.cdt.triangulate``."""
+    frame: FrameType | None = sys._getframe(1)
+    level = 1
+    while frame is not None and frame.f_code.co_filename == __file__:
+        frame, level = frame.f_back, level + 1
+    return level
+
+
+def _warn_geographic(crs) -> None:
     warnings.warn(GeographicCRSWarning(
         f"the layer's CRS ({crs.name}) is geographic: the triangulation is Delaunay, and "
         "min_angle / max_area are measured, in degrees of longitude and latitude (angles and "
         "areas distorted away from the equator); pass project='utm', 'aeqd' or a projected "
         "CRS to mesh in metres (input vertices keep their coordinates exactly)"),
-        stacklevel=stacklevel)
+        stacklevel=_caller_stacklevel())
 
 
 def _extent(geoms: np.ndarray, geographic: bool) -> np.ndarray:
@@ -924,17 +1010,12 @@ class GeoMesh:
         return out
 
 
-def _triangle_polygons(rings: np.ndarray) -> np.ndarray:
-    """Polygons from closed rings of four corners, ``(k, 4, 2)`` or ``(k, 4, 3)``."""
-    k = len(rings)
-    return shapely.from_ragged_array(
-        shapely.GeometryType.POLYGON, np.ascontiguousarray(rings.reshape(4 * k, rings.shape[2])),
-        (np.arange(0, 4 * k + 1, 4, dtype=np.int64), np.arange(k + 1, dtype=np.int64)))
-
-
 def _id_column_names(columns) -> tuple[str, ...]:
     """``feature``, ``position``, ``part``, or all three with a ``cdt_`` prefix when
     a source column already has one of these names."""
     if any(c in columns for c in ID_COLUMNS):
         return tuple(f"cdt_{c}" for c in ID_COLUMNS)
     return ID_COLUMNS
+
+
+_register_accessor()

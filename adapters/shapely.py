@@ -14,7 +14,14 @@ shapely output (:func:`to_shapely`).
 * :func:`constrained_delaunay_triangles` -- a drop-in for
   ``shapely.constrained_delaunay_triangles`` returning the exact CDT (GEOS ear-clips
   and then runs a capped number of Delaunay flip passes, so on large polygons it can
-  stop short of the CDT).
+  stop short of the CDT); ``repair=`` as in :func:`triangulate`.
+* :func:`delaunay_triangles` -- a drop-in for ``shapely.delaunay_triangles``: the
+  Delaunay triangulation of all the vertices of any geometry (``tolerance``,
+  ``only_edges``), with exact predicates.
+
+The drop-ins are element-wise as shapely's functions are: an array of geometries
+in, an array of the same shape out (a pandas Series or GeoSeries keeps its index),
+``None`` gives ``None``.
 
 Polygons and MultiPolygons (also in arrays) are read straight from GEOS coordinate
 arrays, vectorised over the whole input; other geometry types go through
@@ -22,15 +29,19 @@ arrays, vectorised over the whole input; other geometry types go through
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import shapely
+from numpy.typing import ArrayLike
 
 import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, TooFewPointsError
 from cdt_plugin.batch import MeshBatch, check_batch_options, geometry_plc, triangulate_rings
+from cdt_plugin.validate import as_points
 
 __all__ = ["triangulate", "triangulate_batch", "to_shapely", "constrained_delaunay_triangles",
-           "plc_from_shapely"]
+           "delaunay_triangles", "plc_from_shapely"]
 
 # GEOS type ids (shapely.GeometryType)
 _POINT, _LINESTRING, _LINEARRING, _POLYGON, _MULTIPOINT, _MULTILINESTRING, _MULTIPOLYGON, _COLLECTION = range(8)
@@ -39,6 +50,7 @@ _POLYGONAL = (_LINEARRING, _POLYGON, _MULTIPOLYGON)   # types whose rings bound 
 # a lookup, since np.isin costs tens of microseconds on a one-geometry call
 _CHECKED_FOR_VALIDITY = np.isin(np.arange(-1, 8), _POLYGONAL + (_COLLECTION,))
 _EMPTY_COLLECTION = shapely.GeometryCollection()    # geometries are immutable: one serves all
+_EMPTY_MULTILINESTRING = shapely.MultiLineString()
 _REPAIR_METHODS = {True: "linework", "linework": "linework", "structure": "structure"}
 _VECTORISED_FROM = 16    # polygons read as flat ring arrays from this many on (else one by one)
 
@@ -453,8 +465,16 @@ def to_shapely(tri, *, z=None, ccw=False):
         zz = np.broadcast_to(np.asarray(z, dtype=np.float64), (len(V),))
         V = np.column_stack([V, zz])
     order = [0, 1, 2, 0] if ccw else [0, 2, 1, 0]
-    polys = shapely.polygons(V[T[:, order]]) if len(T) else np.empty(0, object)
+    polys = _triangle_polygons(V[T[:, order]]) if len(T) else np.empty(0, object)
     return shapely.geometrycollections(polys)
+
+
+def _triangle_polygons(rings: np.ndarray) -> np.ndarray:
+    """Polygons from closed rings of four corners, ``(k, 4, 2)`` or ``(k, 4, 3)``."""
+    k = len(rings)
+    return shapely.from_ragged_array(
+        shapely.GeometryType.POLYGON, np.ascontiguousarray(rings.reshape(4 * k, rings.shape[2])),
+        (np.arange(0, 4 * k + 1, 4, dtype=np.int64), np.arange(k + 1, dtype=np.int64)))
 
 
 def _vertex_z(tri, plc):
@@ -466,13 +486,59 @@ def _vertex_z(tri, plc):
     return z
 
 
-def constrained_delaunay_triangles(geometry, **kwargs):
+# ------------------------------------------------------------------------ drop-ins
+# shapely's element-wise form: an array of geometries in, an array of the same shape
+# out (a pandas Series keeps its index), None gives None, one geometry gives one.
+def _geometry_array(geometry: Any) -> np.ndarray:
+    """``geometry`` as a NumPy object array: 0-d for one geometry (or None)."""
+    if _is_array_input(geometry):
+        return np.asarray(geometry, dtype=object)
+    arr = np.empty((), dtype=object)
+    arr[()] = geometry
+    return arr
+
+
+def _check_geometries(flat: np.ndarray) -> None:
+    """shapely's TypeError for anything that is neither a geometry nor None."""
+    ok = shapely.is_valid_input(flat)
+    if not ok.all():
+        bad = flat[np.flatnonzero(~ok)[0]]
+        raise TypeError(f"one of the arguments is of incorrect type: {type(bad).__name__} "
+                        "(expected shapely geometries or None)")
+
+
+def _reject_ufunc_kwargs(name: str, kwargs: dict) -> None:
+    """shapely's functions are ufuncs and take NumPy ufunc keywords (``out``,
+    ``where``, ...); the drop-ins are not ufuncs and say so."""
+    if kwargs:
+        raise TypeError(f"{name}: ufunc keyword arguments are not supported "
+                        f"({', '.join(sorted(kwargs))})")
+
+
+def _elementwise_output(out: np.ndarray, shape: tuple, geometry: Any) -> Any:
+    """The flat results in the form shapely returns them: one geometry for a
+    scalar (or 0-d) call, else an array of ``shape``, or the input's pandas
+    container (same index) when it has that shape."""
+    values = out.reshape(shape)
+    if values.ndim == 0:
+        return values[()]
+    if hasattr(geometry, "iloc") and np.shape(geometry) == shape:
+        return _like_input(values, geometry)
+    return values
+
+
+def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False, **kwargs: Any) -> Any:
     """Drop-in for ``shapely.constrained_delaunay_triangles`` (same signature, same
     output form) returning the exact constrained Delaunay triangulation.
 
     Parameters
     ----------
     geometry : Geometry or array_like
+        One geometry, or an array / list / pandas Series / GeoSeries of them.
+    repair : bool or {"linework", "structure"}
+        As in :func:`triangulate`: ``False`` (default) raises on an invalid
+        polygon; otherwise it is replaced by ``shapely.make_valid(...)`` first
+        (same code path as :func:`triangulate`).
     **kwargs
         shapely's version takes NumPy ufunc keyword arguments; they are not
         supported here (a ``TypeError`` names them).
@@ -487,10 +553,14 @@ def constrained_delaunay_triangles(geometry, **kwargs):
         * empty GeometryCollection, given empty or non-polygonal input;
         * ``None`` for ``None``.
 
-    Unlike GEOS, an invalid polygon raises :class:`cdt_plugin.InvalidGeometryError`
-    with GEOS's validity reason (GEOS raises or returns a triangulation of the
-    invalid rings); repair it first (``shapely.make_valid``) or use
-    :func:`triangulate` with ``repair=True``.
+    Raises
+    ------
+    cdt_plugin.InvalidGeometryError
+        An invalid polygon without ``repair`` (GEOS raises or returns a
+        triangulation of the invalid rings), with GEOS's validity reason; for
+        array input the message starts ``geometry i:`` (attribute ``index``).
+    TypeError
+        An element that is not a geometry, or ufunc keyword arguments.
 
     Examples
     --------
@@ -499,32 +569,171 @@ def constrained_delaunay_triangles(geometry, **kwargs):
     <GEOMETRYCOLLECTION (POLYGON ((10 10, 20 40, 90 10, 10 10)), POLYGON ((20 40...>
     >>> constrained_delaunay_triangles(shapely.MultiPoint([(50, 30), (51, 30), (60, 30)]))
     <GEOMETRYCOLLECTION EMPTY>
+    >>> bowtie = shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
+    >>> [len(gc.geoms) for gc in constrained_delaunay_triangles([bowtie, None, shapely.box(0, 0, 1, 1)],
+    ...                                                         repair=True) if gc is not None]
+    [2, 2]
     """
-    if kwargs:
-        raise TypeError(f"constrained_delaunay_triangles: ufunc keyword arguments are not supported "
-                        f"({', '.join(sorted(kwargs))})")
-    scalar = not _is_array_input(geometry)
-    arr = np.asarray(geometry if not scalar else [geometry], dtype=object)
-    shape = arr.shape if not scalar else ()
+    _reject_ufunc_kwargs("constrained_delaunay_triangles", kwargs)
+    method = _repair_method(repair)
+    arr = _geometry_array(geometry)
     flat = arr.ravel().copy()
-    ok = shapely.is_valid_input(flat)
-    if not ok.all():
-        i = int(np.flatnonzero(~ok)[0])
-        raise TypeError(f"one of the arguments is of incorrect type: {type(flat[i]).__name__}")
+    _check_geometries(flat)
     _collections_to_polygonal(flat)
     types = shapely.get_type_id(flat)
     polygonal = ((types == _POLYGON) | (types == _MULTIPOLYGON)) & ~shapely.is_empty(flat)
     out = np.empty(len(flat), dtype=object)
     out[~shapely.is_missing(flat)] = _EMPTY_COLLECTION
     idx = np.flatnonzero(polygonal)
+    indexed = arr.ndim > 0
     if len(idx):
-        plcs = _plcs(flat[idx], None, indexed=False if scalar else idx)
-        for k, (i, plc) in enumerate(zip(idx, plcs)):
+        plcs = _plcs(flat[idx], method, indexed=idx if indexed else False)
+        for i, plc in zip(idx, plcs):
             try:
                 tri = cdt_plugin.triangulate(plc)
             except CDTError as e:
-                raise _with_index(e, int(i), False if scalar else True)
+                raise _with_index(e, int(i), indexed)
             out[i] = to_shapely(tri, z=_vertex_z(tri, plc) if plc.z is not None else None)
-    if scalar:
-        return out[0]
-    return _like_input(out.reshape(shape), geometry)
+    return _elementwise_output(out, arr.shape, geometry)
+
+
+def delaunay_triangles(geometry: Any, tolerance: ArrayLike = 0.0, only_edges: ArrayLike = False,
+                       **kwargs: Any) -> Any:
+    """Drop-in for ``shapely.delaunay_triangles`` (same signature, same output
+    form): the Delaunay triangulation of all the vertices of a geometry, with
+    exact predicates (:func:`cdt_plugin.delaunay`).
+
+    Parameters
+    ----------
+    geometry : Geometry or array_like
+        Any geometry (points, lines, polygons, collections): all of its vertices
+        are triangulated, nothing is a constraint. An array / list / pandas
+        Series / GeoSeries gives the results element-wise.
+    tolerance : float or array_like, default 0.0
+        Snap vertices closer than this together. Exact duplicates are always
+        merged (the first one kept, z included). With ``tolerance > 0`` the
+        vertices are taken in lexicographic (x, y) order and a vertex is dropped
+        when its (floating-point Euclidean) distance to a vertex kept before it
+        is less than ``tolerance``: so no two output vertices are closer than
+        ``tolerance`` and every dropped vertex is within it of a kept one. GEOS
+        applies the same rule only against the vertices of the edge its point
+        location ends at, so on clusters it may keep a point that is dropped
+        here. A negative or NaN tolerance raises :class:`cdt_plugin.CDTError`
+        (GEOS treats a negative one as 0 and returns None for NaN).
+    only_edges : bool or array_like, default False
+        A MultiLineString of the edges instead of the triangles.
+    **kwargs
+        shapely's version takes NumPy ufunc keyword arguments; they are not
+        supported here (a ``TypeError`` names them).
+
+    Returns
+    -------
+    GeometryCollection / MultiLineString, or an array of them (the broadcast shape
+    of the three arguments; a pandas Series or GeoSeries in gives one out, with
+    its index)
+        * GeometryCollection of counter-clockwise triangle Polygons (closed
+          4-point shells, as GEOS returns them for this function; z kept for 3D
+          input), empty for fewer than three distinct or all-collinear vertices;
+        * with ``only_edges``, a MultiLineString of two-point LineStrings: the
+          triangles' edges, or the chain along the line for collinear vertices
+          (empty for fewer than two distinct vertices);
+        * ``None`` for ``None``.
+
+    Examples
+    --------
+    >>> import shapely
+    >>> points = shapely.MultiPoint([(50, 30), (60, 30), (100, 100)])
+    >>> delaunay_triangles(points)
+    <GEOMETRYCOLLECTION (POLYGON ((50 30, 60 30, 100 100, 50 30)))>
+    >>> len(delaunay_triangles(shapely.box(0, 0, 1, 1), only_edges=True).geoms)
+    5
+    >>> delaunay_triangles(shapely.MultiPoint([(50, 30), (51, 30), (60, 30), (100, 100)]), tolerance=2)
+    <GEOMETRYCOLLECTION (POLYGON ((50 30, 60 30, 100 100, 50 30)))>
+    >>> delaunay_triangles([shapely.LineString([(0, 0), (1, 0), (2, 0)]), None], only_edges=True)
+    array([<MULTILINESTRING ((0 0, 1 0), (1 0, 2 0))>, None], dtype=object)
+    """
+    _reject_ufunc_kwargs("delaunay_triangles", kwargs)
+    arr = _geometry_array(geometry)
+    tol, edges = _tolerance_array(tolerance), _only_edges_array(only_edges)
+    try:
+        arr, tol, edges = np.broadcast_arrays(arr, tol, edges)
+    except ValueError:
+        raise InputShapeError(f"geometry, tolerance and only_edges cannot be broadcast together "
+                              f"(shapes {np.shape(arr)}, {np.shape(tol)}, {np.shape(edges)})") from None
+    flat, tol, edges = arr.ravel(), tol.ravel(), edges.ravel()
+    _check_geometries(flat)
+    coords, owner = shapely.get_coordinates(flat, include_z=True, return_index=True)
+    start = np.searchsorted(owner, np.arange(len(flat) + 1))
+    has_z = shapely.has_z(flat)
+    indexed = arr.ndim > 0
+    out = np.empty(len(flat), dtype=object)
+    for i in np.flatnonzero(~shapely.is_missing(flat)):
+        xyz = coords[start[i]:start[i + 1]]
+        try:
+            out[i] = _delaunay_of_vertices(xyz if has_z[i] else xyz[:, :2], tol[i], edges[i])
+        except CDTError as e:
+            raise _with_index(e, int(i), indexed)
+    return _elementwise_output(out, arr.shape, geometry)
+
+
+def _tolerance_array(tolerance: ArrayLike) -> np.ndarray:
+    try:
+        tol = np.asarray(tolerance, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise CDTError(f"tolerance must be a number >= 0 (or an array of them), got {tolerance!r}") \
+            from None
+    bad = ~(tol >= 0)
+    if bad.any():
+        raise CDTError(f"tolerance must be >= 0 (the distance under which vertices are snapped "
+                       f"together), got {float(tol[bad].ravel()[0])!r}")
+    return tol
+
+
+def _only_edges_array(only_edges: ArrayLike) -> np.ndarray:
+    flags = np.asarray(only_edges)
+    if flags.dtype != bool and not (flags.dtype.kind in "iu" and np.isin(flags, (0, 1)).all()):
+        raise CDTError(f"only_edges must be True or False (or an array of them), got {only_edges!r}")
+    return flags.astype(bool)
+
+
+def _delaunay_of_vertices(xyz: np.ndarray, tolerance: float, only_edges: bool) -> shapely.Geometry:
+    """GEOS's output form of the Delaunay triangulation of the points ``xyz``
+    ((n, 2), or (n, 3) with z)."""
+    if tolerance > 0 and len(xyz):
+        xyz = xyz[_snapped(as_points(xyz[:, :2]), tolerance)]   # (NaN, inf: the engine's error)
+    if not len(xyz):
+        return _EMPTY_MULTILINESTRING if only_edges else _EMPTY_COLLECTION
+    tri = cdt_plugin.delaunay(xyz[:, :2])
+    z = _first_z(tri, xyz[:, 2]) if xyz.shape[1] == 3 else None
+    if not only_edges:
+        return to_shapely(tri, z=z, ccw=True)
+    V = tri.vertices if z is None else np.column_stack([tri.vertices, z])
+    if not len(tri.edges):
+        return _EMPTY_MULTILINESTRING
+    return shapely.multilinestrings(shapely.linestrings(V[tri.edges]))
+
+
+def _first_z(tri: cdt_plugin.Triangulation, z: np.ndarray) -> np.ndarray:
+    """z of every output vertex: that of the first input point merged into it."""
+    _, first = np.unique(tri.vertex_map, return_index=True)
+    return z[first]
+
+
+def _snapped(xy: np.ndarray, tolerance: float) -> np.ndarray:
+    """Positions of the points kept by snapping with ``tolerance``: in
+    lexicographic (x, y) order (input order among equal points), a point is
+    dropped when it is closer than ``tolerance`` to a point kept before it."""
+    n = len(xy)
+    points = shapely.points(xy)
+    a, b = shapely.STRtree(points).query(points, predicate="dwithin", distance=tolerance)
+    rank = np.empty(n, np.int64)
+    rank[np.lexsort((xy[:, 1], xy[:, 0]))] = np.arange(n)
+    close = (rank[b] < rank[a]) & (np.hypot(*(xy[a] - xy[b]).T) < tolerance)
+    a, b = a[close], b[close]                   # b comes before a and is within tolerance
+    order = np.argsort(rank[a], kind="stable")
+    a, b = a[order], b[order]
+    first = np.flatnonzero(np.r_[True, a[1:] != a[:-1]]) if len(a) else np.zeros(0, np.int64)
+    keep = np.ones(n, bool)
+    for s, e in zip(first, np.r_[first[1:], len(a)]):     # points with an earlier close one
+        keep[a[s]] = not keep[b[s:e]].any()
+    return np.flatnonzero(keep)

@@ -493,3 +493,93 @@ def test_example_geojson_roundtrip(tmp_path):
     out = run_example(ROOT / "examples" / "geojson_roundtrip.py", tmp_path)
     assert "input vertices exact: True" in out and "attributes kept: True" in out
     assert (tmp_path / "triangles.geojson").exists()
+
+
+# ------------------------------------------------------ pandas accessor (issue #17)
+def _accessor_layer():
+    holed = shapely.Polygon([(0, 0), (10, 0), (10, 8), (0, 8)], [[(2, 2), (2, 5), (6, 5), (6, 2)]])
+    islands = shapely.MultiPolygon([shapely.box(20, 0, 21, 1), shapely.box(23, 0, 25, 3)])
+    return gpd.GeoDataFrame({"name": ["holed", "point", "islands"], "v": [1.5, 2.5, 3.5]},
+                            index=["h", "p", "i"], crs="EPSG:32633",
+                            geometry=[holed, shapely.Point(5, 5), islands])
+
+
+def test_accessor_is_registered_through_pandas_and_inherited_by_geopandas():
+    import pandas as pd
+    assert "cdt" in pd.DataFrame._accessors and "cdt" in pd.Series._accessors
+    # geopandas has no registry of its own: its classes inherit pandas' accessors
+    assert not any("accessor" in name.lower() for name in dir(gpd))
+    assert gpd.GeoDataFrame.cdt is pd.DataFrame.cdt is geo.CDTAccessor
+    assert gpd.GeoSeries.cdt is pd.Series.cdt is geo.CDTAccessor
+    layer = _accessor_layer()
+    assert isinstance(layer.cdt, geo.CDTAccessor) and isinstance(layer.geometry.cdt, geo.CDTAccessor)
+
+
+@pytest.mark.parametrize("options", [{}, {"max_area": 0.5}, {"min_angle": 28, "workers": 1}])
+def test_accessor_gives_what_triangulate_gives(options):
+    layer = _accessor_layer()
+    series = layer.geometry
+    for data in (layer, series):
+        expected = geo.triangulate(data, **options)
+        got = data.cdt.triangulate(**options)
+        assert isinstance(got, gpd.GeoDataFrame) and got.equals(expected)
+        assert got.crs == expected.crs == layer.crs and got.attrs == expected.attrs
+        assert got["feature"].tolist() == expected["feature"].tolist()
+        assert set(got["feature"]) == {"h", "i"}
+        mesh = data.cdt.triangulate(output="mesh", **options)
+        reference = geo.triangulate(data, output="mesh", **options)
+        assert np.array_equal(mesh.vertices, reference.vertices)
+        assert np.array_equal(mesh.triangles, reference.triangles)
+        assert np.array_equal(mesh.offsets, reference.offsets)
+        for i in (0, 2):                      # the exact checker on every meshed feature
+            verify_feature(mesh, i, layer.geometry.iloc[i], refined=bool(options))
+        if "min_angle" in options:
+            V, T = mesh.feature_mesh(0)
+            assert min_angles(V, T).min() >= options["min_angle"] * (1 - 1e-9)
+        meshes = data.cdt.triangulate(output="trimesh", **options)
+        assert meshes[1] is None and [len(m.faces) for m in (meshes[0], meshes[2])] == \
+            [len(mesh.feature_mesh(i)[1]) for i in (0, 2)]
+    # a GeoSeries keeps its attributes out, as geo.triangulate(series) does
+    assert "name" in layer.cdt.triangulate() and "name" not in series.cdt.triangulate()
+
+
+def test_accessor_passes_errors_warnings_and_projection_through():
+    bowtie = shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
+    layer = gpd.GeoDataFrame({"v": [1, 2]}, index=["ok", "bow"], crs="EPSG:32633",
+                             geometry=[shapely.box(0, 0, 1, 1), bowtie])
+    with pytest.raises(InvalidGeometryError, match=r"^feature bow: Polygon is not valid"):
+        layer.cdt.triangulate()
+    with pytest.warns(geo.SkippedFeaturesWarning, match=r"\(bow\)") as record:
+        skipped = layer.cdt.triangulate(errors="skip")
+    assert record[0].filename == __file__                      # points at the caller's line
+    assert skipped["feature"].tolist() == ["ok", "ok"] and list(skipped.attrs["cdt_errors"]) == ["bow"]
+    repaired = layer.geometry.cdt.triangulate(repair=True, output="mesh")
+    assert repaired.offsets.tolist() == [0, 2, 4]
+    verify_feature(repaired, 0, layer.geometry.iloc[0])
+    verify_feature(repaired, 1, shapely.make_valid(bowtie))
+    with pytest.raises(geo.CDTError, match="output must be one of"):
+        layer.cdt.triangulate(output="svg")
+    lonlat = gpd.GeoSeries([shapely.box(10, 50, 10.01, 50.01)], crs="EPSG:4326")
+    with pytest.warns(geo.GeographicCRSWarning) as record:
+        lonlat.cdt.triangulate()
+    assert record[0].filename == __file__
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", geo.GeographicCRSWarning)
+        mesh = lonlat.cdt.triangulate(project="utm", output="mesh")
+    assert mesh.mesh_crs.to_epsg() == 32632
+    Vi, Ti = mesh.batch.mesh(0)
+    assert_valid(Vi, Ti, segments=boundary_edges(Ti), domain="segments")
+
+
+def test_accessor_on_pandas_objects_without_geometry_is_a_clear_error():
+    import pandas as pd
+    layer = _accessor_layer()
+    cases = {"got a pandas DataFrame with no geometry; make one with geopandas.GeoDataFrame": pd.DataFrame({"x": [1]}),
+             "got a pandas Series with no geometry; make one with geopandas.GeoSeries": pd.Series([1, 2]),
+             "the GeoDataFrame has no active geometry column \\(columns: \\['x'\\]\\)": gpd.GeoDataFrame({"x": [1]}),
+             "got a pandas DataFrame with no geometry": layer[["name", "v"]]}
+    for message, frame in cases.items():
+        with pytest.raises(geo.NotGeographicError, match=message) as info:
+            frame.cdt.triangulate()
+        assert isinstance(info.value, AttributeError) and isinstance(info.value, geo.CDTError)
+        assert not hasattr(frame, "cdt")

@@ -8,7 +8,7 @@ import cdt_plugin  # noqa: E402
 from cdt_plugin import PLC  # noqa: E402
 from cdt_plugin.adapters import shapely as sa  # noqa: E402
 
-from checker import assert_valid  # noqa: E402
+from checker import assert_valid, canonical_triangles, check_collinear_edges  # noqa: E402
 
 
 def _circle(cx, cy, r, n, cw=False):
@@ -321,3 +321,259 @@ def test_series_and_geoseries_element_wise_with_their_index():
     batch = sa.triangulate_batch(s)
     assert len(batch) == 3 and np.array_equal(np.unique(batch.geometry), [0, 2])
     assert len(batch.triangles) == len(tris[10].triangles) + len(tris[30].triangles)
+
+
+# ----------------------------------------------------------- drop-ins (issue #17)
+def _mesh_of(gc, ccw):
+    """(vertices, counter-clockwise triangles) of a GeometryCollection of triangle
+    Polygons (shells counter-clockwise when ``ccw``, else clockwise as GEOS's CDT)."""
+    corners = shapely.get_coordinates(np.asarray(gc.geoms, dtype=object)).reshape(-1, 4, 2)[:, :3]
+    if not ccw:
+        corners = corners[:, ::-1]
+    V, T = np.unique(corners.reshape(-1, 2), axis=0, return_inverse=True)
+    return V, T.reshape(-1, 3)
+
+
+def _edge_set(mls):
+    """The edges of a MultiLineString of two-point LineStrings, as sorted coordinate pairs."""
+    coords = shapely.get_coordinates(np.asarray(mls.geoms, dtype=object)).reshape(-1, 2, 2)
+    assert shapely.get_num_coordinates(np.asarray(mls.geoms, dtype=object)).tolist() == [2] * len(coords)
+    return {tuple(sorted(map(tuple, e))) for e in coords.tolist()}
+
+
+def _triangle_edges(V, T):
+    return {tuple(sorted((tuple(V[a]), tuple(V[b])))) for t in T.tolist()
+            for a, b in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
+
+
+def _assert_delaunay_of(gc, vertices):
+    """The exact checker on a delaunay_triangles result: a Delaunay triangulation
+    of the convex hull of exactly the distinct ``vertices``."""
+    V, T = _mesh_of(gc, ccw=True)
+    assert {tuple(v) for v in V.tolist()} == {tuple(v) for v in np.asarray(vertices)[:, :2].tolist()}
+    assert_valid(V, T, domain="hull")
+    return V, T
+
+
+def _assert_cdt_of(gc, geom):
+    """The exact checker on a constrained_delaunay_triangles result: every ring
+    edge of the (valid) polygonal ``geom`` is an edge, the domain is bounded by
+    them, every other edge locally Delaunay."""
+    V, T = _mesh_of(gc, ccw=False)
+    index = {tuple(v): k for k, v in enumerate(V.tolist())}
+    segments = []
+    for ring in shapely.get_rings(shapely.get_parts(geom)):
+        ids = [index[tuple(p)] for p in shapely.get_coordinates(ring).tolist()]
+        segments += [ids[k:k + 2] for k in range(len(ids) - 1)]
+    assert_valid(V, T, segments=np.array(segments), domain="segments")
+    assert gc.area == pytest.approx(geom.area, rel=1e-12)
+
+
+def _general_position_cases():
+    rng = np.random.default_rng(11)
+    pts = rng.uniform(0, 100, (300, 2))
+    return {"points": shapely.MultiPoint(pts),
+            "polygon with holes": shapely.Polygon(_circle(0, 0, 10, 23) + rng.uniform(0, 0.1, (23, 2)),
+                                                  [_circle(1, 0.5, 3, 7) + rng.uniform(0, 0.1, (7, 2))]),
+            "linestring": shapely.LineString(rng.uniform(0, 10, (40, 2))),
+            "collection": shapely.GeometryCollection([shapely.Point(50, 50), shapely.LineString(pts[:5]),
+                                                      shapely.Polygon(_circle(30, 60, 7, 9)
+                                                                      + rng.uniform(0, 0.1, (9, 2)))]),
+            "3d": shapely.MultiPoint(np.column_stack([pts[:50], rng.uniform(0, 1, 50)]))}
+
+
+@pytest.mark.parametrize("name", sorted(_general_position_cases()))
+def test_delaunay_triangles_matches_geos_in_general_position(name):
+    geom = _general_position_cases()[name]
+    ours, geos = sa.delaunay_triangles(geom), shapely.delaunay_triangles(geom)
+    assert ours.geom_type == geos.geom_type == "GeometryCollection"
+    assert shapely.has_z(ours) == shapely.has_z(geos) == (name == "3d")
+    V, T = _assert_delaunay_of(ours, shapely.get_coordinates(geom))
+    assert canonical_triangles(V, T) == canonical_triangles(*_mesh_of(geos, ccw=True))
+    for gc in (ours, geos):      # GEOS's form for this function: closed ccw 4-point shells
+        rings = shapely.get_exterior_ring(np.asarray(gc.geoms, dtype=object))
+        assert (shapely.get_num_coordinates(rings) == 4).all() and shapely.is_ccw(rings).all()
+    assert ours.area == pytest.approx(geos.area, rel=1e-12)
+    edges = sa.delaunay_triangles(geom, only_edges=True)
+    geos_edges = shapely.delaunay_triangles(geom, only_edges=True)
+    assert edges.geom_type == geos_edges.geom_type == "MultiLineString"
+    assert _edge_set(edges) == _edge_set(geos_edges) == _triangle_edges(V, T)
+    if name == "3d":             # every vertex keeps its z
+        given = {tuple(p[:2]): p[2] for p in shapely.get_coordinates(geom, include_z=True).tolist()}
+        for p in shapely.get_coordinates(ours, include_z=True).tolist():
+            assert given[tuple(p[:2])] == p[2]
+
+
+def test_delaunay_triangles_degenerate_input_like_geos():
+    cases = [shapely.MultiPoint([(0, 0), (1, 0), (3, 0), (2, 0)]), shapely.LineString([(0, 0), (1, 1), (2, 2)]),
+             shapely.MultiPoint([(0, 0), (1, 0), (0, 0)]), shapely.Point(0, 0), shapely.Polygon(),
+             shapely.GeometryCollection(), shapely.MultiPoint([(5, 5), (5, 5), (5, 5)])]
+    for geom in cases:
+        ours, geos = sa.delaunay_triangles(geom), shapely.delaunay_triangles(geom)
+        assert ours.geom_type == "GeometryCollection" and ours.is_empty and geos.is_empty
+        ours, geos = sa.delaunay_triangles(geom, only_edges=True), shapely.delaunay_triangles(geom, only_edges=True)
+        assert ours.geom_type == geos.geom_type == "MultiLineString"
+        assert _edge_set(ours) == _edge_set(geos)
+        if not ours.is_empty:    # collinear: the chain along the line (Sec. 2.1), checked exactly
+            P = np.unique(shapely.get_coordinates(geom), axis=0)
+            index = {tuple(p): k for k, p in enumerate(P.tolist())}
+            E = [[index[a], index[b]] for a, b in _edge_set(ours)]
+            report = check_collinear_edges(P, E)
+            assert report.ok, report.problems
+    assert sa.delaunay_triangles(None) is None
+    # duplicates are merged, the first one's z kept
+    dup = shapely.MultiPoint([(0, 0, 1), (4, 0, 2), (0, 3, 3), (0, 0, 9), (4, 0, 2)])
+    gc = sa.delaunay_triangles(dup)
+    _assert_delaunay_of(gc, shapely.get_coordinates(dup))
+    assert sorted(shapely.get_coordinates(gc, include_z=True)[:3, 2].tolist()) == [1, 2, 3]
+
+
+def _greedy_snap(xy, tolerance):
+    """Reference for tolerance: lexicographic order, keep a point unless it is
+    closer than tolerance to a point kept before it (quadratic, plain Python)."""
+    kept = []
+    for p in sorted(map(tuple, xy.tolist())):
+        if all(np.hypot(p[0] - q[0], p[1] - q[1]) >= tolerance for q in kept):
+            kept.append(p)
+    return kept
+
+
+def test_delaunay_triangles_tolerance_snaps_vertices():
+    # shapely's own example gives GEOS's triangle
+    mp = shapely.MultiPoint([(50, 30), (51, 30), (60, 30), (100, 100)])
+    ours = sa.delaunay_triangles(mp, tolerance=2)
+    assert shapely.equals(ours, shapely.delaunay_triangles(mp, tolerance=2))
+    _assert_delaunay_of(ours, [(50, 30), (60, 30), (100, 100)])
+    # tight clusters: one vertex each (the lexicographically first); the rule is exact here,
+    # where GEOS (checking only the edge it located) keeps some cluster points
+    rng = np.random.default_rng(5)
+    centres = rng.uniform(0, 100, (40, 2))
+    xy = np.concatenate([centres + rng.uniform(-0.2, 0.2, (40, 2)) for _ in range(3)])
+    for tolerance in (1.0, 3.0, 10.0):
+        gc = sa.delaunay_triangles(shapely.MultiPoint(xy), tolerance=tolerance)
+        kept = np.array(_greedy_snap(xy, tolerance))
+        V, T = _assert_delaunay_of(gc, kept)
+        d = np.hypot(*(V[:, None] - V[None]).transpose(2, 0, 1))
+        assert d[~np.eye(len(V), dtype=bool)].min() >= tolerance          # no two closer than it
+        assert np.hypot(*(xy[:, None] - V[None]).transpose(2, 0, 1)).min(axis=1).max() < tolerance
+        edges = sa.delaunay_triangles(shapely.MultiPoint(xy), tolerance=tolerance, only_edges=True)
+        assert _edge_set(edges) == _triangle_edges(V, T)
+    assert len(_greedy_snap(xy, 1.0)) == 40
+    # zero tolerance: only exact duplicates merge, as GEOS
+    assert shapely.equals(sa.delaunay_triangles(shapely.MultiPoint(xy), tolerance=0.0),
+                          shapely.delaunay_triangles(shapely.MultiPoint(xy)))
+
+
+def test_delaunay_triangles_bad_options_raise_before_any_work():
+    poly = _holed()
+    for bad in ({"tolerance": -1.0}, {"tolerance": float("nan")}, {"tolerance": [0.0, -2.0]}):
+        with pytest.raises(cdt_plugin.CDTError, match=r"tolerance must be >= 0 .*got (-1.0|nan|-2.0)"):
+            sa.delaunay_triangles([poly, "not a geometry"], **bad)
+    with pytest.raises(cdt_plugin.CDTError, match="tolerance must be a number"):
+        sa.delaunay_triangles(poly, tolerance="1m")
+    for bad in ("yes", 2, [True, "no"]):
+        with pytest.raises(cdt_plugin.CDTError, match="only_edges must be True or False"):
+            sa.delaunay_triangles(poly, only_edges=bad)
+    with pytest.raises(cdt_plugin.InputShapeError, match=r"cannot be broadcast together \(shapes \(2,\), \(3,\)"):
+        sa.delaunay_triangles([poly, poly], tolerance=[0, 0, 0])
+    with pytest.raises(TypeError, match="ufunc keyword arguments are not supported \\(out, where\\)"):
+        sa.delaunay_triangles(poly, where=True, out=None)
+    with pytest.raises(TypeError, match="incorrect type: str"):
+        sa.delaunay_triangles([poly, "POINT (0 0)"])
+    bad_coords = shapely.MultiPoint([(0, 0), (np.inf, 1), (2, 2)])
+    for tolerance in (0.0, 0.5):
+        with pytest.raises(cdt_plugin.NonFiniteCoordinateError, match="^geometry 1: .*row 1"):
+            sa.delaunay_triangles([poly, bad_coords], tolerance=tolerance)
+
+
+def _check_result(res, geom, function):
+    """The exact checker on one element of a drop-in's output."""
+    if geom is None:
+        assert res is None
+    elif function is sa.delaunay_triangles and res.geom_type == "GeometryCollection" and not res.is_empty:
+        _assert_delaunay_of(res, shapely.get_coordinates(geom))
+    elif function is sa.constrained_delaunay_triangles and not res.is_empty:
+        _assert_cdt_of(res, geom)
+
+
+@pytest.mark.parametrize("function", [sa.constrained_delaunay_triangles, sa.delaunay_triangles])
+def test_dropins_are_elementwise_like_shapely(function):
+    pd = pytest.importorskip("pandas")
+    gpd = pytest.importorskip("geopandas")
+    reference = getattr(shapely, function.__name__)
+    poly, box = _holed(), shapely.box(0, 0, 2, 1)
+    grid = np.array([[poly, None, box], [shapely.Point(0, 0), box, poly]], dtype=object)
+    out = function(grid)
+    assert isinstance(out, np.ndarray) and out.shape == reference(grid).shape == (2, 3)
+    for res, geom in zip(out.ravel(), grid.ravel()):
+        _check_result(res, geom, function)
+        assert res is None if geom is None else res.equals(function(geom))
+    as_list = function([poly, None])
+    assert isinstance(as_list, np.ndarray) and as_list.shape == (2,) and as_list[1] is None
+    zero_d = function(np.array(poly))                 # shapely returns the geometry itself
+    assert isinstance(zero_d, shapely.Geometry) and isinstance(reference(np.array(poly)), shapely.Geometry)
+    _check_result(zero_d, poly, function)
+    empty = function([])
+    assert isinstance(empty, np.ndarray) and empty.shape == (0,)
+    series = pd.Series([box, None, poly], index=["a", "b", "c"])
+    geoseries = gpd.GeoSeries(series.values, index=series.index, crs="EPSG:32633")
+    for s in (series, geoseries):
+        res = function(s)
+        assert type(res) is type(s) and res.index.tolist() == ["a", "b", "c"] and res["b"] is None
+        assert type(reference(s)) is type(s)
+        for r, geom in zip(res, s):
+            _check_result(r, geom, function)
+    assert function(geoseries).crs == geoseries.crs
+
+
+def test_delaunay_triangles_broadcasts_its_options_like_shapely():
+    pd = pytest.importorskip("pandas")
+    mp = shapely.MultiPoint(np.random.default_rng(2).uniform(0, 10, (60, 2)))
+    out = sa.delaunay_triangles(mp, only_edges=[False, True])
+    ref = shapely.delaunay_triangles(mp, only_edges=[False, True])
+    assert out.shape == ref.shape == (2,)
+    V, T = _assert_delaunay_of(out[0], shapely.get_coordinates(mp))
+    assert out[1].geom_type == ref[1].geom_type == "MultiLineString"
+    assert _edge_set(out[1]) == _edge_set(ref[1]) == _triangle_edges(V, T)
+    grid = sa.delaunay_triangles(np.array([[mp], [mp]], dtype=object), tolerance=[0.0, 1.0, 2.0])
+    assert grid.shape == shapely.delaunay_triangles(np.array([[mp], [mp]], dtype=object),
+                                                    tolerance=[0.0, 1.0, 2.0]).shape == (2, 3)
+    xy = shapely.get_coordinates(mp)
+    for row in grid:
+        for gc, tolerance in zip(row, (0.0, 1.0, 2.0)):
+            _assert_delaunay_of(gc, np.array(_greedy_snap(xy, tolerance)) if tolerance else xy)
+    s = pd.Series([mp, None], index=[3, 4])
+    res = sa.delaunay_triangles(s, tolerance=pd.Series([0.0, 1.0], index=[3, 4]).to_numpy(), only_edges=True)
+    assert isinstance(res, pd.Series) and res.index.tolist() == [3, 4] and res[4] is None
+    assert _edge_set(res[3]) == _triangle_edges(V, T)
+
+
+@pytest.mark.parametrize("repair", [True, "linework", "structure"])
+def test_constrained_dropin_repairs_like_triangulate(repair):
+    names = sorted(INVALID)
+    geoms = [INVALID[name][0] for name in names]
+    out = sa.constrained_delaunay_triangles(geoms + [None], repair=repair)
+    assert out[-1] is None
+    kw = {"method": "structure", "keep_collapsed": False} if repair == "structure" else {}
+    for gc, geom in zip(out, geoms):
+        tri = sa.triangulate(geom, repair=repair)                      # the same repair path
+        assert canonical_triangles(*_mesh_of(gc, ccw=False)) == canonical_triangles(tri.vertices, tri.triangles)
+        fixed = shapely.make_valid(geom, **kw)
+        polygonal = shapely.MultiPolygon([p for p in shapely.get_parts(fixed) if p.geom_type == "Polygon"]) \
+            if fixed.geom_type != "Polygon" else fixed
+        _assert_cdt_of(gc, polygonal)
+        assert gc.area == pytest.approx(fixed.area, rel=1e-12)
+    single = sa.constrained_delaunay_triangles(geoms[0], repair=repair)
+    assert single.equals(out[0])
+
+
+def test_constrained_dropin_repair_option_is_checked_first():
+    bowtie = INVALID["bow-tie"][0]
+    with pytest.raises(cdt_plugin.InvalidGeometryError, match="^geometry 1: Polygon is not valid.*pass repair=True"):
+        sa.constrained_delaunay_triangles([shapely.box(0, 0, 1, 1), bowtie])
+    with pytest.raises(cdt_plugin.CDTError, match="repair must be False, True, 'linework' or 'structure', got 'yes'"):
+        sa.constrained_delaunay_triangles([bowtie, "not a geometry"], repair="yes")
+    # a GeometryCollection's invalid polygonal member is repaired too
+    gc = shapely.GeometryCollection([bowtie, shapely.Point(9, 9)])
+    res = sa.constrained_delaunay_triangles(gc, repair=True)
+    _assert_cdt_of(res, shapely.make_valid(bowtie))
