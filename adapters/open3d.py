@@ -25,25 +25,35 @@ The tensor API the same way:
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Union
+
 import numpy as np
 import open3d
+from numpy.typing import ArrayLike, NDArray
 
 from cdt_plugin import PLC, InputShapeError, InvalidGeometryError, TooFewPointsError
 
+if TYPE_CHECKING:
+    from cdt_plugin import Triangulation
+
 __all__ = ["to_open3d", "to_open3d_tensor", "from_lineset", "NonPlanarError"]
+
+#: A LineSet of the legacy API or of the tensor API.
+AnyLineSet = Union[open3d.geometry.LineSet, open3d.t.geometry.LineSet]
 
 
 class NonPlanarError(InvalidGeometryError):
     """A LineSet point does not lie in the plane z = const of the first point;
     ``index`` and ``point`` name the first offending point."""
 
-    def __init__(self, message, index=None, point=None):
+    def __init__(self, message: str, index: int | None = None,
+                 point: tuple[float, ...] | None = None) -> None:
         super().__init__(message)
         self.index = index
         self.point = point
 
 
-def _positions(tri, z) -> tuple[np.ndarray, np.ndarray]:
+def _positions(tri: Triangulation, z: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """(n, 3) float64 vertices in the plane ``z`` (a scalar or one value per
     vertex) and (k, 3) int64 triangles, exactly ``tri``'s values."""
     V = np.asarray(tri.vertices, dtype=np.float64).reshape(-1, 2)
@@ -56,14 +66,14 @@ def _positions(tri, z) -> tuple[np.ndarray, np.ndarray]:
     return np.column_stack([V, zz]), T
 
 
-def _up(n: int) -> np.ndarray:
+def _up(n: int) -> NDArray[np.float64]:
     """n copies of the unit normal (0, 0, 1)."""
     up = np.zeros((n, 3))
     up[:, 2] = 1.0
     return up
 
 
-def to_open3d(tri, z=0.0) -> "open3d.geometry.TriangleMesh":
+def to_open3d(tri: Triangulation, z: ArrayLike = 0.0) -> open3d.geometry.TriangleMesh:
     """The triangulation as a flat ``open3d.geometry.TriangleMesh`` in the plane
     ``z`` (a scalar, or one value per vertex of ``tri.vertices``).
 
@@ -81,7 +91,7 @@ def to_open3d(tri, z=0.0) -> "open3d.geometry.TriangleMesh":
     return mesh
 
 
-def to_open3d_tensor(tri, z=0.0) -> "open3d.t.geometry.TriangleMesh":
+def to_open3d_tensor(tri: Triangulation, z: ArrayLike = 0.0) -> open3d.t.geometry.TriangleMesh:
     """The triangulation as a flat ``open3d.t.geometry.TriangleMesh`` (Open3D's
     tensor API) in the plane ``z`` (a scalar, or one value per vertex), on the CPU.
 
@@ -98,14 +108,16 @@ def to_open3d_tensor(tri, z=0.0) -> "open3d.t.geometry.TriangleMesh":
     ([0.5, 0.5, 0.5, 0.5], SizeVector[2, 3])
     """
     P, T = _positions(tri, z)
-    tensor = open3d.core.Tensor
-    mesh = open3d.t.geometry.TriangleMesh(tensor(P), tensor(T))
-    mesh.vertex.normals = tensor(_up(len(P)))
-    mesh.triangle.normals = tensor(_up(len(T)))
+    # dtype and device as Tensor infers them by default, given: Open3D's stubs omit those defaults
+    tensor, cpu = open3d.core.Tensor, open3d.core.Device("CPU:0")
+    f64, i64 = open3d.core.float64, open3d.core.int64
+    mesh = open3d.t.geometry.TriangleMesh(tensor(P, f64, cpu), tensor(T, i64, cpu))
+    mesh.vertex.normals = tensor(_up(len(P)), f64, cpu)
+    mesh.triangle.normals = tensor(_up(len(T)), f64, cpu)
     return mesh
 
 
-def _lineset_arrays(lineset) -> tuple[np.ndarray, np.ndarray]:
+def _lineset_arrays(lineset: AnyLineSet) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Points (n, 3) float64 and lines (m, 2) int64 of a legacy or tensor LineSet."""
     if isinstance(lineset, open3d.t.geometry.LineSet):
         points, lines = lineset.point, lineset.line
@@ -120,7 +132,7 @@ def _lineset_arrays(lineset) -> tuple[np.ndarray, np.ndarray]:
             np.asarray(L, dtype=np.int64).reshape(-1, 2))
 
 
-def from_lineset(lineset, *, atol: float = 0.0) -> PLC:
+def from_lineset(lineset: AnyLineSet, *, atol: float = 0.0) -> PLC:
     """A :class:`cdt_plugin.PLC` from a planar ``open3d.geometry.LineSet`` or
     ``open3d.t.geometry.LineSet`` (tensor API; Float32 points are widened exactly
     to float64, a GPU LineSet is copied to the CPU).

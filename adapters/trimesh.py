@@ -46,17 +46,23 @@ from __future__ import annotations
 
 import contextlib
 import warnings
-from typing import Iterator
+from typing import TYPE_CHECKING, Any, Callable, Iterator, Tuple, TypedDict
 
 import numpy as np
 import trimesh
 import trimesh.creation
 import trimesh.path
+from numpy.typing import ArrayLike, NDArray
 from trimesh import transformations
 
 import cdt_plugin
 from cdt_plugin import PLC
 from cdt_plugin.switches import options_from_switches
+
+if TYPE_CHECKING:
+    import shapely
+
+    from cdt_plugin import Triangulation
 
 __all__ = ["from_path2d", "to_trimesh", "triangulate_polygon", "extrude_polygon",
            "extrude_triangulation", "extrude_path", "register", "unregister", "registered",
@@ -72,7 +78,7 @@ class DroppedZWarning(UserWarning):
 
 
 # ------------------------------------------------------------------ Path2D -> PLC
-def from_path2d(path) -> PLC:
+def from_path2d(path: trimesh.path.Path2D) -> PLC:
     """Read a ``trimesh.path.Path2D`` into a :class:`cdt_plugin.PLC`.
 
     * Closed loops become rings, grouped into polygons with holes exactly as
@@ -115,7 +121,8 @@ def from_path2d(path) -> PLC:
 
 
 # ----------------------------------------------------------- Triangulation -> Trimesh
-def to_trimesh(tri, z: float = 0.0, *, remove_unreferenced: bool = False, **kwargs) -> trimesh.Trimesh:
+def to_trimesh(tri: Triangulation, z: float = 0.0, *, remove_unreferenced: bool = False,
+               **kwargs: Any) -> trimesh.Trimesh:
     """A Triangulation as a flat ``trimesh.Trimesh`` at height ``z``.
 
     Faces are ``tri.triangles`` (counter-clockwise seen from +z, so every face
@@ -135,7 +142,8 @@ def to_trimesh(tri, z: float = 0.0, *, remove_unreferenced: bool = False, **kwar
     return trimesh.Trimesh(vertices=vertices3, faces=faces, face_normals=normals, **kwargs)
 
 
-def _compact(vertices, faces):
+def _compact(vertices: NDArray[np.float64],
+             faces: NDArray[np.int64]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Only the vertices the faces use, in their original order; faces renumbered."""
     used = np.zeros(len(vertices), bool)
     used[faces.ravel()] = True
@@ -146,8 +154,9 @@ def _compact(vertices, faces):
 
 
 # ------------------------------------------------------------- drop-ins for trimesh
-def triangulate_polygon(polygon, triangle_args=None, engine=None, force_vertices: bool = False,
-                        **kwargs):
+def triangulate_polygon(polygon: shapely.Geometry | None, triangle_args: str | None = None,
+                        engine: str | None = None, force_vertices: bool = False,
+                        **kwargs: Any) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Drop-in for ``trimesh.creation.triangulate_polygon``: constrained
     Delaunay triangulation of a shapely polygon.
 
@@ -190,7 +199,7 @@ def triangulate_polygon(polygon, triangle_args=None, engine=None, force_vertices
     return _compact(np.asarray(tri.vertices, np.float64), np.asarray(tri.triangles, np.int64))
 
 
-def _boundary_edges(faces, n):
+def _boundary_edges(faces: NDArray[np.int64], n: int) -> NDArray[np.int64]:
     """Directed edges (i, j) of counter-clockwise faces whose reverse is no
     edge: the domain boundary, with the domain on the left."""
     directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
@@ -199,7 +208,8 @@ def _boundary_edges(faces, n):
     return directed[~np.isin(key, reverse)]
 
 
-def _split_pinches(vertices, faces, boundary):
+def _split_pinches(vertices: NDArray[np.float64], faces: NDArray[np.int64],
+                   boundary: NDArray[np.int64]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Give each fan of faces around a pinch vertex (a vertex where the
     boundary passes more than once, such as a hole touching its shell) its
     own copy of the vertex, so that the extruded walls meet in manifold edges.
@@ -209,28 +219,28 @@ def _split_pinches(vertices, faces, boundary):
     if len(pinched) == 0:
         return vertices, faces
     faces = faces.copy()
-    extra = []
+    extra: list[NDArray[np.float64]] = []
     n = len(vertices)
     for v in pinched:
         around = np.flatnonzero((faces == v).any(axis=1))
         # union faces of the fan over the edges (v, w) they share
         parent = {int(f): int(f) for f in around}
 
-        def find(f):
+        def find(f: int) -> int:
             while parent[f] != f:
                 parent[f] = parent[parent[f]]
                 f = parent[f]
             return f
 
-        by_other = {}
+        by_other: dict[int, list[int]] = {}
         for f in around:
             for w in faces[f]:
                 if w != v:
                     by_other.setdefault(int(w), []).append(int(f))
         for shared in by_other.values():
-            for f in shared[1:]:
-                parent[find(f)] = find(shared[0])
-        fans = {}
+            for other in shared[1:]:
+                parent[find(other)] = find(shared[0])
+        fans: dict[int, list[int]] = {}
         for f in around:
             fans.setdefault(find(int(f)), []).append(int(f))
         for fan in list(fans.values())[1:]:
@@ -241,8 +251,9 @@ def _split_pinches(vertices, faces, boundary):
     return np.concatenate([vertices, np.asarray(extra).reshape(-1, 2)]), faces
 
 
-def extrude_triangulation(vertices, faces, height, transform=None, *, split_pinches: bool = True,
-                          **kwargs) -> trimesh.Trimesh:
+def extrude_triangulation(vertices: ArrayLike, faces: ArrayLike, height: float,
+                          transform: ArrayLike | None = None, *, split_pinches: bool = True,
+                          **kwargs: Any) -> trimesh.Trimesh:
     """Extrude a 2D triangulation into a closed solid, by vertex index.
 
     Unlike ``trimesh.creation.extrude_triangulation`` (which duplicates the wall
@@ -300,8 +311,8 @@ def extrude_triangulation(vertices, faces, height, transform=None, *, split_pinc
     return trimesh.Trimesh(vertices=vertices3, faces=np.ascontiguousarray(all_faces), **kwargs)
 
 
-def extrude_polygon(polygon, height, transform=None, mid_plane: bool = False,
-                    **kwargs) -> trimesh.Trimesh:
+def extrude_polygon(polygon: shapely.Geometry, height: float, transform: ArrayLike | None = None,
+                    mid_plane: bool = False, **kwargs: Any) -> trimesh.Trimesh:
     """Drop-in for ``trimesh.creation.extrude_polygon``: the polygon extruded
     along +z by ``height`` into a watertight, consistently wound solid with
     outward normals and volume ``area * |height|``.
@@ -321,8 +332,8 @@ def extrude_polygon(polygon, height, transform=None, mid_plane: bool = False,
     return extrude_triangulation(vertices, faces, height, transform=transform)
 
 
-def extrude_path(path, height, transform=None, mid_plane: bool = False,
-                 **kwargs) -> list[trimesh.Trimesh]:
+def extrude_path(path: trimesh.path.Path2D, height: float, transform: ArrayLike | None = None,
+                 mid_plane: bool = False, **kwargs: Any) -> list[trimesh.Trimesh]:
     """Every polygon of ``path.polygons_full`` extruded by ``height``: one
     watertight ``Trimesh`` per polygon, in the order of ``polygons_full``
     (``Path2D.extrude`` returns trimesh ``Extrusion`` primitives the same way;
@@ -341,10 +352,21 @@ def extrude_path(path, height, transform=None, mid_plane: bool = False,
 # attribute up when it runs (extrude_polygon, sweep_polygon and revolve read the
 # module global; Path2D.triangulate and slice_mesh_plane import it at call time),
 # so that one replacement reaches them all.
-_hooked = {"original": None, "default": False}
+_TriangulatePolygon = Callable[..., Tuple[NDArray[np.float64], NDArray[np.int64]]]
 
 
-def _hook(polygon, triangle_args=None, engine=None, force_vertices=False, **kwargs):
+class _HookState(TypedDict):
+    original: _TriangulatePolygon   # what register() replaced (trimesh's own function)
+    default: bool                   # the hook's engine when none is named
+
+
+# (register() stores the function it replaces; before that, trimesh's function at import)
+_hooked: _HookState = {"original": trimesh.creation.triangulate_polygon, "default": False}
+
+
+def _hook(polygon: shapely.Geometry | None, triangle_args: str | None = None,
+          engine: str | None = None, force_vertices: bool = False,
+          **kwargs: Any) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """trimesh's ``triangulate_polygon`` while :func:`register` is in force:
     ``engine="cdt_plugin"`` (or no engine, after ``register(default=True)``) runs
     :func:`triangulate_polygon`; any other engine runs trimesh's own function."""

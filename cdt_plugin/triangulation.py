@@ -3,8 +3,10 @@ from __future__ import annotations
 
 import functools
 import time
+from typing import TYPE_CHECKING, Any, Callable, Dict, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._core.certify import edge_lifted_values, submerged_ok
 from ._core.flips import flip_to_delaunay
@@ -15,8 +17,23 @@ from ._core.predicates import incircle_weighted, orient2d
 from .errors import CDTError, InvertedTriangleError
 from .validate import as_points, exact_range
 
+if TYPE_CHECKING:
+    import matplotlib.tri
+    import open3d
+    import shapely
+    import trimesh
+    from matplotlib.axes import Axes
 
-def _frozen_empty(shape):
+    from .plc import PLC
+    from .report import MeshLike, Report
+
+#: The counts of a result, or a function that makes them on first access.
+Stats = Union[Dict[str, Any], Callable[[], Dict[str, Any]]]
+#: The half-edge store in output ids: ``(tri, twin, cons, ntri, inf)``.
+MeshStore = Tuple[NDArray[np.int32], NDArray[np.int32], NDArray[np.int32], int, int]
+
+
+def _frozen_empty(shape: int | tuple[int, ...]) -> NDArray[np.int64]:
     a = np.empty(shape, np.int64)
     a.flags.writeable = False
     return a
@@ -70,9 +87,35 @@ class Triangulation:
         bound (at small input angles); empty otherwise.
     """
 
-    def __init__(self, vertices, triangles, neighbors, vertex_map, stats, weights=None,
-                 edges=None, mesh=None, constrained=None, regions=None, *, segments=None,
-                 segment_ids=None, steiner=None, below_min_angle=None, region_attributes=None):
+    vertices: NDArray[np.float64]
+    triangles: NDArray[np.int64]
+    neighbors: NDArray[np.int64]
+    vertex_map: NDArray[np.int64]
+    weights: NDArray[np.float64] | None
+    constrained: NDArray[np.bool_]
+    regions: NDArray[np.int64]
+    segments: NDArray[np.int64]
+    segment_ids: NDArray[np.int64]
+    steiner: NDArray[np.int64]
+    below_min_angle: NDArray[np.int64]
+    region_attributes: NDArray[np.float64] | None
+    _stats: Stats
+    _edges: NDArray[np.int64] | None
+    _mesh: MeshStore | None
+    # set by from_mesh only (weighted certificates: the submerged points' check)
+    _input_points: NDArray[np.float64]
+    _input_weights: NDArray[np.float64] | None
+    # set by from_route only, until the lazy arrays are made (__getattr__)
+    _lazy: Callable[[], dict[str, Any]]
+
+    def __init__(self, vertices: NDArray[np.float64], triangles: NDArray[np.int64],
+                 neighbors: NDArray[np.int64], vertex_map: NDArray[np.int64], stats: Stats,
+                 weights: NDArray[np.float64] | None = None, edges: NDArray[np.int64] | None = None,
+                 mesh: MeshStore | None = None, constrained: NDArray[np.bool_] | None = None,
+                 regions: NDArray[np.int64] | None = None, *, segments: NDArray[np.int64] | None = None,
+                 segment_ids: NDArray[np.int64] | None = None, steiner: NDArray[np.int64] | None = None,
+                 below_min_angle: NDArray[np.int64] | None = None,
+                 region_attributes: NDArray[np.float64] | None = None) -> None:
         self.vertices = vertices
         self.triangles = triangles
         self.neighbors = neighbors
@@ -91,7 +134,10 @@ class Triangulation:
 
     # ---------------------------------------------------------------- builders
     @classmethod
-    def from_mesh(cls, pts, w_in, tri, twin, cons, ntri, ids, dup_of, submerged, stats, t0):
+    def from_mesh(cls, pts: NDArray[np.float64], w_in: NDArray[np.float64] | None,
+                  tri: NDArray[np.int32], twin: NDArray[np.int32], cons: NDArray[np.int32], ntri: int,
+                  ids: NDArray[np.int64], dup_of: NDArray[np.int64], submerged: NDArray[np.int8],
+                  stats: dict[str, Any], t0: float) -> Triangulation:
         """Compact a finished half-edge store into output arrays. Mesh vertex ``i``
         is input point ``ids[i]``; ``len(ids)`` is the infinite vertex."""
         n = len(pts)
@@ -107,16 +153,18 @@ class Triangulation:
         triangles, neighbors, _ = solid_triangles(tri_out, twin_out, ntri, len(kept))
         rotate_min_first(triangles, neighbors)
         # the counts are made on first access: most callers never look
-        stats = functools.partial(_finished_stats, stats, n, vertex_map, dup_of, len(triangles),
-                                  time.perf_counter() - t0)
+        counts = functools.partial(_finished_stats, stats, n, vertex_map, dup_of, len(triangles),
+                                   time.perf_counter() - t0)
         weights = None if w_in is None else w_in[kept]
-        out = cls(pts[kept], triangles, neighbors, vertex_map, stats, weights,
+        out = cls(pts[kept], triangles, neighbors, vertex_map, counts, weights,
                   mesh=(tri_out, twin_out, cons[: 3 * ntri], ntri, len(kept)))
         out._input_points, out._input_weights = pts, w_in
         return out
 
     @classmethod
-    def from_collinear(cls, pts, order, w_in, dup_of, submerged, stats, t0):
+    def from_collinear(cls, pts: NDArray[np.float64], order: NDArray[np.int64],
+                       w_in: NDArray[np.float64] | None, dup_of: NDArray[np.int64],
+                       submerged: NDArray[np.int8], stats: dict[str, Any], t0: float) -> Triangulation:
         """All points on one line (Sec. 2.1): no triangles, the chain of edges."""
         n = len(pts)
         _mark_collinear_duplicates(pts, order, dup_of)
@@ -134,7 +182,8 @@ class Triangulation:
                    edges=edges.reshape(-1, 2))
 
     @classmethod
-    def from_route(cls, ints, vertices, plc, stats):
+    def from_route(cls, ints: NDArray[np.int64], vertices: NDArray[np.float64], plc: PLC,
+                   stats: dict[str, Any] | Callable[[Triangulation], dict[str, Any]]) -> Triangulation:
         """Wrap the output of the compiled CDT route (``ints``: its integer
         arrays in one, see ``pipeline.cdt_route_packed``; input vertices,
         distinct and in input order, then the Steiner vertices). ``triangles``
@@ -153,7 +202,7 @@ class Triangulation:
         tri._lazy = functools.partial(_route_attributes, ints, vertices, plc)
         return tri
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> Any:
         # only called when ``name`` is not set: the route's arrays made on first access
         lazy = self.__dict__.get("_lazy")
         if lazy is None or name not in _LAZY_ATTRIBUTES:
@@ -164,19 +213,19 @@ class Triangulation:
         return self.__dict__[name]
 
     @property
-    def stats(self) -> dict:
+    def stats(self) -> dict[str, Any]:
         """Counts (``flips``, ``duplicates``, ``steiner``...) and ``seconds``."""
         if callable(self._stats):        # made on first access: most callers never look
             self._stats = self._stats()
         return self._stats
 
     @stats.setter
-    def stats(self, value) -> None:
+    def stats(self, value: Stats) -> None:
         self._stats = value
 
     # ------------------------------------------------------------------ views
     @property
-    def edges(self) -> np.ndarray:
+    def edges(self) -> NDArray[np.int64]:
         """(e, 2) vertex indices of every edge, each listed once."""
         if self._edges is None:
             t, nb = self.triangles, self.neighbors
@@ -187,7 +236,7 @@ class Triangulation:
         return self._edges
 
     @property
-    def submerged(self) -> np.ndarray:
+    def submerged(self) -> NDArray[np.intp]:
         """Input indices of weighted points that are in no triangle."""
         return np.flatnonzero(self.vertex_map < 0)
 
@@ -196,24 +245,24 @@ class Triangulation:
                 f"{len(self.edges)} edges)")
 
     # ------------------------------------------------ outputs (lazy adapters)
-    def to_trimesh(self, z: float = 0.0, **kwargs):
+    def to_trimesh(self, z: float = 0.0, **kwargs: Any) -> trimesh.Trimesh:
         """This triangulation as a flat ``trimesh.Trimesh`` at height ``z``
         (see :func:`cdt_plugin.adapters.trimesh.to_trimesh`; needs trimesh)."""
         from cdt_plugin.adapters.trimesh import to_trimesh
         return to_trimesh(self, z=z, **kwargs)
 
-    def to_open3d(self, z: float = 0.0, **kwargs):
+    def to_open3d(self, z: ArrayLike = 0.0, **kwargs: Any) -> open3d.geometry.TriangleMesh:
         """This triangulation as an ``open3d.geometry.TriangleMesh`` (needs Open3D)."""
         from cdt_plugin.adapters.open3d import to_open3d
         return to_open3d(self, z=z, **kwargs)
 
-    def to_shapely(self):
+    def to_shapely(self) -> shapely.GeometryCollection:
         """The triangles as a shapely GeometryCollection of Polygons, in the form
         ``shapely.constrained_delaunay_triangles`` returns (needs shapely)."""
         from cdt_plugin.adapters.shapely import to_shapely
         return to_shapely(self)
 
-    def to_matplotlib(self):
+    def to_matplotlib(self) -> matplotlib.tri.Triangulation:
         """This triangulation as a ``matplotlib.tri.Triangulation`` (needs
         matplotlib, the ``plot`` extra): x and y are the columns of
         ``self.vertices``, copied (unreferenced vertices included, so indices agree) and
@@ -238,13 +287,13 @@ class Triangulation:
         return matplotlib.tri.Triangulation(x, y, self.triangles)
 
     # ------------------------------------------------------- report and plots
-    def report(self, against=None, **kwargs):
+    def report(self, against: MeshLike | None = None, **kwargs: Any) -> Report:
         """Quality report (angles, circumdisks, certificate), optionally side by side
         with another triangulation of the same input (see :func:`cdt_plugin.report.report`)."""
         from .report import report
         return report(self, against, **kwargs)
 
-    def plot(self, ax=None, **kwargs):
+    def plot(self, ax: Axes | None = None, **kwargs: Any) -> Axes:
         """Draw the triangles, segments in bold and the worst triangles with their
         circumcircles on a matplotlib Axes (see :func:`cdt_plugin.plot.plot`)."""
         from .plot import plot
@@ -259,7 +308,7 @@ class Triangulation:
                                self.triangles, self.neighbors)
         return s[~self.constrained[s[:, 0], s[:, 1]]]
 
-    def non_delaunay_edges(self) -> np.ndarray:
+    def non_delaunay_edges(self) -> NDArray[np.int64]:
         """Interior edges that are not locally (weighted) Delaunay, as vertex pairs."""
         s = self._edge_signs()
         bad = s[s[:, 2] > 0]
@@ -280,10 +329,11 @@ class Triangulation:
     def _submerged_ok(self) -> np.ndarray:
         v = self.vertices
         s = self.submerged
-        pts, w = self._input_points, self._input_weights
+        pts, w, weights = self._input_points, self._input_weights, self.weights
+        assert w is not None and weights is not None, "called for weighted results only"
         _, _, _, shift = exact_range(pts[:, 0], pts[:, 1], w)   # one scale for both sets
         f = 2.0 ** shift
-        return submerged_ok(v[:, 0] * f, v[:, 1] * f, self.weights * f * f, self.triangles,
+        return submerged_ok(v[:, 0] * f, v[:, 1] * f, weights * f * f, self.triangles,
                             self.neighbors, pts[s, 0] * f, pts[s, 1] * f, w[s] * f * f)
 
     def is_unique(self) -> bool:
@@ -293,7 +343,7 @@ class Triangulation:
         return not bool((self._edge_signs()[:, 2] == 0).any())
 
     # -------------------------------------------------------- moving vertices
-    def move_vertices(self, new_vertices, *, rebuild: bool = True) -> int:
+    def move_vertices(self, new_vertices: ArrayLike, *, rebuild: bool = True) -> int:
         """Move the vertices to ``new_vertices`` (same shape as ``vertices``) and
         restore the Delaunay property with flips (Sec. 2.5, the simulation case).
 
@@ -322,7 +372,8 @@ class Triangulation:
         if self._mesh is not None and self.weights is None:
             # Flip from the moved mesh if no triangle inverted; ghost flips repair
             # a hull that lost its convexity. Accept only an embedded result.
-            tri, twin, cons, ntri, inf = (a.copy() if isinstance(a, np.ndarray) else a for a in self._mesh)
+            tri, twin, cons, ntri, inf = self._mesh
+            tri, twin, cons = tri.copy(), twin.copy(), cons.copy()
             sx, sy, _, _ = exact_range(new[:, 0], new[:, 1], None, "new_vertices")
             x = np.append(sx, 0.0)
             y = np.append(sy, 0.0)
@@ -416,7 +467,7 @@ def _lower_chain(pts, w, line, submerged):
     a, b = pts[line[0]], pts[line[-1]]
     c = np.array([a[0] - (b[1] - a[1]), a[1] + (b[0] - a[0])])
     ccw = orient2d(a[0], a[1], b[0], b[1], c[0], c[1]) > 0
-    keep = []
+    keep: list[np.integer[Any]] = []
     for i in line:
         while len(keep) >= 2:
             p, m = keep[-2], keep[-1]

@@ -22,6 +22,7 @@ import cdt_plugin
 OPTIONAL = {
     "cdt_plugin.plot": ["matplotlib"],
     "cdt_plugin.report": ["mapbox_earcut"],
+    "cdt_plugin.triangulation": ["matplotlib"],
     "cdt_plugin.cli": ["shapely", "trimesh"],
     "cdt_plugin.adapters.shapely": ["shapely"],
     "cdt_plugin.adapters.trimesh": ["shapely", "trimesh"],

@@ -4,6 +4,7 @@ can regress. Extend ``TYPED_MODULES`` as modules become clean; mypy's
 settings are ``[tool.mypy]`` in pyproject.toml."""
 from __future__ import annotations
 
+import contextlib
 import importlib
 import inspect
 import subprocess
@@ -18,6 +19,8 @@ ROOT = Path(__file__).resolve().parents[2]
 
 TYPED_MODULES = [
     "cdt_plugin",
+    "cdt_plugin.adapters.open3d",
+    "cdt_plugin.adapters.trimesh",
     "cdt_plugin.batch",
     "cdt_plugin.cdt",
     "cdt_plugin.compiling",
@@ -30,23 +33,36 @@ TYPED_MODULES = [
     "cdt_plugin.plot",
     "cdt_plugin.report",
     "cdt_plugin.switches",
+    "cdt_plugin.triangulation",
     "cdt_plugin.validate",
 ]
 
 _ADAPTERS = "cdt_plugin.adapters."
 
 
-def _mypy_target(module: str) -> list[str]:
-    """mypy's arguments for a module: by name, or, for an adapter (installed as
-    cdt_plugin.adapters from the folder adapters/, which mypy cannot map), by file."""
+def _mypy_target(module: str) -> str:
+    """A module's source file, relative to the checkout: mypy is given files, since an
+    adapter (installed as cdt_plugin.adapters from the folder adapters/, a mapping
+    mypy cannot see) has no module name mypy can find, and mypy takes module names
+    (-m) or files in one run, not both."""
     if module.startswith(_ADAPTERS):
-        return [str(Path("adapters", module[len(_ADAPTERS):] + ".py"))]
-    return ["-m", module]
+        parts = ["adapters", *module[len(_ADAPTERS):].split(".")]
+    else:
+        parts = module.split(".")
+    package = Path(*parts, "__init__.py")
+    return str(package if (ROOT / package).is_file() else Path(*parts[:-1], parts[-1] + ".py"))
+
+
+def test_mypy_targets_are_files():
+    assert _mypy_target("cdt_plugin") == str(Path("cdt_plugin", "__init__.py"))
+    assert _mypy_target("cdt_plugin.cdt") == str(Path("cdt_plugin", "cdt.py"))
+    assert _mypy_target("cdt_plugin.adapters.trimesh") == str(Path("adapters", "trimesh.py"))
+    assert all((ROOT / _mypy_target(module)).is_file() for module in TYPED_MODULES)
 
 
 def test_mypy_finds_no_error():
     pytest.importorskip("mypy")
-    args = [arg for module in TYPED_MODULES for arg in _mypy_target(module)]
+    args = [_mypy_target(module) for module in TYPED_MODULES]
     run = subprocess.run([sys.executable, "-m", "mypy", "--no-error-summary", "--hide-error-context",
                           *args], cwd=ROOT, capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, f"mypy on {TYPED_MODULES}:\n{run.stdout}{run.stderr}"
@@ -54,8 +70,9 @@ def test_mypy_finds_no_error():
 
 def _defined_here(fn: Any, module: types.ModuleType) -> bool:
     """Whether ``fn`` is a Python function written in ``module``'s source file
-    (not generated, e.g. a dataclass's ``__eq__``, nor imported)."""
-    code = getattr(fn, "__code__", None)
+    (not generated, e.g. a dataclass's ``__eq__``, nor imported); a decorated
+    function (``functools.wraps``: a ``contextlib.contextmanager``) by what it wraps."""
+    code = getattr(inspect.unwrap(fn), "__code__", None)
     return code is not None and Path(code.co_filename) == Path(module.__file__ or "")
 
 
@@ -120,6 +137,17 @@ def test_the_annotation_check_can_fail():
     assert _missing_annotations(partly) == ["b"]
     assert _missing_annotations(no_return) == ["return"]
     assert _missing_annotations(full) == []
+
+
+def test_decorated_functions_are_checked():
+    """A function wrapped with ``functools.wraps`` (``contextlib.contextmanager``) is
+    checked as the function it wraps, where that function is written."""
+    @contextlib.contextmanager
+    def block(a: int):
+        yield a
+
+    assert _defined_here(block, sys.modules[__name__])
+    assert _missing_annotations(block) == ["return"]
 
 
 def test_py_typed_marker_ships():
