@@ -61,15 +61,28 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import FrameType
-from typing import Any
+from typing import TYPE_CHECKING, Any, Callable, Union
 
 import numpy as np
 import shapely
+from numpy.typing import NDArray
 
-from cdt_plugin import CDTError, InputShapeError
+from cdt_plugin import CDTError, InputShapeError, NoPolygonsError   # (NoPolygonsError: re-exported)
 from cdt_plugin.batch import MeshBatch, check_batch_options
 
-from .shapely import _triangle_polygons, triangulate_batch
+from .shapely import Repair, _triangle_polygons, triangulate_batch
+
+if TYPE_CHECKING:
+    import dask_geopandas
+    import pyproj
+    import trimesh
+    from geopandas import GeoDataFrame, GeoSeries
+
+#: What :func:`read` takes: a GeoDataFrame, a GeoSeries, a GeoJSON dict or a path.
+LayerLike = Union["GeoDataFrame", "GeoSeries", "dict[str, Any]", str, Path]
+#: What ``project=`` takes: None, "utm", "aeqd", or a projected CRS (a ``pyproj.CRS``
+#: or what ``pyproj.CRS.from_user_input`` reads: "EPSG:32633", 32633, WKT, ...).
+ProjectLike = Union[str, int, "pyproj.CRS", None]
 
 __all__ = ["triangulate", "triangulate_dask", "read", "write_geojson", "GeoMesh", "GeographicCRSWarning",
            "SkippedFeaturesWarning", "NoPolygonsError", "ProjectionError", "NotGeographicError",
@@ -92,10 +105,6 @@ class SkippedFeaturesWarning(UserWarning):
     """``errors="skip"``: some features could not be meshed and have no triangles."""
 
 
-class NoPolygonsError(CDTError):
-    """The layer has no (non-empty) Polygon or MultiPolygon feature to mesh."""
-
-
 class ProjectionError(CDTError):
     """``project=`` cannot be applied (no CRS, not a projected CRS, coordinates that
     do not project to finite values, a feature that does not map back)."""
@@ -108,7 +117,7 @@ class NotGeographicError(CDTError, AttributeError):
 
 
 # ------------------------------------------------------------------------ reading
-def read(data, *, layer: str | int | None = None):
+def read(data: LayerLike, *, layer: str | int | None = None) -> GeoDataFrame:
     """The layer ``data`` as a GeoDataFrame (a GeoDataFrame is returned as it is).
 
     ``data``: a GeoDataFrame; a GeoSeries; a GeoJSON dict (FeatureCollection,
@@ -139,7 +148,7 @@ def read(data, *, layer: str | int | None = None):
                           f"got {type(data).__name__}")
 
 
-def _from_geojson(data: dict):
+def _from_geojson(data: dict[str, Any]) -> GeoDataFrame:
     import geopandas
 
     kind = data.get("type")
@@ -160,7 +169,8 @@ def _from_geojson(data: dict):
     return frame
 
 
-def write_geojson(frame, path: str | Path, *, progress=None) -> None:
+def write_geojson(frame: GeoDataFrame, path: str | Path, *,
+                  progress: Callable[[int], object] | None = None) -> None:
     """Write a GeoDataFrame as a GeoJSON FeatureCollection with every coordinate
     exact (Python's shortest round-trip repr: GDAL's GeoJSON writer trims digits
     that look like noise, ``-0.9500000000000001`` becomes ``-0.95``, even with
@@ -291,9 +301,10 @@ def _json_value(value):
 
 
 # ------------------------------------------------------------------------ meshing
-def triangulate(data, *, output: str = "geodataframe", project=None, repair=False,
-                errors: str = "raise", progress: bool | None = None,
-                layer: str | int | None = None, **options):
+def triangulate(data: LayerLike, *, output: str = "geodataframe", project: ProjectLike = None,
+                repair: Repair = False, errors: str = "raise", progress: bool | None = None,
+                layer: str | int | None = None,
+                **options: Any) -> GeoDataFrame | list[trimesh.Trimesh | None] | GeoMesh:
     """Constrained Delaunay triangulation of every polygonal feature of a layer.
 
     Parameters
@@ -450,8 +461,9 @@ def _register_accessor() -> None:
     pandas.api.extensions.register_series_accessor("cdt")(CDTAccessor)
 
 
-def triangulate_dask(dask_geodataframe, *, project=None, repair=False, errors: str = "raise",
-                     **options):
+def triangulate_dask(dask_geodataframe: dask_geopandas.GeoDataFrame, *, project: ProjectLike = None,
+                     repair: Repair = False, errors: str = "raise",
+                     **options: Any) -> dask_geopandas.GeoDataFrame:
     """:func:`triangulate` for a dask-geopandas GeoDataFrame: every partition is
     meshed where it lives (``map_partitions``), on whatever Dask scheduler is
     active (a ``dask.distributed.Client`` connected to a cluster, or the local one).
@@ -526,10 +538,10 @@ def _mesh(frame, *, project, repair, errors, progress, options, require_polygons
         batch = triangulate_batch(meshed, repair=repair, errors=errors, progress=bool(progress),
                                   **options)
     except CDTError as e:
-        if getattr(e, "index", None) is None:
+        if e.index is None:
             raise
-        raise _relabel(e, frame, target) from None
-    failed = {int(i): _relabel(e, frame, target) for i, e in batch.errors.items()}
+        raise _relabel(e, e.index, frame, target) from None
+    failed = {int(i): _relabel(e, int(i), frame, target) for i, e in batch.errors.items()}
     T, position, part, vertices = batch.triangles, batch.geometry, batch.region, batch.vertices
     if target is not None:
         vertices = _restore(vertices, T, geoms, meshed, target, frame.crs)
@@ -610,9 +622,9 @@ def _describe(geoms: np.ndarray) -> str:
     return f"{len(geoms)} feature(s): " + ", ".join(f"{c} {v}" for v, c in zip(values, counts))
 
 
-def _relabel(e: CDTError, frame, target) -> CDTError:
-    """A batch error (``geometry i: ...``) renamed after the feature's index label."""
-    i = int(e.index)
+def _relabel(e: CDTError, i: int, frame: GeoDataFrame, target: pyproj.CRS | None) -> CDTError:
+    """A batch error (``geometry i: ...``, for row ``i``) renamed after the feature's
+    index label."""
     label = _plain(frame.index[i])
     message = e.args[0] if e.args else ""
     prefix = f"geometry {i}: "
@@ -922,26 +934,26 @@ class GeoMesh:
         The engine's result (vertices in the meshing CRS).
     """
 
-    source: Any
-    vertices: np.ndarray
-    z: np.ndarray | None
-    triangles: np.ndarray
-    position: np.ndarray
-    part: np.ndarray
-    offsets: np.ndarray
-    errors: dict = field(default_factory=dict)
-    mesh_crs: Any = None
+    source: GeoDataFrame
+    vertices: NDArray[np.float64]
+    z: NDArray[np.float64] | None
+    triangles: NDArray[np.int64]
+    position: NDArray[np.int64]
+    part: NDArray[np.int64]
+    offsets: NDArray[np.int64]
+    errors: dict[int, CDTError] = field(default_factory=dict)
+    mesh_crs: pyproj.CRS | None = None
     batch: MeshBatch | None = None
 
     def __len__(self) -> int:
         return len(self.triangles)
 
     @property
-    def feature_has_z(self) -> np.ndarray:
+    def feature_has_z(self) -> NDArray[np.bool_]:
         """(g,) bool: which source features have Z."""
         return shapely.has_z(np.asarray(self.source.geometry.array, dtype=object))
 
-    def boundary_edges(self) -> np.ndarray:
+    def boundary_edges(self) -> NDArray[np.int64]:
         """(s, 2) vertex pairs of the edges used by one triangle only: the pieces of
         the polygons' rings (the segments), for valid polygons."""
         T = self.triangles
@@ -949,7 +961,7 @@ class GeoMesh:
         uniq, count = np.unique(e, axis=0, return_counts=True)
         return uniq[count == 1]
 
-    def feature_mesh(self, i: int) -> tuple[np.ndarray, np.ndarray]:
+    def feature_mesh(self, i: int) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
         """Row ``i`` alone: ``(vertices, triangles)`` with only its vertices,
         (m, 3) when the feature has Z, else (m, 2)."""
         T = self.triangles[self.offsets[i]:self.offsets[i + 1]]
@@ -959,7 +971,7 @@ class GeoMesh:
             V = np.column_stack([V, self.z[used]])
         return V, local.reshape(-1, 3)
 
-    def triangle_polygons(self) -> np.ndarray:
+    def triangle_polygons(self) -> NDArray[np.object_]:
         """One shapely Polygon per triangle (counter-clockwise closed shell; 3D
         for features with Z), built from flat coordinate arrays in one call per
         dimension (``shapely.from_ragged_array``: about twice as fast as
@@ -975,7 +987,7 @@ class GeoMesh:
         out[has_z] = _triangle_polygons(xyz)
         return out
 
-    def to_geodataframe(self):
+    def to_geodataframe(self) -> GeoDataFrame:
         """One row per triangle (see :func:`triangulate`)."""
         import geopandas
 
@@ -993,12 +1005,12 @@ class GeoMesh:
                                        for i, e in self.errors.items()}
         return out
 
-    def to_trimesh(self) -> list:
+    def to_trimesh(self) -> list[trimesh.Trimesh | None]:
         """One ``trimesh.Trimesh`` per source row (None without triangles); z is
         the vertex z for features with Z, else 0."""
         import trimesh
 
-        out = []
+        out: list[trimesh.Trimesh | None] = []
         for i in range(len(self.offsets) - 1):
             if self.offsets[i] == self.offsets[i + 1]:
                 out.append(None)

@@ -29,16 +29,22 @@ arrays, vectorised over the whole input; other geometry types go through
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, TooFewPointsError
 from cdt_plugin.batch import MeshBatch, check_batch_options, geometry_plc, triangulate_rings
 from cdt_plugin.validate import as_points
+
+if TYPE_CHECKING:
+    import pandas
+
+#: ``repair=``: False, True, "linework" or "structure" (see :func:`triangulate`).
+Repair = bool | str
 
 __all__ = ["triangulate", "triangulate_batch", "to_shapely", "constrained_delaunay_triangles",
            "delaunay_triangles", "plc_from_shapely"]
@@ -56,7 +62,8 @@ _VECTORISED_FROM = 16    # polygons read as flat ring arrays from this many on (
 
 
 # --------------------------------------------------------------------------- input
-def triangulate(geometry, *, repair=False, **options):
+def triangulate(geometry: Any, *, repair: Repair = False, **options: Any
+                ) -> cdt_plugin.Triangulation | list[cdt_plugin.Triangulation | None] | pandas.Series:
     """Constrained Delaunay triangulation of a shapely geometry (or of each geometry
     of an array).
 
@@ -127,16 +134,23 @@ def triangulate(geometry, *, repair=False, **options):
     return _triangulate_many(np.array([geometry], dtype=object), method, options, indexed=False)[0]
 
 
-def plc_from_shapely(geometry, *, repair=False) -> PLC:
+def plc_from_shapely(geometry: shapely.Geometry | None, *, repair: Repair = False) -> PLC | None:
     """The :class:`cdt_plugin.PLC` of one shapely geometry, validated (and repaired)
-    as in :func:`triangulate`; z coordinates, if any, are carried in ``plc.z``."""
+    as in :func:`triangulate`; z coordinates, if any, are carried in ``plc.z``.
+    ``None`` gives ``None``.
+
+    >>> import shapely
+    >>> plc = plc_from_shapely(shapely.box(0, 0, 2, 1))
+    >>> plc.vertices.shape, plc.segments.shape
+    ((4, 2), (4, 2))
+    """
     method = _repair_method(repair)
     arr = np.array([geometry], dtype=object)
     return _plcs(arr, method, indexed=False)[0]
 
 
-def triangulate_batch(geometries, *, repair=False, errors="raise", progress=False,
-                      **options) -> MeshBatch:
+def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = "raise",
+                      progress: bool = False, **options: Any) -> MeshBatch:
     """Mesh many polygonal geometries in one call (the GIS batch path).
 
     Every Polygon / MultiPolygon of ``geometries`` is one PLC (a MultiPolygon's
@@ -188,10 +202,9 @@ def triangulate_batch(geometries, *, repair=False, errors="raise", progress=Fals
     _collections_to_polygonal(arr)
     types = shapely.get_type_id(arr)
     arr[(types != _POLYGON) & (types != _MULTIPOLYGON)] = shapely.Polygon()
-    failed = {}
+    failed: dict[int, CDTError] = {}
     invalid = np.flatnonzero(~shapely.is_valid(arr))
-    for i in invalid:
-        i = int(i)
+    for i in map(int, invalid):
         try:
             arr[i] = _repair_or_raise(arr[i], int(types[i]), method, i, True)
         except CDTError as e:
@@ -200,12 +213,12 @@ def triangulate_batch(geometries, *, repair=False, errors="raise", progress=Fals
             failed[i] = e
             arr[i] = shapely.Polygon()
     xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, _ = _polygon_rings(arr)
-    for i in np.flatnonzero(bad_geom):   # not reachable from GEOS-valid polygons
-        e = _fail(InvalidGeometryError, "a ring has fewer than three distinct points or zero area",
-                  int(i), True)
+    for i in map(int, np.flatnonzero(bad_geom)):   # not reachable from GEOS-valid polygons
+        err = _fail(InvalidGeometryError, "a ring has fewer than three distinct points or zero area",
+                    i, True)
         if errors == "raise":
-            raise e
-        failed[int(i)] = e
+            raise err
+        failed[i] = err
     if len(failed):
         drop = np.zeros(len(arr), bool)
         drop[list(failed)] = True
@@ -226,7 +239,7 @@ def triangulate_batch(geometries, *, repair=False, errors="raise", progress=Fals
     return batch
 
 
-def _repair_method(repair):
+def _repair_method(repair: Repair | None) -> str | None:
     if repair is False or repair is None:
         return None
     try:
@@ -235,7 +248,7 @@ def _repair_method(repair):
         raise CDTError(f"repair must be False, True, 'linework' or 'structure', got {repair!r}") from None
 
 
-def _is_array_input(geometry) -> bool:
+def _is_array_input(geometry: Any) -> bool:
     """A collection of geometries (list, tuple, NumPy array, pandas Series,
     GeoSeries, GeometryArray: anything with ``__array__``), not one geometry."""
     if geometry is None or isinstance(geometry, shapely.Geometry):
@@ -243,7 +256,7 @@ def _is_array_input(geometry) -> bool:
     return isinstance(geometry, (list, tuple, np.ndarray)) or hasattr(geometry, "__array__")
 
 
-def _like_input(values: np.ndarray, geometry):
+def _like_input(values: np.ndarray, geometry: Any) -> Any:
     """Element-wise results in the input's container, as shapely's functions give
     them: a pandas Series (or GeoSeries) keeps its index, a GeoSeries of
     geometries also its class and CRS; anything else gets the NumPy array."""
@@ -257,9 +270,10 @@ def _like_input(values: np.ndarray, geometry):
     return pd.Series(values, index=index, dtype=object)
 
 
-def _triangulate_many(arr, method, options, indexed):
+def _triangulate_many(arr: NDArray[np.object_], method: str | None, options: dict[str, Any],
+                      indexed: bool) -> list[cdt_plugin.Triangulation | None]:
     plcs = _plcs(arr, method, indexed)
-    out = []
+    out: list[cdt_plugin.Triangulation | None] = []
     for i, plc in enumerate(plcs):
         if plc is None:
             out.append(None)
@@ -271,7 +285,7 @@ def _triangulate_many(arr, method, options, indexed):
     return out
 
 
-def _with_index(e, i, indexed):
+def _with_index(e: CDTError, i: int, indexed: bool | np.ndarray) -> CDTError:
     if indexed is not False:
         if not isinstance(indexed, bool):   # an array of positions in the caller's input
             i = int(indexed[i])
@@ -280,11 +294,12 @@ def _with_index(e, i, indexed):
     return e
 
 
-def _fail(cls, message, i, indexed):
+def _fail(cls: type[CDTError], message: str, i: int, indexed: bool | np.ndarray) -> CDTError:
     return _with_index(cls(message), i, indexed)
 
 
-def _plcs(arr, method, indexed):
+def _plcs(arr: NDArray[np.object_], method: str | None,
+          indexed: bool | np.ndarray) -> list[PLC | None]:
     """Validate (and repair) a 1-D object array of geometries and read each into a PLC.
     Validation is one vectorised GEOS call for the whole array."""
     missing = shapely.is_missing(arr)
@@ -299,8 +314,7 @@ def _plcs(arr, method, indexed):
     idx = np.flatnonzero(_CHECKED_FOR_VALIDITY[types + 1])
     if len(idx):
         valid = shapely.is_valid(arr[idx])
-        for i in idx[~valid]:
-            i = int(i)
+        for i in map(int, idx[~valid]):
             arr[i] = _repair_or_raise(arr[i], int(types[i]), method, i, indexed)
         if (~valid).any():
             types = shapely.get_type_id(arr)
@@ -309,25 +323,26 @@ def _plcs(arr, method, indexed):
         i = int(np.flatnonzero(empty)[0])
         raise _fail(TooFewPointsError, f"the geometry is empty ({shapely.to_wkt(arr[i])}): "
                     "nothing to triangulate", i, indexed)
-    plcs = [None] * len(arr)
+    plcs: list[PLC | None] = [None] * len(arr)
     polygons = np.flatnonzero((types == _POLYGON) | (types == _MULTIPOLYGON))
     if len(polygons) >= _VECTORISED_FROM:   # fewer: the arrays' set-up costs more than it saves
-        for i, plc in zip(polygons, _polygon_plcs(arr[polygons])):
-            plcs[i] = plc
-    for i in np.flatnonzero(~missing):
+        for g, plc in zip(polygons, _polygon_plcs(arr[polygons])):
+            plcs[g] = plc
+    for i in map(int, np.flatnonzero(~missing)):
         if plcs[i] is None:   # other types, a few polygons, or a degenerate ring (reported or kept)
             try:
                 plcs[i] = PLC.from_geo_interface(arr[i])
             except CDTError as e:
-                raise _with_index(e, int(i), indexed)
+                raise _with_index(e, i, indexed)
     return plcs
 
 
-def _invalid_message(geom):
+def _invalid_message(geom: shapely.Geometry) -> str:
     return f"{geom.geom_type} is not valid: {shapely.is_valid_reason(geom)}"
 
 
-def _repair_or_raise(geom, type_id, method, i, indexed):
+def _repair_or_raise(geom: shapely.Geometry, type_id: int, method: str | None, i: int,
+                     indexed: bool | np.ndarray) -> shapely.Geometry:
     if type_id == _COLLECTION:
         parts = _flat_parts(geom)
         ptypes = shapely.get_type_id(parts)
@@ -357,7 +372,7 @@ def _repair_or_raise(geom, type_id, method, i, indexed):
     return fixed
 
 
-def _collections_to_polygonal(flat):
+def _collections_to_polygonal(flat: NDArray[np.object_]) -> None:
     """Replace each GeometryCollection of ``flat`` (in place) by its polygonal
     members as one MultiPolygon (an empty Polygon when it has none)."""
     for i in np.flatnonzero(shapely.get_type_id(flat) == _COLLECTION):
@@ -367,7 +382,7 @@ def _collections_to_polygonal(flat):
         flat[i] = shapely.MultiPolygon(list(shapely.get_parts(polys))) if len(polys) else shapely.Polygon()
 
 
-def _flat_parts(geom):
+def _flat_parts(geom: shapely.Geometry) -> NDArray[np.object_]:
     """The non-collection members of a (nested) GeometryCollection."""
     parts = shapely.get_parts(geom)
     while (shapely.get_type_id(parts) == _COLLECTION).any():
@@ -375,7 +390,7 @@ def _flat_parts(geom):
     return parts
 
 
-def _make_valid_polygonal(geom, method):
+def _make_valid_polygonal(geom: shapely.Geometry, method: str) -> shapely.Geometry:
     if method == "structure":
         fixed = shapely.make_valid(geom, method="structure", keep_collapsed=False)
     else:
@@ -389,7 +404,7 @@ def _make_valid_polygonal(geom, method):
     return shapely.MultiPolygon(list(polys))
 
 
-def _polygon_plcs(geoms):
+def _polygon_plcs(geoms: NDArray[np.object_]) -> list[PLC | None]:
     """PLCs of a 1-D array of non-empty Polygons / MultiPolygons, vectorised:
     one GEOS call each for parts, rings and coordinates, then NumPy. The result
     equals ``PLC.from_geo_interface`` of each geometry (same vertex order, segments,
@@ -437,7 +452,8 @@ def _polygon_rings(geoms):
 
 
 # -------------------------------------------------------------------------- output
-def to_shapely(tri, *, z=None, ccw=False):
+def to_shapely(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = None,
+               ccw: bool = False) -> shapely.GeometryCollection:
     """The triangles of ``tri`` as a ``shapely.GeometryCollection`` of Polygons, in the
     form ``shapely.constrained_delaunay_triangles`` returns: one Polygon per
     triangle (in ``tri.triangles`` order), each a closed 4-point shell, clockwise
@@ -477,12 +493,12 @@ def _triangle_polygons(rings: np.ndarray) -> np.ndarray:
         (np.arange(0, 4 * k + 1, 4, dtype=np.int64), np.arange(k + 1, dtype=np.int64)))
 
 
-def _vertex_z(tri, plc):
+def _vertex_z(tri: cdt_plugin.Triangulation, plc_z: NDArray[np.float64]) -> NDArray[np.float64]:
     """z of every output vertex from the PLC's z (NaN for Steiner vertices)."""
     z = np.full(len(tri.vertices), np.nan)
     vm = np.asarray(tri.vertex_map)
     ok = vm >= 0
-    z[vm[ok]] = plc.z[ok]
+    z[vm[ok]] = plc_z[ok]
     return z
 
 
@@ -589,11 +605,12 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
     if len(idx):
         plcs = _plcs(flat[idx], method, indexed=idx if indexed else False)
         for i, plc in zip(idx, plcs):
+            assert plc is not None      # (only a missing geometry has none: these are polygons)
             try:
                 tri = cdt_plugin.triangulate(plc)
             except CDTError as e:
                 raise _with_index(e, int(i), indexed)
-            out[i] = to_shapely(tri, z=_vertex_z(tri, plc) if plc.z is not None else None)
+            out[i] = to_shapely(tri, z=_vertex_z(tri, plc.z) if plc.z is not None else None)
     return _elementwise_output(out, arr.shape, geometry)
 
 

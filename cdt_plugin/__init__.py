@@ -17,6 +17,7 @@ from .errors import (
     InputShapeError,
     InvalidGeometryError,
     InvertedTriangleError,
+    NoPolygonsError,
     NonFiniteCoordinateError,
     OverlappingSegmentsError,
     PrecisionWarning,
@@ -45,6 +46,7 @@ __all__ = [
     "FileFormatError",
     "InputShapeError",
     "InvertedTriangleError",
+    "NoPolygonsError",
     "NonFiniteCoordinateError",
     "TooFewPointsError",
 ]

@@ -38,11 +38,18 @@ import sys
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 import numpy as np
 
-from .errors import CDTError
+from .errors import CDTError, NoPolygonsError
+
+if TYPE_CHECKING:
+    from geopandas import GeoDataFrame
+
+    from .adapters.geo import GeoMesh
+    from .report import Report
+    from .triangulation import Triangulation
 
 __all__ = ["main", "build_parser", "read_input", "read_layer", "is_layer", "triangulate_features",
            "concatenate", "write_output", "write_layer", "layer_report", "Feature"]
@@ -81,8 +88,8 @@ class Feature:
     arrays (Triangle files), with its GeoJSON properties."""
     name: str
     geometry: Any = None
-    arrays: dict = field(default_factory=dict)
-    properties: dict = field(default_factory=dict)
+    arrays: dict[str, Any] = field(default_factory=dict)
+    properties: dict[str, Any] = field(default_factory=dict)
 
 
 # ------------------------------------------------------------------- parser
@@ -210,14 +217,14 @@ def read_input(path: Path, layer: str | None = None) -> list[Feature]:
     return _require_polygons(path, _read_json(path))
 
 
-def _geometry_type(geometry) -> str:
+def _geometry_type(geometry: Any) -> str:
     """The GeoJSON type name of a geometry (a GeoJSON mapping or a shapely geometry)."""
     if isinstance(geometry, dict):
         return str(geometry.get("type"))
     return "empty " + geometry.geom_type if geometry.is_empty else geometry.geom_type
 
 
-def _is_polygonal(geometry) -> bool:
+def _is_polygonal(geometry: Any) -> bool:
     """A Polygon or MultiPolygon, or a GeometryCollection holding one."""
     if isinstance(geometry, dict) and geometry.get("type") == "GeometryCollection":
         return any(_is_polygonal(g) for g in geometry.get("geometries") or [] if g)
@@ -227,11 +234,10 @@ def _is_polygonal(geometry) -> bool:
 
 
 def _require_polygons(path: Path, features: list[Feature]) -> list[Feature]:
-    """``features`` unchanged, or the geo adapter's NoPolygonsError when none of
-    them is polygonal (a Point-only GeoJSON would otherwise give an empty mesh)."""
+    """``features`` unchanged, or NoPolygonsError when none of them is polygonal
+    (a Point-only GeoJSON would otherwise give an empty mesh)."""
     if any(_is_polygonal(f.geometry) for f in features):
         return features
-    from .adapters.geo import NoPolygonsError
     kinds: dict = {}
     for f in features:
         kinds[_geometry_type(f.geometry)] = kinds.get(_geometry_type(f.geometry), 0) + 1
@@ -284,15 +290,14 @@ def is_layer(path: Path) -> bool:
     return isinstance(data, dict) and data.get("type") in ("Feature", "FeatureCollection")
 
 
-def read_layer(path: Path, layer: str | None = None):
+def read_layer(path: Path, layer: str | None = None) -> GeoDataFrame:
     """A GIS layer as a GeoDataFrame (geopandas + pyogrio); ``layer``: a name, or a
     number given as digits."""
     _import("geopandas", f"reading {Path(path).suffix} layers")
     from .adapters.geo import read
-    if layer is not None and layer.isdigit():
-        layer = int(layer)
+    which = int(layer) if layer is not None and layer.isdigit() else layer
     try:
-        return read(path, layer=layer)
+        return read(path, layer=which)
     except FileNotFoundError:
         raise CLIError(f"{path}: no such file") from None
     except Exception as exc:           # pyogrio's DataSourceError, DataLayerError, ...
@@ -301,7 +306,7 @@ def read_layer(path: Path, layer: str | None = None):
         raise CLIError(f"{path}: cannot read it as a GIS layer ({exc})") from None
 
 
-def _layer_features(path: Path, frame) -> list[Feature]:
+def _layer_features(path: Path, frame: GeoDataFrame) -> list[Feature]:
     """The rows of a GeoDataFrame with a geometry, as Features (for the per-feature formats)."""
     features = []
     table = frame.drop(columns=[frame.geometry.name])
@@ -316,7 +321,7 @@ def _layer_features(path: Path, frame) -> list[Feature]:
     return features
 
 
-def _feature_label(frame, i: int) -> str:
+def _feature_label(frame: GeoDataFrame, i: int) -> str:
     """``feature <index label> (<name>)`` for row ``i`` of a layer."""
     label = frame.index[i]
     label = label.item() if isinstance(label, np.generic) else label
@@ -325,7 +330,7 @@ def _feature_label(frame, i: int) -> str:
     return f"feature {label}" + (f" ({name})" if isinstance(name, str) and name else "")
 
 
-def _shapely_geometry(feature: Feature):
+def _shapely_geometry(feature: Feature) -> Any:
     """The feature's geometry as a shapely geometry (GeoJSON mappings are converted)."""
     if not isinstance(feature.geometry, dict):
         return feature.geometry
@@ -342,7 +347,7 @@ _EXTRA_OF = {"shapely": "shapely", "trimesh": "trimesh", "matplotlib": "plot", "
              "mapbox_earcut": "bench", "tqdm": "cli"}
 
 
-def _import(module: str, purpose: str):
+def _import(module: str, purpose: str) -> Any:
     import importlib
     try:
         return importlib.import_module(module)
@@ -354,7 +359,7 @@ def _missing(module: str, purpose: str) -> str:
     return f"{purpose} needs {module} (pip install 'cdt-plugin[{_EXTRA_OF.get(module, module)}]')"
 
 
-def _check_packages(args) -> None:
+def _check_packages(args: argparse.Namespace) -> None:
     """The optional packages the options need, checked before anything is read or
     compiled (a missing one is an error naming the extra that brings it)."""
     import importlib.util
@@ -381,9 +386,9 @@ def _check_packages(args) -> None:
 
 
 # --------------------------------------------------------------- meshing
-def _options(args) -> dict:
+def _options(args: argparse.Namespace) -> dict[str, Any]:
     """Keyword options for triangulate; refinement options only when given."""
-    options: dict = {"intersections": args.intersections}
+    options: dict[str, Any] = {"intersections": args.intersections}
     asked = {k: v for k, v in (("min_angle", args.min_angle), ("max_area", args.max_area))
              if v is not None}
     if asked:
@@ -397,9 +402,10 @@ def _options(args) -> dict:
     return options
 
 
-def triangulate_features(features: Sequence[Feature], options: dict, *, repair: bool = False,
-                         progress: bool | None = None, workers: int | None = None,
-                         errors: str = "raise") -> list:
+def triangulate_features(features: Sequence[Feature], options: dict[str, Any], *,
+                         repair: bool = False, progress: bool | None = None,
+                         workers: int | None = None,
+                         errors: str = "raise") -> list[Triangulation | CLIError]:
     """Triangulate each feature (a progress bar over many features when ``progress``
     is True, or None and stderr is a terminal), on ``workers`` threads (default:
     every core when there are many features). Errors name the feature; with
@@ -417,8 +423,8 @@ def triangulate_features(features: Sequence[Feature], options: dict, *, repair: 
             bar.close()
 
 
-def _triangulate_feature(feature: Feature, features: Sequence[Feature], options: dict,
-                         repair: bool, errors: str = "raise"):
+def _triangulate_feature(feature: Feature, features: Sequence[Feature], options: dict[str, Any],
+                         repair: bool, errors: str = "raise") -> Triangulation | CLIError:
     from . import triangulate
     # Geometry goes through the shapely adapter (GEOS validity check, optional
     # repair) unless crossings are to be split: the engine then meshes the rings
@@ -441,7 +447,7 @@ def _triangulate_feature(feature: Feature, features: Sequence[Feature], options:
         raise CLIError(f"{feature.name}: {message}" if len(features) > 1 else message) from None
 
 
-def concatenate(tris: Sequence) -> Any:
+def concatenate(tris: Sequence[Triangulation]) -> Triangulation:
     """One Triangulation holding several (vertices, triangles, segments offset;
     ``regions`` = the index of the triangulation each triangle came from; numeric
     ``stats`` summed). One input is returned as it is.
@@ -473,8 +479,8 @@ def concatenate(tris: Sequence) -> Any:
     return out
 
 
-def _sum_stats(stats: list[dict]) -> dict:
-    out: dict = {}
+def _sum_stats(stats: list[dict[str, Any]]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
     for key in stats[0]:
         values = [s.get(key) for s in stats]
         if all(isinstance(v, bool) for v in values):
@@ -501,8 +507,8 @@ def _check_output(path: Path, extrude: float | None) -> str:
     return suffix
 
 
-def write_output(path: Path, features: Sequence[Feature], tris: Sequence, combined,
-                 extrude: float | None = None) -> str:
+def write_output(path: Path, features: Sequence[Feature], tris: Sequence[Triangulation],
+                 combined: Triangulation, extrude: float | None = None) -> str:
     """Write the mesh to ``path`` (format by extension); returns a one-line summary."""
     path = Path(path)
     suffix = _check_output(path, extrude)
@@ -514,7 +520,8 @@ def write_output(path: Path, features: Sequence[Feature], tris: Sequence, combin
             mesh = extrude_triangulation(mesh.vertices[:, :2], mesh.faces, extrude)
         # OBJ and OFF are text: 17 decimals keep the coordinates (trimesh's
         # PLY, STL and GLB writers store float32)
-        mesh.export(path, **({"digits": 17} if suffix in (".obj", ".off") else {}))
+        digits: dict[str, Any] = {"digits": 17} if suffix in (".obj", ".off") else {}
+        mesh.export(path, **digits)
         return f"wrote {path}: {len(mesh.vertices):,} vertices, {len(mesh.faces):,} triangles"
     if suffix in GEOJSON_FORMATS:
         shapely = _import("shapely", "writing GeoJSON")
@@ -532,7 +539,8 @@ def write_output(path: Path, features: Sequence[Feature], tris: Sequence, combin
             f"{len(combined.triangles):,} triangles, {len(combined.segments):,} segment edges")
 
 
-def write_layer(path: Path, triangles, mesh, progress=None) -> str:
+def write_layer(path: Path, triangles: GeoDataFrame, mesh: GeoMesh,
+                progress: Callable[[int], object] | None = None) -> str:
     """Write a GeoDataFrame of triangles as a GeoPackage (``.gpkg``, with pyogrio) or
     GeoJSON (:func:`cdt_plugin.adapters.geo.write_geojson`); either way the
     coordinates read back bit for bit. An existing file is replaced. ``progress``:
@@ -554,7 +562,7 @@ def write_layer(path: Path, triangles, mesh, progress=None) -> str:
     return f"wrote {path}: {meshed} feature(s), {len(triangles):,} triangles"
 
 
-def _bar(show: bool | None, desc: str, unit: str, total: int):
+def _bar(show: bool | None, desc: str, unit: str, total: int) -> Any:
     """A tqdm bar on stderr (``show`` None: when stderr is a terminal), or None."""
     if show is False or show is None and not sys.stderr.isatty():
         return None
@@ -566,12 +574,12 @@ def _bar(show: bool | None, desc: str, unit: str, total: int):
 
 
 # ------------------------------------------------------------ layers (GIS)
-def _layer_job(args) -> bool:
+def _layer_job(args: argparse.Namespace) -> bool:
     """Layer in, layer out: meshed with the GIS adapter (one batch call)."""
     return Path(args.output).suffix.lower() in LAYER_OUTPUTS and is_layer(Path(args.input))
 
 
-def _mesh_layer(args, output: Path) -> int:
+def _mesh_layer(args: argparse.Namespace, output: Path) -> int:
     if args.intersections == "split":
         raise CLIError("--intersections split is for the per-feature formats: layer output "
                        "validates polygons (pass --repair to repair invalid ones)")
@@ -599,7 +607,8 @@ def _mesh_layer(args, output: Path) -> int:
     return 0
 
 
-def _triangulate_layer(frame, args, options: dict):
+def _triangulate_layer(frame: GeoDataFrame, args: argparse.Namespace,
+                       options: dict[str, Any]) -> GeoMesh:
     """:func:`cdt_plugin.adapters.geo.triangulate` (``output="mesh"``) with the
     command's options; its warnings become ``cdt-plugin: warning:`` lines."""
     from .adapters import geo
@@ -628,17 +637,17 @@ def _warn(message: str) -> None:
     print(f"cdt-plugin: warning: {' '.join(message.split())}", file=sys.stderr)
 
 
-def _layer_error(exc: CDTError, frame) -> str:
+def _layer_error(exc: CDTError, frame: GeoDataFrame) -> str:
     """The adapter's message with the feature's name and the command's option names."""
     message = str(exc).replace("pass repair=True to repair it with shapely.make_valid",
                                "pass --repair to repair it with shapely.make_valid")
-    prefix = f"feature {getattr(exc, 'feature', None)}:"
-    if getattr(exc, "index", None) is not None and message.startswith(prefix):
+    prefix = f"feature {exc.feature}:"
+    if exc.index is not None and message.startswith(prefix):
         message = f"{_feature_label(frame, exc.index)}:{message[len(prefix):]}"
     return message
 
 
-def layer_report(mesh):
+def layer_report(mesh: GeoMesh) -> Report:
     """The quality report of a layer's triangles, in the CRS they were meshed in
     (segments: the polygons' boundary edges)."""
     from .report import mesh_report
@@ -651,7 +660,7 @@ def layer_report(mesh):
     return rep
 
 
-def _save_layer_plot(path: Path, mesh, rep) -> None:
+def _save_layer_plot(path: Path, mesh: GeoMesh, rep: Report) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -669,7 +678,7 @@ def _save_layer_plot(path: Path, mesh, rep) -> None:
 
 
 # ----------------------------------------------------------------- commands
-def _mesh_all(args):
+def _mesh_all(args: argparse.Namespace) -> tuple[list[Feature], list[Triangulation], Triangulation]:
     if getattr(args, "project", None) is not None:
         raise CLIError("--project applies to layer output (.gpkg or .geojson from a .shp, .gpkg "
                        "or .geojson layer)")
@@ -679,13 +688,14 @@ def _mesh_all(args):
         _check_plot(args.plot)
     tris = triangulate_features(features, options, repair=args.repair, progress=args.progress,
                                 workers=args.workers, errors=args.errors)
-    kept = [i for i, t in enumerate(tris) if not isinstance(t, CLIError)]
-    for i in sorted(set(range(len(tris))) - set(kept)):
-        _warn(f"skipped {tris[i]}")
+    for skipped in tris:
+        if isinstance(skipped, CLIError):
+            _warn(f"skipped {skipped}")
+    kept = [(f, t) for f, t in zip(features, tris) if not isinstance(t, CLIError)]
     if not kept:
         raise CLIError(f"{args.input}: no feature could be meshed ({len(tris)} skipped)")
-    features, tris = [features[i] for i in kept], [tris[i] for i in kept]
-    return features, tris, concatenate(tris)
+    meshed = [t for _, t in kept]
+    return [f for f, _ in kept], meshed, concatenate(meshed)
 
 
 def _check_plot(path: Path) -> None:
@@ -694,14 +704,15 @@ def _check_plot(path: Path) -> None:
         raise CLIError(f"{path}: the directory {path.parent} does not exist")
 
 
-def _save_plot(path: Path, combined, against=None, against_name="against") -> None:
+def _save_plot(path: Path, combined: Triangulation, against: Any = None,
+               against_name: str = "against") -> None:
     import matplotlib
     matplotlib.use("Agg")
     from .plot import save
     save(combined, path, against=against, against_name=against_name)
 
 
-def _cmd_mesh(args) -> int:
+def _cmd_mesh(args: argparse.Namespace) -> int:
     output = Path(args.output)
     _check_output(output, args.extrude)
     _check_packages(args)
@@ -719,7 +730,7 @@ def _cmd_mesh(args) -> int:
     return 0
 
 
-def _against(spec: str, features: Sequence[Feature]):
+def _against(spec: str, features: Sequence[Feature]) -> tuple[Any, str]:
     """(vertices, triangles, name) of the ``--against`` triangulation."""
     if spec == "earcut":
         if any(f.geometry is None for f in features):
@@ -736,7 +747,7 @@ def _against(spec: str, features: Sequence[Feature]):
     return (np.asarray(mesh.vertices), np.asarray(mesh.faces)), path.name
 
 
-def _cmd_report(args) -> int:
+def _cmd_report(args: argparse.Namespace) -> int:
     _check_packages(args)
     features, tris, combined = _mesh_all(args)
     against, name = _against(args.against, features) if args.against else (None, "against")
@@ -747,7 +758,7 @@ def _cmd_report(args) -> int:
     return 0
 
 
-def _cmd_compile(args) -> int:
+def _cmd_compile(args: argparse.Namespace) -> int:
     import logging
     import time
 

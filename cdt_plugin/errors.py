@@ -91,6 +91,13 @@ class InvalidGeometryError(CDTError):
     than three distinct points); the message names the polygon and ring."""
 
 
+class NoPolygonsError(CDTError):
+    """The input (a layer, a GeoJSON file) has no non-empty Polygon or MultiPolygon
+    to mesh; the message says what it holds instead. Raised by
+    :func:`cdt_plugin.adapters.geo.triangulate` and the command line (a point set
+    goes in a ``.node`` file)."""
+
+
 class RefinementLimitError(CDTError):
     """Quality refinement inserted ``max_steiner`` points and was not done.
 

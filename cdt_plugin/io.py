@@ -37,13 +37,19 @@ float, which round-trips bit for bit, and number everything from 1 (Triangle's d
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import List, Optional, Tuple
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike, DTypeLike, NDArray
 
 from .errors import FileFormatError, InputShapeError, NonFiniteCoordinateError
+
+if TYPE_CHECKING:                       # (triangulation and plc are imported when used)
+    from .plc import PLC
+    from .triangulation import Triangulation
 
 __all__ = [
     "NodeData", "PolyData", "EleData", "EdgeData",
@@ -63,26 +69,26 @@ WRITE_FIRST_INDEX = 1
 @dataclass
 class NodeData:
     """Contents of a ``.node`` file (or the node section of a ``.poly``)."""
-    vertices: np.ndarray            # (n, 2) float64
-    attributes: np.ndarray          # (n, a) float64 (a may be 0)
-    markers: Optional[np.ndarray]   # (n,) int64, or None when the header says 0 markers
-    first_index: int                # 0 or 1: the numbering base of the file
+    vertices: NDArray[np.float64]      # (n, 2)
+    attributes: NDArray[np.float64]    # (n, a) (a may be 0)
+    markers: NDArray[np.int64] | None  # (n,), or None when the header says 0 markers
+    first_index: int                   # 0 or 1: the numbering base of the file
 
 
 @dataclass
 class PolyData:
     """Contents of a ``.poly`` file. All indices are zero-based."""
-    vertices: np.ndarray                    # (n, 2) float64
-    attributes: np.ndarray                  # (n, a) float64
-    markers: Optional[np.ndarray]           # (n,) int64 or None
-    segments: np.ndarray                    # (m, 2) int64, zero-based
-    segment_markers: Optional[np.ndarray]   # (m,) int64 or None
-    holes: np.ndarray                       # (h, 2) float64 hole seed points
-    regions: np.ndarray                     # (r, 4) float64: x, y, attribute, max_area
-    first_index: int                        # numbering base of the file (0 or 1)
-    node_path: Optional[Path] = None        # the .node file the vertices came from, if any
+    vertices: NDArray[np.float64]              # (n, 2)
+    attributes: NDArray[np.float64]            # (n, a)
+    markers: NDArray[np.int64] | None          # (n,) or None
+    segments: NDArray[np.int64]                # (m, 2), zero-based
+    segment_markers: NDArray[np.int64] | None  # (m,) or None
+    holes: NDArray[np.float64]                 # (h, 2) hole seed points
+    regions: NDArray[np.float64]               # (r, 4): x, y, attribute, max_area
+    first_index: int                           # numbering base of the file (0 or 1)
+    node_path: Path | None = None              # the .node file the vertices came from, if any
 
-    def to_plc(self):
+    def to_plc(self) -> PLC:
         """The file's PLC (vertices, segments, holes, region seeds), ready for
         :func:`cdt_plugin.triangulate`. Hole points are kept as Triangle uses them
         (triangles reachable from outside the segments are removed too), and a
@@ -100,27 +106,27 @@ class PolyData:
                       self.regions if len(self.regions) else None)
 
     @property
-    def vertex_attributes(self) -> np.ndarray:
+    def vertex_attributes(self) -> NDArray[np.float64]:
         return self.attributes
 
     @property
-    def vertex_markers(self) -> Optional[np.ndarray]:
+    def vertex_markers(self) -> NDArray[np.int64] | None:
         return self.markers
 
 
 @dataclass
 class EleData:
     """Contents of a ``.ele`` file (zero-based vertex indices)."""
-    triangles: np.ndarray           # (k, 3) or (k, 6) int64
-    attributes: np.ndarray          # (k, a) float64
+    triangles: NDArray[np.int64]     # (k, 3) or (k, 6)
+    attributes: NDArray[np.float64]  # (k, a)
     first_index: int
 
 
 @dataclass
 class EdgeData:
     """Contents of a ``.edge`` file (zero-based vertex indices)."""
-    edges: np.ndarray               # (m, 2) int64
-    markers: Optional[np.ndarray]   # (m,) int64 or None
+    edges: NDArray[np.int64]           # (m, 2)
+    markers: NDArray[np.int64] | None  # (m,) or None
     first_index: int
 
 
@@ -131,7 +137,7 @@ class EdgeData:
 class _Records:
     """The records (non-blank, comment-stripped lines) of one file, with line numbers."""
 
-    def __init__(self, path):
+    def __init__(self, path: str | os.PathLike[str]) -> None:
         self.path = Path(path)
         self.name = self.path.name
         try:
@@ -139,7 +145,7 @@ class _Records:
                 text = f.read()
         except OSError as exc:
             raise FileFormatError(f"{self.path}: cannot read file ({exc.strerror})") from exc
-        recs: List[Tuple[int, List[str]]] = []
+        recs: list[tuple[int, list[str]]] = []
         for lineno, line in enumerate(text.splitlines(), start=1):
             toks = line.split("#", 1)[0].split()
             if toks:
@@ -149,7 +155,7 @@ class _Records:
         self.pos = 0
 
     # -- errors ---------------------------------------------------------------------------
-    def error(self, lineno: Optional[int], msg: str) -> FileFormatError:
+    def error(self, lineno: int | None, msg: str) -> FileFormatError:
         where = f"{self.name} line {lineno}" if lineno is not None else self.name
         err = FileFormatError(f"{where}: {msg}")
         err.path = self.path
@@ -160,7 +166,7 @@ class _Records:
     def at_end(self) -> bool:
         return self.pos >= len(self.recs)
 
-    def next(self, what: str) -> Tuple[int, List[str]]:
+    def next(self, what: str) -> tuple[int, list[str]]:
         if self.pos >= len(self.recs):
             raise self.error(None, f"unexpected end of file: expected {what}")
         rec = self.recs[self.pos]
@@ -173,7 +179,7 @@ class _Records:
             raise self.error(lineno, f"unexpected extra record {' '.join(toks)!r} after {after}")
 
     # -- fields ---------------------------------------------------------------------------
-    def need(self, lineno: int, toks: List[str], n: int, what: str) -> None:
+    def need(self, lineno: int, toks: list[str], n: int, what: str) -> None:
         if len(toks) < n:
             raise self.error(lineno, f"expected {n} numbers ({what}), got {len(toks)}")
 
@@ -211,7 +217,7 @@ def _count(recs: _Records, lineno: int, tok: str, what: str) -> int:
     return n
 
 
-def _flag(recs: _Records, lineno: int, toks: List[str], k: int, what: str) -> int:
+def _flag(recs: _Records, lineno: int, toks: list[str], k: int, what: str) -> int:
     if len(toks) <= k:
         return 0
     v = recs.int_(lineno, toks[k], what)
@@ -231,7 +237,7 @@ def _first_number(recs: _Records, lineno: int, tok: str, what: str) -> int:
 # section parsers
 # ----------------------------------------------------------------------------------------
 
-def _parse_nodes(recs: _Records) -> Tuple[NodeData, int]:
+def _parse_nodes(recs: _Records) -> tuple[NodeData, int]:
     """Parse a node header and its vertex lines; returns (NodeData, header line)."""
     lineno, head = recs.next("the node header '<#vertices> <dim> <#attributes> <#markers>'")
     n = _count(recs, lineno, head[0], "number of vertices")
@@ -261,12 +267,12 @@ def _parse_nodes(recs: _Records) -> Tuple[NodeData, int]:
         verts[i, 1] = recs.float_(ln, toks[2], f"y of vertex {num}")
         for a in range(min(nattr, len(toks) - 3)):
             attrs[i, a] = recs.float_(ln, toks[3 + a], f"attribute {a + 1} of vertex {num}")
-        if nmark and len(toks) > 3 + nattr:
+        if marks is not None and len(toks) > 3 + nattr:
             marks[i] = recs.int_(ln, toks[3 + nattr], f"boundary marker of vertex {num}")
     return NodeData(verts, attrs, marks, first), lineno
 
 
-def _endpoint(recs, ln, tok, what, first, n):
+def _endpoint(recs: _Records, ln: int, tok: str, what: str, first: int, n: int) -> int:
     v = recs.int_(ln, tok, what)
     z = v - first
     if not 0 <= z < n:
@@ -279,7 +285,7 @@ def _endpoint(recs, ln, tok, what, first, n):
 # readers
 # ----------------------------------------------------------------------------------------
 
-def read_node(path) -> NodeData:
+def read_node(path: str | os.PathLike[str]) -> NodeData:
     """Read a Triangle ``.node`` file.
 
     >>> nd = read_node("spiral.node")          # doctest: +SKIP
@@ -292,7 +298,7 @@ def read_node(path) -> NodeData:
     return nd
 
 
-def read_poly(path) -> PolyData:
+def read_poly(path: str | os.PathLike[str]) -> PolyData:
     """Read a Triangle ``.poly`` file (segments zero-based).
 
     ``regions`` is (r, 4): x, y, regional attribute, maximum area. As in ``triangle.c``, a
@@ -327,7 +333,7 @@ def read_poly(path) -> PolyData:
         num = recs.int_(ln, toks[0], "the segment number")
         segs[j, 0] = _endpoint(recs, ln, toks[1], f"segment {num}'s first endpoint", first, n)
         segs[j, 1] = _endpoint(recs, ln, toks[2], f"segment {num}'s second endpoint", first, n)
-        if smark and len(toks) > 3:
+        if smarks is not None and len(toks) > 3:
             smarks[j] = recs.int_(ln, toks[3], f"boundary marker of segment {num}")
 
     holes = np.zeros((0, 2), dtype=np.float64)
@@ -357,18 +363,19 @@ def read_poly(path) -> PolyData:
                 raise recs.error(None, f"unexpected end of file: {r} regions declared, "
                                        f"found {j}") from None
             recs.need(ln, toks, 4, "index x y attribute [max_area]")
-            num = toks[0]
-            regions[j, 0] = recs.float_(ln, toks[1], f"x of region {num}")
-            regions[j, 1] = recs.float_(ln, toks[2], f"y of region {num}")
-            regions[j, 2] = recs.float_(ln, toks[3], f"attribute of region {num}")
-            regions[j, 3] = (recs.float_(ln, toks[4], f"maximum area of region {num}")
+            label = toks[0]
+            regions[j, 0] = recs.float_(ln, toks[1], f"x of region {label}")
+            regions[j, 1] = recs.float_(ln, toks[2], f"y of region {label}")
+            regions[j, 2] = recs.float_(ln, toks[3], f"attribute of region {label}")
+            regions[j, 3] = (recs.float_(ln, toks[4], f"maximum area of region {label}")
                              if len(toks) > 4 else regions[j, 2])
     recs.expect_end("the regions section")
     return PolyData(nd.vertices, nd.attributes, nd.markers, segs, smarks, holes, regions,
                     first, node_path)
 
 
-def read_ele(path, first_index: Optional[int] = None, n_vertices: Optional[int] = None) -> EleData:
+def read_ele(path: str | os.PathLike[str], first_index: int | None = None,
+             n_vertices: int | None = None) -> EleData:
     """Read a Triangle ``.ele`` file; vertex indices are returned zero-based.
 
     The numbering base is ``first_index`` if given (the base of the matching ``.node``),
@@ -393,7 +400,7 @@ def read_ele(path, first_index: Optional[int] = None, n_vertices: Optional[int] 
                                    f"found {i}") from None
         recs.need(ln, toks, 1 + npt, "index " + " ".join(f"n{c + 1}" for c in range(npt)))
         num = recs.int_(ln, toks[0], "the triangle number")
-        if i == 0 and base is None:
+        if base is None:                # the first record, with no base given
             base = _first_number(recs, ln, toks[0], "triangle")
         for c in range(npt):
             v = recs.int_(ln, toks[1 + c], f"corner {c + 1} of triangle {num}") - base
@@ -408,7 +415,8 @@ def read_ele(path, first_index: Optional[int] = None, n_vertices: Optional[int] 
     return EleData(tris, attrs, 1 if base is None else base)
 
 
-def read_edge(path, first_index: Optional[int] = None, n_vertices: Optional[int] = None) -> EdgeData:
+def read_edge(path: str | os.PathLike[str], first_index: int | None = None,
+              n_vertices: int | None = None) -> EdgeData:
     """Read a Triangle ``.edge`` file; endpoints are returned zero-based.
 
     Only triangulation edge files (both endpoints vertices) are accepted, not the Voronoi
@@ -429,7 +437,7 @@ def read_edge(path, first_index: Optional[int] = None, n_vertices: Optional[int]
                                    f"found {i}") from None
         recs.need(ln, toks, 3, "index endpoint endpoint")
         num = recs.int_(ln, toks[0], "the edge number")
-        if i == 0 and base is None:
+        if base is None:                # the first record, with no base given
             base = _first_number(recs, ln, toks[0], "edge")
         for c in range(2):
             v = recs.int_(ln, toks[1 + c], f"endpoint {c + 1} of edge {num}") - base
@@ -438,13 +446,13 @@ def read_edge(path, first_index: Optional[int] = None, n_vertices: Optional[int]
                 raise recs.error(ln, f"endpoint {c + 1} of edge {num} is {v + base}, out "
                                      f"of range: vertices are numbered {base}..{hi}")
             edges[i, c] = v
-        if emark and len(toks) > 3:
+        if marks is not None and len(toks) > 3:
             marks[i] = recs.int_(ln, toks[3], f"boundary marker of edge {num}")
     recs.expect_end(f"the {m} edges")
     return EdgeData(edges, marks, 1 if base is None else base)
 
 
-def read_neigh(path, first_index: Optional[int] = None) -> np.ndarray:
+def read_neigh(path: str | os.PathLike[str], first_index: int | None = None) -> NDArray[np.int64]:
     """Read a Triangle ``.neigh`` file: (k, 3) int64 zero-based triangle indices, -1 for none.
 
     Neighbour j of a triangle is the one opposite its corner j.
@@ -466,7 +474,7 @@ def read_neigh(path, first_index: Optional[int] = None) -> np.ndarray:
                                    f"found {i}") from None
         recs.need(ln, toks, 4, "index n1 n2 n3")
         num = recs.int_(ln, toks[0], "the triangle number")
-        if i == 0 and base is None:
+        if base is None:                # the first record, with no base given
             base = _first_number(recs, ln, toks[0], "triangle")
         for c in range(3):
             v = recs.int_(ln, toks[1 + c], f"neighbour {c + 1} of triangle {num}")
@@ -491,7 +499,7 @@ def _fmt(x: float) -> str:
     return repr(float(x))
 
 
-def _as_points(a, what, cols=2) -> np.ndarray:
+def _as_points(a: ArrayLike, what: str, cols: int = 2) -> NDArray[np.float64]:
     arr = np.asarray(a, dtype=np.float64)
     if arr.ndim != 2 or arr.shape[1] != cols:
         if arr.size == 0:
@@ -504,7 +512,7 @@ def _as_points(a, what, cols=2) -> np.ndarray:
     return arr
 
 
-def as_index(a, what, cols, n=None) -> np.ndarray:
+def as_index(a: ArrayLike, what: str, cols: int, n: int | None = None) -> NDArray[np.int64]:
     arr = np.asarray(a)
     if arr.size == 0:
         return np.zeros((0, cols), dtype=np.int64)
@@ -521,7 +529,7 @@ def as_index(a, what, cols, n=None) -> np.ndarray:
     return arr
 
 
-def _opt_rows(a, n, what, dtype) -> Optional[np.ndarray]:
+def _opt_rows(a: ArrayLike | None, n: int, what: str, dtype: DTypeLike) -> NDArray[Any] | None:
     if a is None:
         return None
     arr = np.asarray(a, dtype=dtype)
@@ -530,7 +538,8 @@ def _opt_rows(a, n, what, dtype) -> Optional[np.ndarray]:
     return arr
 
 
-def _node_lines(vertices, attributes, markers) -> List[str]:
+def _node_lines(vertices: ArrayLike, attributes: ArrayLike | None,
+                markers: ArrayLike | None) -> list[str]:
     v = _as_points(vertices, "vertices")
     n = v.shape[0]
     attrs = _opt_rows(attributes, n, "attributes", np.float64)
@@ -542,7 +551,7 @@ def _node_lines(vertices, attributes, markers) -> List[str]:
     f0 = WRITE_FIRST_INDEX
     for i in range(n):
         parts = [str(i + f0), _fmt(v[i, 0]), _fmt(v[i, 1])]
-        if na:
+        if attrs is not None:
             parts.extend(_fmt(x) for x in attrs[i])
         if marks is not None:
             parts.append(str(int(marks[i])))
@@ -550,19 +559,20 @@ def _node_lines(vertices, attributes, markers) -> List[str]:
     return lines
 
 
-def _write(path, lines: List[str], kind: str) -> None:
+def _write(path: str | os.PathLike[str], lines: list[str], kind: str) -> None:
     header = f"# {kind} written by cdt_plugin.io (numbering from {WRITE_FIRST_INDEX})"
     with open(path, "w", encoding="utf-8", newline="\n") as f:
         f.write(header + "\n" + "\n".join(lines) + "\n")
 
 
-def _mesh_array(data, name: str):
+def _mesh_array(data: ArrayLike | Triangulation, name: str) -> ArrayLike:
     """``data.<name>`` when ``data`` is a :class:`~cdt_plugin.Triangulation`, else ``data``."""
     from .triangulation import Triangulation
     return getattr(data, name) if isinstance(data, Triangulation) else data
 
 
-def write_node(path, vertices, attributes=None, markers=None) -> None:
+def write_node(path: str | os.PathLike[str], vertices: ArrayLike | Triangulation,
+               attributes: ArrayLike | None = None, markers: ArrayLike | None = None) -> None:
     """Write a ``.node`` file, vertices numbered from 1; floats round-trip exactly.
     ``vertices``: an (n, 2) array or a Triangulation (its vertices).
 
@@ -576,8 +586,10 @@ def write_node(path, vertices, attributes=None, markers=None) -> None:
            "Triangle .node")
 
 
-def write_poly(path, vertices, segments=None, holes=None, regions=None, segment_markers=None,
-               attributes=None, markers=None) -> None:
+def write_poly(path: str | os.PathLike[str], vertices: ArrayLike | Triangulation,
+               segments: ArrayLike | None = None, holes: ArrayLike | None = None,
+               regions: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
+               attributes: ArrayLike | None = None, markers: ArrayLike | None = None) -> None:
     """Write a ``.poly`` file (vertices inline, numbered from 1).
 
     ``segments`` are zero-based in memory; ``regions`` rows are (x, y, attribute, max_area),
@@ -625,7 +637,8 @@ def write_poly(path, vertices, segments=None, holes=None, regions=None, segment_
     _write(path, lines, "Triangle .poly")
 
 
-def write_ele(path, triangles, attributes=None) -> None:
+def write_ele(path: str | os.PathLike[str], triangles: ArrayLike | Triangulation,
+              attributes: ArrayLike | None = None) -> None:
     """Write a ``.ele`` file (triangles and corners numbered from 1). ``triangles``: a
     (k, 3) or (k, 6) index array or a Triangulation (its triangles).
 
@@ -648,13 +661,14 @@ def write_ele(path, triangles, attributes=None) -> None:
     lines = [f"{t.shape[0]} {cols} {na}"]
     for i in range(t.shape[0]):
         parts = [str(i + f0)] + [str(int(x) + f0) for x in t[i]]
-        if na:
+        if attrs is not None:
             parts.extend(_fmt(x) for x in attrs[i])
         lines.append(" ".join(parts))
     _write(path, lines, "Triangle .ele")
 
 
-def write_edge(path, edges, markers=None) -> None:
+def write_edge(path: str | os.PathLike[str], edges: ArrayLike | Triangulation,
+               markers: ArrayLike | None = None) -> None:
     """Write a ``.edge`` file (edges and endpoints numbered from 1). ``edges``: an (m, 2)
     index array or a Triangulation (every edge of its triangles)."""
     e = as_index(_mesh_array(edges, "edges"), "edges", 2)
@@ -671,7 +685,7 @@ def write_edge(path, edges, markers=None) -> None:
     _write(path, lines, "Triangle .edge")
 
 
-def write_neigh(path, neighbors) -> None:
+def write_neigh(path: str | os.PathLike[str], neighbors: ArrayLike | Triangulation) -> None:
     """Write a ``.neigh`` file (triangles numbered from 1, -1 for no neighbour).
     ``neighbors``: a (k, 3) array (column j: across the edge opposite corner j, as
     Triangle numbers them) or a Triangulation (its neighbours)."""
@@ -687,7 +701,8 @@ def write_neigh(path, neighbors) -> None:
     _write(path, lines, "Triangle .neigh")
 
 
-def write_triangulation(path, tri, attributes=None) -> List[Path]:
+def write_triangulation(path: str | os.PathLike[str], tri: Triangulation,
+                        attributes: ArrayLike | None = None) -> list[Path]:
     """Write a Triangulation as Triangle writes its output: ``<base>.node``,
     ``<base>.ele`` (with ``attributes`` per triangle, if given) and ``<base>.poly``
     (its segment pieces), ``<base>`` being ``path`` without its extension. Returns

@@ -583,3 +583,9 @@ def test_accessor_on_pandas_objects_without_geometry_is_a_clear_error():
             frame.cdt.triangulate()
         assert isinstance(info.value, AttributeError) and isinstance(info.value, geo.CDTError)
         assert not hasattr(frame, "cdt")
+
+
+def test_no_polygons_error_is_the_engine_error():
+    import cdt_plugin.errors
+    assert geo.NoPolygonsError is cdt_plugin.errors.NoPolygonsError is cdt_plugin.NoPolygonsError
+    assert issubclass(geo.NoPolygonsError, cdt_plugin.CDTError)

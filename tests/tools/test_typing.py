@@ -19,14 +19,18 @@ ROOT = Path(__file__).resolve().parents[2]
 
 TYPED_MODULES = [
     "cdt_plugin",
+    "cdt_plugin.adapters.geo",
     "cdt_plugin.adapters.open3d",
+    "cdt_plugin.adapters.shapely",
     "cdt_plugin.adapters.trimesh",
     "cdt_plugin.batch",
     "cdt_plugin.cdt",
+    "cdt_plugin.cli",
     "cdt_plugin.compiling",
     "cdt_plugin.delaunay",
     "cdt_plugin.errors",
     "cdt_plugin.interrupts",
+    "cdt_plugin.io",
     "cdt_plugin.lift",
     "cdt_plugin.parallel",
     "cdt_plugin.plc",
