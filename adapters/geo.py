@@ -64,8 +64,14 @@ from types import FrameType
 from typing import TYPE_CHECKING, Any, Callable, Union
 
 import numpy as np
-import shapely
 from numpy.typing import NDArray
+
+from cdt_plugin.optional import missing, require
+
+try:
+    import shapely
+except ImportError as exc:
+    raise missing(exc.name, "cdt_plugin.adapters.geo", extra="gis") from exc
 
 from cdt_plugin import CDTError, InputShapeError, NoPolygonsError   # (NoPolygonsError: re-exported)
 from cdt_plugin.batch import MeshBatch, check_batch_options
@@ -129,7 +135,7 @@ def read(data: LayerLike, *, layer: str | int | None = None) -> GeoDataFrame:
     >>> read({"type": "Polygon", "coordinates": [[[0, 0], [1, 0], [0, 1], [0, 0]]]}).crs.to_epsg()
     4326
     """
-    import geopandas
+    geopandas = require("geopandas", "reading a layer")
 
     if isinstance(data, (str, Path)):
         path = Path(data)
@@ -387,6 +393,8 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
     """
     if output not in OUTPUTS:
         raise CDTError(f"output must be one of {OUTPUTS}, got {output!r}")
+    if output == "trimesh":
+        require("trimesh", "output='trimesh'")     # before any work
     frame = read(data, layer=layer)
     mesh = _mesh(frame, project=project, repair=repair, errors=errors, progress=progress,
                  options=options, require_polygons=True, warn=True)

@@ -28,8 +28,14 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Union
 
 import numpy as np
-import open3d
 from numpy.typing import ArrayLike, NDArray
+
+from cdt_plugin.optional import missing
+
+try:
+    import open3d
+except ImportError as exc:
+    raise missing(exc.name, "cdt_plugin.adapters.open3d", extra="open3d") from exc
 
 from cdt_plugin import PLC, InputShapeError, InvalidGeometryError, TooFewPointsError
 

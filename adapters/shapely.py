@@ -32,8 +32,14 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import shapely
 from numpy.typing import ArrayLike, NDArray
+
+from cdt_plugin.optional import missing
+
+try:
+    import shapely
+except ImportError as exc:
+    raise missing(exc.name, "cdt_plugin.adapters.shapely", extra="shapely") from exc
 
 import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, TooFewPointsError

@@ -49,11 +49,17 @@ import warnings
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Tuple, TypedDict
 
 import numpy as np
-import trimesh
-import trimesh.creation
-import trimesh.path
 from numpy.typing import ArrayLike, NDArray
-from trimesh import transformations
+
+from cdt_plugin.optional import missing
+
+try:
+    import trimesh
+    import trimesh.creation
+    import trimesh.path
+    from trimesh import transformations
+except ImportError as exc:
+    raise missing(exc.name, "cdt_plugin.adapters.trimesh", extra="trimesh") from exc
 
 import cdt_plugin
 from cdt_plugin import PLC

@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Any, Callable, Sequence
 import numpy as np
 
 from .errors import CDTError, NoPolygonsError
+from .optional import MissingPackageError, missing, require
 
 if TYPE_CHECKING:
     from geopandas import GeoDataFrame
@@ -343,20 +344,11 @@ def _shapely_geometry(feature: Feature) -> Any:
                        "--intersections split meshes its rings as they are") from None
 
 
-_EXTRA_OF = {"shapely": "shapely", "trimesh": "trimesh", "matplotlib": "plot", "geopandas": "gis",
-             "mapbox_earcut": "bench", "tqdm": "cli"}
-
-
 def _import(module: str, purpose: str) -> Any:
-    import importlib
     try:
-        return importlib.import_module(module)
-    except ImportError:
-        raise CLIError(_missing(module, purpose)) from None
-
-
-def _missing(module: str, purpose: str) -> str:
-    return f"{purpose} needs {module} (pip install 'cdt-plugin[{_EXTRA_OF.get(module, module)}]')"
+        return require(module, purpose)
+    except MissingPackageError as exc:
+        raise CLIError(str(exc)) from None
 
 
 def _check_packages(args: argparse.Namespace) -> None:
@@ -382,7 +374,7 @@ def _check_packages(args: argparse.Namespace) -> None:
         needs.append(("trimesh", "--against MESH"))
     for module, purpose in needs:
         if importlib.util.find_spec(module) is None:
-            raise CLIError(_missing(module, purpose))
+            raise CLIError(str(missing(module, purpose)))
 
 
 # --------------------------------------------------------------- meshing

@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any, Tuple, Union
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .optional import require
 from .report import (ANGLE_BINS, MeshLike, Report, against_arrays, mesh_report, report as quality_report,
                      triangle_quality)
 
@@ -48,12 +49,8 @@ SEGMENT = "#111111"
 WORST = "#e4572e"
 
 
-def _pyplot():
-    try:
-        import matplotlib.pyplot as plt
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise ImportError("plotting needs matplotlib (pip install 'cdt-plugin[plot]')") from exc
-    return plt
+def _pyplot() -> Any:
+    return require("matplotlib.pyplot", "plotting")
 
 
 def _axes(ax: Axes | None) -> Axes:
@@ -78,10 +75,10 @@ def plot(tri: MeshLike, ax: Axes | None = None, *, worst: int = 3, circumcircles
     with ``circumcircles``, get their circumcircle drawn (dashed). The aspect
     ratio is equal (angles look like angles).
     """
+    ax = _axes(ax)                  # (first: imports matplotlib, or names the extra)
     from matplotlib.collections import LineCollection, PolyCollection
     from matplotlib.patches import Circle
 
-    ax = _axes(ax)
     V, T, S = _mesh_parts(tri)
     ax.add_collection(PolyCollection(V[T], facecolors=face_color, edgecolors=edge_color,
                                      linewidths=linewidth, zorder=1))

@@ -38,6 +38,7 @@ from ._core.certify import edge_lifted_values
 from ._core.jit import kernel
 from .errors import CDTError, InputShapeError
 from .io import as_index
+from .optional import require
 from .validate import exact_range, near_unit
 from ._core.predicates import orient2d
 from .plc import GeometryLike
@@ -447,11 +448,7 @@ def earcut(geometry: GeometryLike) -> tuple[NDArray[np.float64], NDArray[np.int6
     >>> v.shape, t.shape
     ((4, 2), (2, 3))
     """
-    try:
-        import mapbox_earcut
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise ImportError("comparing with earcut needs mapbox-earcut "
-                          "(pip install mapbox-earcut)") from exc
+    mapbox_earcut = require("mapbox_earcut", "comparing with earcut")
     verts, tris, base = [], [], 0
     for rings in _polygons(getattr(geometry, "__geo_interface__", geometry)):
         xy = [_open_ring(r) for r in rings]

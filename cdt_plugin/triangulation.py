@@ -15,6 +15,7 @@ from ._core.output import first_defect, rotate_min_first, solid_triangles
 from ._core.pipeline import PACK_ARRAYS, PACK_HEADER
 from ._core.predicates import incircle_weighted, orient2d
 from .errors import CDTError, InvertedTriangleError
+from .optional import require
 from .validate import as_points, exact_range
 
 if TYPE_CHECKING:
@@ -251,10 +252,11 @@ class Triangulation:
         from cdt_plugin.adapters.trimesh import to_trimesh
         return to_trimesh(self, z=z, **kwargs)
 
-    def to_open3d(self, z: ArrayLike = 0.0, **kwargs: Any) -> open3d.geometry.TriangleMesh:
-        """This triangulation as an ``open3d.geometry.TriangleMesh`` (needs Open3D)."""
+    def to_open3d(self, z: ArrayLike = 0.0) -> open3d.geometry.TriangleMesh:
+        """This triangulation as an ``open3d.geometry.TriangleMesh`` (needs Open3D);
+        ``z``: one height for all vertices or one per vertex."""
         from cdt_plugin.adapters.open3d import to_open3d
-        return to_open3d(self, z=z, **kwargs)
+        return to_open3d(self, z=z)
 
     def to_shapely(self) -> shapely.GeometryCollection:
         """The triangles as a shapely GeometryCollection of Polygons, in the form
@@ -275,16 +277,12 @@ class Triangulation:
         >>> mtri.x.tolist(), mtri.triangles.shape
         ([0.0, 2.0, 2.0, 0.0], (2, 3))
         """
-        try:
-            import matplotlib.tri
-        except ImportError as exc:
-            from .cli import _missing
-            raise ImportError(_missing("matplotlib", "Triangulation.to_matplotlib")) from exc
+        mtri = require("matplotlib.tri", "Triangulation.to_matplotlib")
         if len(self.triangles) == 0:
             raise CDTError(f"{self!r} has no triangles (all-collinear input, or nothing "
                            "inside the domain): matplotlib.tri.Triangulation needs at least one")
         x, y = self.vertices.T.copy()          # a copy: matplotlib keeps what it is given
-        return matplotlib.tri.Triangulation(x, y, self.triangles)
+        return mtri.Triangulation(x, y, self.triangles)
 
     # ------------------------------------------------------- report and plots
     def report(self, against: MeshLike | None = None, **kwargs: Any) -> Report:

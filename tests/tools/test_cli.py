@@ -362,7 +362,7 @@ def test_missing_output_package_is_named_before_any_work(tmp_path, capsys, monke
     # the input does not exist: the package check comes first, before reading or meshing
     assert cli.main(["mesh", str(tmp_path / "missing.poly"), "-o", str(tmp_path / "out.ply")]) == 1
     err = capsys.readouterr().err
-    assert "writing .ply needs trimesh (pip install 'cdt-plugin[trimesh]')" in err
+    assert "writing .ply needs trimesh: pip install 'cdt-plugin[trimesh]'" in err
 
 
 def test_first_use_notice_says_once_that_a_route_compiles(caplog):

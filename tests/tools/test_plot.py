@@ -5,7 +5,6 @@ triangulation overlaid."""
 from __future__ import annotations
 
 import doctest
-import sys
 
 import numpy as np
 import pytest
@@ -182,11 +181,4 @@ def test_to_matplotlib_without_triangles_is_an_error():
     tri = cdt_plugin.triangulate([[0, 0], [1, 1], [2, 2]])      # all collinear: edges only
     assert len(tri.triangles) == 0 and len(tri.edges) == 2
     with pytest.raises(cdt_plugin.CDTError, match="has no triangles"):
-        tri.to_matplotlib()
-
-
-def test_to_matplotlib_names_the_extra_when_matplotlib_is_missing(monkeypatch):
-    tri = cdt_plugin.triangulate(*SQUARE_WITH_HOLE)
-    monkeypatch.setitem(sys.modules, "matplotlib.tri", None)       # import matplotlib.tri fails
-    with pytest.raises(ImportError, match=r"to_matplotlib needs matplotlib \(pip install 'cdt-plugin\[plot\]'\)"):
         tri.to_matplotlib()

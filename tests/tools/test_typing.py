@@ -32,6 +32,7 @@ TYPED_MODULES = [
     "cdt_plugin.interrupts",
     "cdt_plugin.io",
     "cdt_plugin.lift",
+    "cdt_plugin.optional",
     "cdt_plugin.parallel",
     "cdt_plugin.plc",
     "cdt_plugin.plot",
