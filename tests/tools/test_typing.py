@@ -58,6 +58,21 @@ def _mypy_target(module: str) -> str:
     return str(package if (ROOT / package).is_file() else Path(*parts[:-1], parts[-1] + ".py"))
 
 
+def test_every_public_module_is_typed():
+    """A new public module is type checked from the start: every module of the package
+    (but the compiled kernels in _core and the ``python -m`` entry) is in the list."""
+    import pkgutil
+
+    import cdt_plugin
+    import cdt_plugin.adapters
+    found = {"cdt_plugin"}
+    for package in (cdt_plugin, cdt_plugin.adapters):
+        for info in pkgutil.iter_modules(package.__path__, package.__name__ + "."):
+            if not info.name.rsplit(".", 1)[1].startswith("_") and info.name != "cdt_plugin.adapters":
+                found.add(info.name)
+    assert found == set(TYPED_MODULES), (found ^ set(TYPED_MODULES))
+
+
 def test_mypy_targets_are_files():
     assert _mypy_target("cdt_plugin") == str(Path("cdt_plugin", "__init__.py"))
     assert _mypy_target("cdt_plugin.cdt") == str(Path("cdt_plugin", "cdt.py"))
