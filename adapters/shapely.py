@@ -127,6 +127,8 @@ def triangulate(geometry: Any, *, repair: Repair = False, **options: Any
     [8, 2]
     """
     method = _repair_method(repair)
+    if _plain_polygon(geometry):
+        return cdt_plugin.triangulate(geometry, **options)
     if _is_array_input(geometry):
         arr = np.asarray(geometry, dtype=object).ravel()
         out = _triangulate_many(arr, method, options, indexed=True)
@@ -252,6 +254,15 @@ def _repair_method(repair: Repair | None) -> str | None:
         return _REPAIR_METHODS[repair]
     except (KeyError, TypeError):
         raise CDTError(f"repair must be False, True, 'linework' or 'structure', got {repair!r}") from None
+
+
+def _plain_polygon(geometry: Any) -> bool:
+    """One valid, non-empty, 2D shapely Polygon: what most single calls pass. It
+    goes straight to the engine, which reads it with the same reader the
+    element-wise path uses, without that path's array set-up (about half of a
+    small drop-in call)."""
+    return (type(geometry) is shapely.Polygon and not geometry.is_empty
+            and not geometry.has_z and geometry.is_valid)
 
 
 def _is_array_input(geometry: Any) -> bool:
@@ -598,6 +609,8 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
     """
     _reject_ufunc_kwargs("constrained_delaunay_triangles", kwargs)
     method = _repair_method(repair)
+    if _plain_polygon(geometry):
+        return to_shapely(cdt_plugin.triangulate(geometry))
     arr = _geometry_array(geometry)
     flat = arr.ravel().copy()
     _check_geometries(flat)

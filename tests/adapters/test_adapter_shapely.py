@@ -97,6 +97,26 @@ def test_vectorised_reader_equals_one_by_one():
         assert np.array_equal(tri.regions, one.regions)
 
 
+def test_single_polygon_shortcut_equals_the_element_wise_path():
+    # one valid 2D Polygon goes straight to the engine: the same mesh and the same
+    # collection as the element-wise path gives it inside a list
+    polygons = [_holed(), shapely.box(0, 0, 2, 1), shapely.Polygon(_circle(0, 0, 1e-3, 40) + 5e5)]
+    for g in polygons:
+        assert sa._plain_polygon(g)
+        one, listed = sa.triangulate(g, min_angle=20), sa.triangulate([g], min_angle=20)[0]
+        for name in ("vertices", "triangles", "segments", "regions"):
+            assert np.array_equal(getattr(one, name), getattr(listed, name)), name
+        assert_valid(one.vertices, one.triangles, segments=one.segments, domain="segments")
+        gc, gcs = sa.constrained_delaunay_triangles(g), sa.constrained_delaunay_triangles([g])
+        assert shapely.equals_exact(gc, gcs[0], tolerance=0.0) and gc.wkb == gcs[0].wkb
+    bowtie = shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
+    for g in (bowtie, shapely.Polygon(), shapely.Polygon([(0, 0, 1), (1, 0, 2), (0, 1, 3)]),
+              shapely.MultiPolygon([shapely.box(0, 0, 1, 1)])):
+        assert not sa._plain_polygon(g)      # invalid, empty, 3D, not a Polygon: the general path
+    with pytest.raises(cdt_plugin.InvalidGeometryError, match="Self-intersection"):
+        sa.constrained_delaunay_triangles(bowtie)
+
+
 def test_multipolygon_regions():
     mp = shapely.MultiPolygon([_holed(), shapely.box(20, 0, 22, 1), shapely.Polygon(_circle(30, 0, 2, 13))])
     tri = sa.triangulate(mp)
