@@ -12,6 +12,8 @@ from .cdt import triangulate
 from .delaunay import delaunay
 from .errors import (
     CDTError,
+    ClipRegionError,
+    CollinearPointsError,
     CoordinateRangeError,
     FileFormatError,
     InputShapeError,
@@ -19,6 +21,7 @@ from .errors import (
     InvertedTriangleError,
     NoPolygonsError,
     NonFiniteCoordinateError,
+    NotDelaunayError,
     OverlappingSegmentsError,
     PrecisionWarning,
     RefinementLimitError,
@@ -29,9 +32,12 @@ from .errors import (
 from .plc import PLC
 
 from .triangulation import Triangulation
+from .voronoi import Subdivision, Voronoi
 
 __all__ = [
     "CDTError",
+    "ClipRegionError",
+    "CollinearPointsError",
     "CoordinateRangeError",
     "PLC",
     "Triangulation",
@@ -48,6 +54,9 @@ __all__ = [
     "InvertedTriangleError",
     "NoPolygonsError",
     "NonFiniteCoordinateError",
+    "NotDelaunayError",
+    "Subdivision",
+    "Voronoi",
     "TooFewPointsError",
 ]
 try:

@@ -9,7 +9,7 @@ route ahead of time, for Docker images, CI and Dask workers.
 
 >>> from cdt_plugin.compiling import ROUTES
 >>> sorted(ROUTES)
-['batch', 'delaunay', 'refine', 'triangulate', 'weighted']
+['batch', 'delaunay', 'refine', 'triangulate', 'voronoi', 'weighted']
 """
 from __future__ import annotations
 
@@ -31,7 +31,8 @@ _ENTRY_NAMES = {
     "mesh_geometries": "the batch route (triangulate_rings)",
     "build_mesh": "the Delaunay route (delaunay)",
 }
-_MODULE_NAMES = {"cdt_plugin._core.predicates": "the exact predicates"}
+_MODULE_NAMES = {"cdt_plugin._core.predicates": "the exact predicates",
+                 "cdt_plugin._core.dual": "the Voronoi diagram (voronoi, delaunay_subdivision)"}
 
 
 def cache_dir() -> str:
@@ -190,9 +191,15 @@ def _batch():
     triangulate_rings(xy, [0, 4, 7], [0, 1, 2], [0, 0], [False, False], min_angle=30)
 
 
+def _voronoi():
+    from . import delaunay
+    tri = delaunay(np.random.default_rng(0).uniform(size=(20, 2)))
+    tri.voronoi(clip=(0.0, 0.0, 1.0, 1.0))      # the subdivision, the cells, a box clip
+
+
 ROUTES: dict[str, Callable[[], None]] = {
     "delaunay": _delaunay, "weighted": _weighted, "triangulate": _triangulate,
-    "refine": _refine, "batch": _batch,
+    "refine": _refine, "batch": _batch, "voronoi": _voronoi,
 }
 
 

@@ -86,6 +86,23 @@ class CoordinateRangeError(CDTError):
         self.rows = tuple(rows)
 
 
+class NotDelaunayError(CDTError):
+    """A Delaunay-only operation (the Voronoi diagram, the Delaunay subdivision)
+    was given a triangulation that is not the (weighted) Delaunay triangulation
+    of its vertices: it has segments, an edge that is not locally Delaunay, or a
+    domain that is not convex. The message names the edge or vertex."""
+
+
+class CollinearPointsError(CDTError):
+    """The points lie on one line (or there are fewer than three): there is no
+    triangle, so no Voronoi vertex; the message says how many points there are."""
+
+
+class ClipRegionError(CDTError):
+    """A clip region is malformed (not a finite box with ``xmin < xmax`` and
+    ``ymin < ymax``, not a polygon) or contains none of the points."""
+
+
 class InvalidGeometryError(CDTError):
     """A polygon is not valid (e.g. a hole outside its shell, a ring with fewer
     than three distinct points); the message names the polygon and ring."""

@@ -27,6 +27,7 @@ if TYPE_CHECKING:
 
     from .plc import PLC
     from .report import MeshLike, Report
+    from .voronoi import Subdivision, Voronoi
 
 #: The counts of a result, or a function that makes them on first access.
 Stats = Union[Dict[str, Any], Callable[[], Dict[str, Any]]]
@@ -339,6 +340,50 @@ class Triangulation:
         (Theorem 2.11): no interior edge has four exactly cocircular vertices
         (lifted-coplanar for weighted points)."""
         return not bool((self._edge_signs()[:, 2] == 0).any())
+
+    # ---------------------------------------------------------------- duals
+    def delaunay_subdivision(self) -> Subdivision:
+        """The faces of the Delaunay subdivision (Fig. 2.3c): the triangles whose
+        shared edges are exact cocircular ties (lifted-coplanar for weights)
+        fused into convex polygons of vertex ids, counter-clockwise. A triangle
+        where the triangulation is unique; on a square grid, unit squares.
+        Raises :class:`NotDelaunayError` for a constrained or non-Delaunay
+        triangulation (see :class:`cdt_plugin.voronoi.Subdivision`).
+
+        >>> import cdt_plugin
+        >>> cdt_plugin.delaunay([[0, 0], [1, 0], [1, 1], [0, 1], [3, 0]]).delaunay_subdivision().tolist()
+        [[0, 1, 2, 3], [1, 4, 2]]
+        """
+        from .voronoi import delaunay_subdivision
+        return delaunay_subdivision(self)
+
+    def voronoi(self, clip: Any = None) -> Voronoi:
+        """The Voronoi diagram of the vertices, dual to this Delaunay
+        triangulation (Sec. 2.2), or their power diagram if it is weighted
+        (Sec. 2.8): one Voronoi vertex per face of the Delaunay subdivision,
+        each vertex's cell as a counter-clockwise ring of them (-1 where an
+        unbounded cell opens to infinity), ridges with the sites they separate.
+
+        ``clip``: None, a box ``(xmin, ymin, xmax, ymax)`` or a shapely polygon
+        (needs shapely): every cell cut to it (:meth:`Voronoi.cell`,
+        :meth:`Voronoi.to_shapely`). Raises :class:`NotDelaunayError` for a
+        constrained or non-Delaunay triangulation, :class:`CollinearPointsError`
+        without triangles, :class:`ClipRegionError` for a malformed clip or
+        one that contains none of the points (see :class:`cdt_plugin.voronoi.Voronoi`).
+
+        >>> import cdt_plugin
+        >>> vor = cdt_plugin.delaunay([[0, 0], [2, 0], [0, 2], [2, 2], [1, 1.5]]).voronoi(clip=(0, 0, 2, 2))
+        >>> vor
+        Voronoi(Voronoi diagram: 5 sites, 4 vertices, 4 unbounded cells, clipped)
+        >>> vor.vertices.round(4).tolist()
+        [[0.125, 1.0], [1.0, 0.4167], [1.875, 1.0], [1.0, 2.75]]
+        >>> vor.regions[4]                  # the centre point's cell: four Voronoi vertices
+        [0, 1, 2, 3]
+        >>> vor.cell(4).round(4).tolist()   # cut to the box
+        [[0.125, 1.0], [1.0, 0.4167], [1.875, 1.0], [1.375, 2.0], [0.625, 2.0]]
+        """
+        from .voronoi import voronoi
+        return voronoi(self, clip)
 
     # -------------------------------------------------------- moving vertices
     def move_vertices(self, new_vertices: ArrayLike, *, rebuild: bool = True) -> int:

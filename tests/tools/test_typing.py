@@ -40,6 +40,7 @@ TYPED_MODULES = [
     "cdt_plugin.switches",
     "cdt_plugin.triangulation",
     "cdt_plugin.validate",
+    "cdt_plugin.voronoi",
 ]
 
 _ADAPTERS = "cdt_plugin.adapters."

@@ -1,0 +1,570 @@
+"""The dual of a Delaunay triangulation (Sec. 2.2, Fig. 2.3): the faces of the
+Delaunay subdivision (triangles whose shared edge is a cocircular tie fused
+into one convex polygon), the ring of faces around each vertex (its Voronoi
+cell, Sec. 2.2; its power cell for a weighted triangulation, Sec. 2.8), the
+face centres, and the cells clipped to a convex polygon.
+
+Triangles are output arrays: ``triangles[t]`` counter-clockwise and
+``neighbors[t, j]`` across the edge opposite vertex ``j``, that is the edge
+from ``triangles[t, j + 1]`` to ``triangles[t, j + 2]`` (indices mod 3).
+Every combinatorial decision was made before (the fused flags come from the
+exact lifted test) or is made here with the exact ``orient2d``; the centres
+and clipped corners are floating-point constructions.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .jit import kernel
+from .predicates import incircle, incircle_weighted, orient2d
+
+
+@kernel
+def corner_of(triangles, t, v):
+    """The corner of triangle ``t`` at vertex ``v`` (-1 if ``v`` is not on it)."""
+    for j in range(3):
+        if triangles[t, j] == v:
+            return j
+    return -1
+
+
+@kernel
+def back_corner(neighbors, u, t):
+    """The corner of triangle ``u`` whose opposite edge it shares with ``t``."""
+    for j in range(3):
+        if neighbors[u, j] == t:
+            return j
+    return -1
+
+
+@kernel
+def fuse_ties(vx, vy, vw, weighted, triangles, neighbors):
+    """The exact lifted test across every interior edge (Lemma 2.3; Sec. 2.8
+    with weights): ``fused[t, j]`` on both sides of each cocircular
+    (lifted-coplanar) edge. Returns ``(fused, bad)``: ``bad`` is the first
+    triangle with an edge that is not locally Delaunay, as ``3 t + j``, or -1."""
+    k = triangles.shape[0]
+    fused = np.zeros((k, 3), np.bool_)
+    bad = -1
+    for t in range(k):
+        a = triangles[t, 0]
+        b = triangles[t, 1]
+        c = triangles[t, 2]
+        for j in range(3):
+            u = neighbors[t, j]
+            if u < t:                    # the hull, or seen from the other side
+                continue
+            i = back_corner(neighbors, u, t)
+            d = triangles[u, i]
+            if weighted:
+                r = incircle_weighted(vx[a], vy[a], vw[a], vx[b], vy[b], vw[b],
+                                      vx[c], vy[c], vw[c], vx[d], vy[d], vw[d])
+            else:
+                r = incircle(vx[a], vy[a], vx[b], vy[b], vx[c], vy[c], vx[d], vy[d])
+            if r == 0:
+                fused[t, j] = True
+                fused[u, i] = True
+            elif r > 0 and bad < 0:
+                bad = 3 * t + j
+    return fused, bad
+
+
+@kernel
+def subdivision_faces(triangles, neighbors, fused):
+    """The faces of the Delaunay subdivision: the triangles joined across
+    ``fused`` edges (both sides flagged). Returns ``(face_of, offsets, ring)``:
+    each triangle's face, and each face's boundary as counter-clockwise vertex
+    ids from its smallest id, ``ring[offsets[f]:offsets[f + 1]]``. Faces are
+    numbered in order of their first triangle."""
+    k = triangles.shape[0]
+    face_of = np.full(k, -1, np.int64)
+    offsets = np.zeros(k + 1, np.int64)
+    ring = np.empty(3 * k, np.int64)     # a face of m triangles has m + 2 <= 3m corners
+    stack = np.empty(k, np.int64)
+    members = np.empty(k, np.int64)
+    nf = 0
+    nr = 0
+    for t0 in range(k):
+        if face_of[t0] >= 0:
+            continue
+        face_of[t0] = nf
+        if not (fused[t0, 0] or fused[t0, 1] or fused[t0, 2]):
+            for j in range(3):           # a face of its own (the common case)
+                ring[nr + j] = triangles[t0, j]
+            rotate_to_min(ring, nr, nr + 3)
+            nr += 3
+            nf += 1
+            offsets[nf] = nr
+            continue
+        stack[0] = t0
+        top = 1
+        nm = 0
+        while top > 0:                   # the face's triangles
+            top -= 1
+            t = stack[top]
+            members[nm] = t
+            nm += 1
+            for j in range(3):
+                u = neighbors[t, j]
+                if fused[t, j] and u >= 0 and face_of[u] < 0:
+                    face_of[u] = nf
+                    stack[top] = u
+                    top += 1
+        ts = -1
+        js = -1
+        for i in range(nm):              # a boundary edge to start from
+            for j in range(3):
+                if not fused[members[i], j]:
+                    ts = members[i]
+                    js = j
+                    break
+            if ts >= 0:
+                break
+        start = nr
+        t = ts
+        j = js
+        for _ in range(3 * nm + 3):      # walk the boundary counter-clockwise
+            ring[nr] = triangles[t, (j + 1) % 3]
+            nr += 1
+            j = (j + 1) % 3              # the next edge of t, from the same vertex on
+            while fused[t, j]:           # interior to the face: go round that vertex
+                u = neighbors[t, j]
+                j = (back_corner(neighbors, u, t) + 1) % 3
+                t = u
+            if t == ts and j == js:
+                break
+        rotate_to_min(ring, start, nr)
+        nf += 1
+        offsets[nf] = nr
+    return face_of, offsets[: nf + 1], ring[:nr]
+
+
+@kernel
+def rotate_to_min(ring, lo, hi):
+    """Rotate ``ring[lo:hi]`` in place so that it starts at its smallest value."""
+    m = lo
+    for i in range(lo + 1, hi):
+        if ring[i] < ring[m]:
+            m = i
+    if m == lo:
+        return
+    reverse(ring, lo, m)
+    reverse(ring, m, hi)
+    reverse(ring, lo, hi)
+
+
+@kernel
+def reverse(a, lo, hi):
+    """Reverse ``a[lo:hi]`` in place."""
+    hi -= 1
+    while lo < hi:
+        a[lo], a[hi] = a[hi], a[lo]
+        lo += 1
+        hi -= 1
+
+
+@kernel
+def vertex_rings(vx, vy, triangles, neighbors):
+    """The triangles around each vertex, counter-clockwise; a hull vertex's
+    from the one after its outgoing hull edge to the one before its incoming
+    one. Returns ``(offsets, ring, hull, reflex)``: ``reflex`` is the first
+    hull vertex where the boundary turns right (exact ``orient2d``: the
+    triangles do not cover a convex domain), -1 if none. Vertices are visited
+    in triangle order, which keeps the walks' memory close together."""
+    k = triangles.shape[0]
+    nv = vx.shape[0]
+    offsets = np.zeros(nv + 1, np.int64)
+    for t in range(k):
+        for j in range(3):
+            offsets[triangles[t, j] + 1] += 1
+    for v in range(nv):
+        offsets[v + 1] += offsets[v]
+    ring = np.empty(3 * k, np.int64)
+    done = np.zeros(nv, np.bool_)
+    hull = np.zeros(nv, np.bool_)
+    reflex = -1
+    for t0 in range(k):
+        for j0 in range(3):
+            v = triangles[t0, j0]
+            if done[v]:
+                continue
+            done[v] = True
+            n = offsets[v]
+            t = t0
+            j = j0
+            for _ in range(k):           # counter-clockwise round v
+                ring[n] = t
+                n += 1
+                u = neighbors[t, (j + 1) % 3]
+                if u < 0 or u == t0:
+                    break
+                j = corner_of(triangles, u, v)
+                t = u
+            if u == t0:
+                continue
+            hull[v] = True               # start again from the outgoing hull edge
+            for _ in range(k):
+                u = neighbors[t, (j + 2) % 3]
+                if u < 0:
+                    break
+                j = corner_of(triangles, u, v)
+                t = u
+            start = t
+            a = triangles[t, (j + 1) % 3]
+            n = offsets[v]
+            for _ in range(k):
+                ring[n] = t
+                n += 1
+                u = neighbors[t, (j + 1) % 3]
+                if u < 0:
+                    break
+                j = corner_of(triangles, u, v)
+                t = u
+            b = triangles[t, (j + 2) % 3]
+            if reflex < 0 and orient2d(vx[b], vy[b], vx[v], vy[v], vx[a], vy[a]) < 0:
+                reflex = v
+    return offsets, ring, hull, reflex
+
+
+@kernel
+def cell_rings(offsets, ring, hull, face_of):
+    """Each vertex's Voronoi cell as the faces around it, counter-clockwise,
+    consecutive repeats (triangles of one face) merged; a hull vertex's cell
+    ends with -1, where it is open to infinity (scipy's form)."""
+    nv = offsets.shape[0] - 1
+    out_offsets = np.zeros(nv + 1, np.int64)
+    out = np.empty(ring.shape[0] + nv, np.int64)
+    n = 0
+    for v in range(nv):
+        lo = n
+        for i in range(offsets[v], offsets[v + 1]):
+            f = face_of[ring[i]]
+            if n == lo or out[n - 1] != f:
+                out[n] = f
+                n += 1
+        if hull[v]:
+            out[n] = -1
+            n += 1
+        elif n - lo > 1 and out[n - 1] == out[lo]:
+            n -= 1                       # round the vertex back to the first face
+        out_offsets[v + 1] = n
+    return out_offsets, out[:n]
+
+
+@kernel
+def face_centres(vx, vy, vw, offsets, ring, triangles, neighbors, face_of):
+    """The centre of each face: the circumcentre (power centre with weights,
+    Sec. 2.8) of three of its vertices spread round it (any three give the same
+    point, these the best-conditioned), relative to the first of them.
+
+    Nearly cocircular triangles have centres a rounding error apart in plain
+    doubles, which could put a cell's corners in the wrong order (a cell that
+    crosses itself). So every centre closer to a neighbouring face's centre
+    than a few times their error bounds is computed again in double-double
+    arithmetic (:func:`centre_dd`): then they keep their true order."""
+    nf = offsets.shape[0] - 1
+    out = np.empty((nf, 2))
+    err = np.empty(nf)
+    for f in range(nf):
+        a, b, c = face_triple(offsets, ring, f)
+        bx = vx[b] - vx[a]
+        by = vy[b] - vy[a]
+        cx = vx[c] - vx[a]
+        cy = vy[c] - vy[a]
+        lb = bx * bx + by * by - (vw[b] - vw[a])
+        lc = cx * cx + cy * cy - (vw[c] - vw[a])
+        d = 2.0 * (bx * cy - by * cx)
+        out[f, 0] = vx[a] + (cy * lb - by * lc) / d
+        out[f, 1] = vy[a] + (bx * lc - cx * lb) / d
+        size = max(abs(bx), abs(by), abs(cx), abs(cy), np.sqrt(abs(lb)), np.sqrt(abs(lc)))
+        near = max(abs(vx[a]), abs(vy[a]), size)
+        err[f] = 2.0 ** -46 * (size * size * near / abs(d)) + 2.0 ** -52 * (abs(out[f, 0]) + abs(out[f, 1]))
+    redo = np.zeros(nf, np.bool_)
+    for t in range(triangles.shape[0]):
+        for j in range(3):
+            u = neighbors[t, j]
+            f = face_of[t]
+            if u < t or face_of[u] == f:
+                continue
+            g = face_of[u]
+            gap = max(abs(out[f, 0] - out[g, 0]), abs(out[f, 1] - out[g, 1]))
+            if not gap > 8.0 * (err[f] + err[g]):        # (NaN too: a degenerate face)
+                redo[f] = True
+                redo[g] = True
+    for f in range(nf):
+        if redo[f]:
+            a, b, c = face_triple(offsets, ring, f)
+            out[f, 0], out[f, 1] = centre_dd(vx, vy, vw, a, b, c)
+    return out
+
+
+@kernel
+def face_triple(offsets, ring, f):
+    """Three vertices spread round face ``f``: its first, a third and two
+    thirds of the way round (a triangle's three)."""
+    lo = offsets[f]
+    m = offsets[f + 1] - lo
+    return ring[lo], ring[lo + m // 3], ring[lo + (2 * m) // 3]
+
+
+@kernel
+def centre_dd(vx, vy, vw, a, b, c):
+    """The circumcentre (power centre) of ``a, b, c`` in double-double
+    arithmetic, rounded to doubles."""
+    bx, bxl = two_diff(vx[b], vx[a])
+    by, byl = two_diff(vy[b], vy[a])
+    cx, cxl = two_diff(vx[c], vx[a])
+    cy, cyl = two_diff(vy[c], vy[a])
+    wb, wbl = two_diff(vw[b], vw[a])
+    wc, wcl = two_diff(vw[c], vw[a])
+    # lb = |b - a|^2 - (w_b - w_a), lc alike, d = 2 (bx cy - by cx)
+    lb, lbl = dd_sub(*dd_add(*dd_mul(bx, bxl, bx, bxl), *dd_mul(by, byl, by, byl)), wb, wbl)
+    lc, lcl = dd_sub(*dd_add(*dd_mul(cx, cxl, cx, cxl), *dd_mul(cy, cyl, cy, cyl)), wc, wcl)
+    d, dl = dd_sub(*dd_mul(bx, bxl, cy, cyl), *dd_mul(by, byl, cx, cxl))
+    d, dl = 2.0 * d, 2.0 * dl
+    ux, uxl = dd_div(*dd_sub(*dd_mul(cy, cyl, lb, lbl), *dd_mul(by, byl, lc, lcl)), d, dl)
+    uy, uyl = dd_div(*dd_sub(*dd_mul(bx, bxl, lc, lcl), *dd_mul(cx, cxl, lb, lbl)), d, dl)
+    return dd_add(vx[a], 0.0, ux, uxl)[0], dd_add(vy[a], 0.0, uy, uyl)[0]
+
+
+# double-double arithmetic (a value is hi + lo, |lo| <= ulp(hi) / 2): Dekker, Knuth
+@kernel
+def two_sum(a, b):
+    """``(s, e)``: ``s + e == a + b`` exactly, ``s = fl(a + b)``."""
+    s = a + b
+    bv = s - a
+    return s, (a - (s - bv)) + (b - bv)
+
+
+@kernel
+def two_diff(a, b):
+    """``(s, e)``: ``s + e == a - b`` exactly, ``s = fl(a - b)``."""
+    return two_sum(a, -b)
+
+
+@kernel
+def split(a):
+    """Dekker's split of ``a`` into two halves of 26 bits."""
+    c = 134217729.0 * a                  # 2**27 + 1
+    hi = c - (c - a)
+    return hi, a - hi
+
+
+@kernel
+def two_prod(a, b):
+    """``(p, e)``: ``p + e == a * b`` exactly, ``p = fl(a * b)``."""
+    p = a * b
+    ah, al = split(a)
+    bh, bl = split(b)
+    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+@kernel
+def dd_add(ah, al, bh, bl):
+    s, e = two_sum(ah, bh)
+    e += al + bl
+    hi = s + e
+    return hi, e - (hi - s)
+
+
+@kernel
+def dd_sub(ah, al, bh, bl):
+    return dd_add(ah, al, -bh, -bl)
+
+
+@kernel
+def dd_mul(ah, al, bh, bl):
+    p, e = two_prod(ah, bh)
+    e += ah * bl + al * bh
+    hi = p + e
+    return hi, e - (hi - p)
+
+
+@kernel
+def dd_div(ah, al, bh, bl):
+    q1 = ah / bh
+    rh, rl = dd_sub(ah, al, *dd_mul(q1, 0.0, bh, bl))
+    q2 = rh / bh
+    rh, rl = dd_sub(rh, rl, *dd_mul(q2, 0.0, bh, bl))
+    q3 = rh / bh
+    hi, lo = dd_add(q1, 0.0, q2, 0.0)
+    return dd_add(hi, lo, q3, 0.0)
+
+
+@kernel
+def clip_cells(vx, vy, triangles, offsets, ring, hull, centres, region_offsets, region_indices,
+               xmin, ymin, xmax, ymax):
+    """Each vertex's cell cut to the box ``[xmin, xmax] x [ymin, ymax]``.
+
+    A bounded cell is its ring of face centres; an unbounded one its chain of
+    face centres, the two rays' ends on the boundary of a far box (the one
+    that holds the clip box, the centres and the vertices with a margin) and
+    the far box's corners between them, counter-clockwise: the cell cut to the
+    far box, exactly. Then Sutherland-Hodgman cuts it to the clip box. Every
+    corner is made the same way in the two cells that share it (face centres,
+    ray ends from the same hull edge, crossings computed from the edge's
+    endpoints in a canonical order, the box side's coordinate set exactly),
+    so the cells form an exact coverage of the box. Returns ``(offsets, x,
+    y)``: counter-clockwise rings, not closed, empty where nothing is left."""
+    nv = vx.shape[0]
+    deg = 0
+    for v in range(nv):
+        deg = max(deg, offsets[v + 1] - offsets[v])
+    cap = 2 * deg + 32
+    ax = np.empty(cap)
+    ay = np.empty(cap)
+    bx = np.empty(cap)
+    by = np.empty(cap)
+    far = far_box(vx, vy, centres, xmin, ymin, xmax, ymax)
+    out_offsets = np.zeros(nv + 1, np.int64)
+    size = 8 * nv + 2 * ring.shape[0] + 16
+    ox = np.empty(size)
+    oy = np.empty(size)
+    n = 0
+    for v in range(nv):
+        na = 0
+        inside = True
+        for i in range(region_offsets[v], region_offsets[v + 1]):
+            f = region_indices[i]
+            if f < 0:
+                break
+            ax[na] = centres[f, 0]
+            ay[na] = centres[f, 1]
+            inside = inside and xmin <= ax[na] <= xmax and ymin <= ay[na] <= ymax
+            na += 1
+        if hull[v] and na > 0:
+            na = close_far(vx, vy, triangles, offsets, ring, v, ax, ay, na, far)
+            inside = False
+        if not inside:
+            na = cut_side(ax, ay, bx, by, na, False, xmin, False)
+            na = cut_side(ax, ay, bx, by, na, False, xmax, True)
+            na = cut_side(ax, ay, bx, by, na, True, ymin, False)
+            na = cut_side(ax, ay, bx, by, na, True, ymax, True)
+        if na < 3:
+            na = 0
+        for p in range(na):
+            ox[n] = ax[p]
+            oy[n] = ay[p]
+            n += 1
+        out_offsets[v + 1] = n
+    return out_offsets, ox[:n], oy[:n]
+
+
+@kernel
+def far_box(vx, vy, centres, xmin, ymin, xmax, ymax):
+    """A box holding the clip box, every face centre and every vertex, with
+    a margin as wide as all of them: ``(xmin, ymin, xmax, ymax)`` (scaled
+    with its inputs: a power-of-two scale of the input scales the cells exactly)."""
+    lo_x = min(xmin, vx.min(), centres[:, 0].min())
+    lo_y = min(ymin, vy.min(), centres[:, 1].min())
+    hi_x = max(xmax, vx.max(), centres[:, 0].max())
+    hi_y = max(ymax, vy.max(), centres[:, 1].max())
+    m = max(hi_x - lo_x, hi_y - lo_y)          # > 0: the clip box has a positive size
+    return np.array([lo_x - m, lo_y - m, hi_x + m, hi_y + m])
+
+
+@kernel
+def close_far(vx, vy, triangles, offsets, ring, v, ax, ay, na, far):
+    """Close the chain of face centres of hull vertex ``v``'s unbounded cell:
+    the end of its outgoing ray on the far box, the far box's corners
+    counter-clockwise, the end of its incoming ray. Each ray leaves its face
+    centre along the outward normal of its hull edge, computed from the edge
+    as directed in the triangle (so both cells of the ridge get the same end)."""
+    t = ring[offsets[v + 1] - 1]                 # the last triangle: hull edge b -> v
+    b = triangles[t, (corner_of(triangles, t, v) + 2) % 3]
+    t = ring[offsets[v]]                         # the first one: hull edge v -> a
+    a = triangles[t, (corner_of(triangles, t, v) + 1) % 3]
+    ex, ey, out = ray_end(ax[na - 1], ay[na - 1], vy[v] - vy[b], vx[b] - vx[v], far)
+    sx, sy, back = ray_end(ax[0], ay[0], vy[a] - vy[v], vx[v] - vx[a], far)
+    ax[na] = ex
+    ay[na] = ey
+    na += 1
+    span = back - out
+    if span < 0.0:
+        span += 4.0
+    for k in range(1, 5):                        # corners passed going counter-clockwise
+        corner = np.floor(out) + k
+        if corner - out >= span:
+            break
+        c = int(corner) % 4
+        ax[na] = far[2] if c == 1 or c == 2 else far[0]
+        ay[na] = far[3] if c == 2 or c == 3 else far[1]
+        na += 1
+    ax[na] = sx
+    ay[na] = sy
+    return na + 1
+
+
+@kernel
+def ray_end(cx, cy, nx, ny, far):
+    """Where the ray from ``(cx, cy)`` (inside the far box) along ``(nx, ny)``
+    leaves the far box, the side's coordinate set exactly, and its position
+    on the box's boundary counter-clockwise: side ``s`` (0 bottom, 1 right,
+    2 top, 3 left) plus the fraction along it."""
+    tx = np.inf
+    ty = np.inf
+    if nx > 0.0:
+        tx = (far[2] - cx) / nx
+    elif nx < 0.0:
+        tx = (far[0] - cx) / nx
+    if ny > 0.0:
+        ty = (far[3] - cy) / ny
+    elif ny < 0.0:
+        ty = (far[1] - cy) / ny
+    w = far[2] - far[0]
+    h = far[3] - far[1]
+    if tx <= ty:
+        x = far[2] if nx > 0.0 else far[0]
+        y = min(max(cy + tx * ny, far[1]), far[3])
+        pos = 1.0 + (y - far[1]) / h if nx > 0.0 else 3.0 + (far[3] - y) / h
+    else:
+        y = far[3] if ny > 0.0 else far[1]
+        x = min(max(cx + ty * nx, far[0]), far[2])
+        pos = 2.0 + (far[2] - x) / w if ny > 0.0 else (x - far[0]) / w
+    return x, y, pos % 4.0
+
+
+@kernel
+def cut_side(ax, ay, bx, by, na, vertical, bound, upper):
+    """Cut the convex polygon ``(ax, ay)[:na]`` to ``x <= bound`` (``upper``)
+    or ``x >= bound`` (``y`` when ``vertical``), in place (one
+    Sutherland-Hodgman step); returns its new size. Corners are compared
+    exactly; a crossing is interpolated from the edge's lexicographically
+    smaller end, so the two cells sharing the edge get the same point, with
+    the side's coordinate set to ``bound``."""
+    outside = False
+    for p in range(na):
+        c = ay[p] if vertical else ax[p]
+        if (c > bound) if upper else (c < bound):
+            outside = True
+            break
+    if not outside:
+        return na
+    nb = 0
+    for p in range(na):
+        q = p + 1 if p + 1 < na else 0
+        cp = ay[p] if vertical else ax[p]
+        cq = ay[q] if vertical else ax[q]
+        in_p = (cp <= bound) if upper else (cp >= bound)
+        in_q = (cq <= bound) if upper else (cq >= bound)
+        if in_p:
+            bx[nb] = ax[p]
+            by[nb] = ay[p]
+            nb += 1
+        if in_p != in_q and cp != bound and cq != bound:
+            i, j = p, q
+            if ax[q] < ax[p] or (ax[q] == ax[p] and ay[q] < ay[p]):
+                i, j = q, p
+            if vertical:
+                s = (bound - ay[i]) / (ay[j] - ay[i])
+                bx[nb] = min(max(ax[i] + s * (ax[j] - ax[i]), min(ax[i], ax[j])), max(ax[i], ax[j]))
+                by[nb] = bound
+            else:
+                s = (bound - ax[i]) / (ax[j] - ax[i])
+                bx[nb] = bound
+                by[nb] = min(max(ay[i] + s * (ay[j] - ay[i]), min(ay[i], ay[j])), max(ay[i], ay[j]))
+            nb += 1
+    for p in range(nb):
+        ax[p] = bx[p]
+        ay[p] = by[p]
+    return nb
