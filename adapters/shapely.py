@@ -18,6 +18,10 @@ shapely output (:func:`to_shapely`).
 * :func:`delaunay_triangles` -- a drop-in for ``shapely.delaunay_triangles``: the
   Delaunay triangulation of all the vertices of any geometry (``tolerance``,
   ``only_edges``), with exact predicates.
+* :func:`voronoi_polygons` -- a drop-in for ``shapely.voronoi_polygons``: the
+  Voronoi cells (or edges) of all the vertices of any geometry, cut to GEOS's
+  envelope (``tolerance``, ``extend_to``, ``only_edges``, ``ordered``); one cell
+  per distinct vertex, in input order; exact predicates decide the combinatorics.
 
 The drop-ins are element-wise as shapely's functions are: an array of geometries
 in, an array of the same shape out (a pandas Series or GeoSeries keeps its index),
@@ -53,7 +57,7 @@ if TYPE_CHECKING:
 Repair = bool | str
 
 __all__ = ["triangulate", "triangulate_batch", "to_shapely", "constrained_delaunay_triangles",
-           "delaunay_triangles", "plc_from_shapely"]
+           "delaunay_triangles", "voronoi_polygons", "plc_from_shapely"]
 
 # GEOS type ids (shapely.GeometryType)
 _POINT, _LINESTRING, _LINEARRING, _POLYGON, _MULTIPOINT, _MULTILINESTRING, _MULTIPOLYGON, _COLLECTION = range(8)
@@ -519,6 +523,73 @@ def _vertex_z(tri: cdt_plugin.Triangulation, plc_z: NDArray[np.float64]) -> NDAr
     return z
 
 
+# ------------------------------------------------------------------ Voronoi cells
+def cells_to_polygons(offsets: NDArray[np.int64], xy: NDArray[np.float64]) -> NDArray[np.object_]:
+    """One Polygon per cell from flat counter-clockwise rings (not closed):
+    cell ``i`` is ``xy[offsets[i]:offsets[i + 1]]``, an empty Polygon where it
+    is empty (:attr:`cdt_plugin.Voronoi.cell_xy`). Vectorised
+    (``shapely.from_ragged_array``).
+
+    >>> import numpy as np
+    >>> cells_to_polygons(np.array([0, 3, 3]), np.array([[0.0, 0], [1, 0], [0, 1]])).tolist()
+    [<POLYGON ((0 0, 1 0, 0 1, 0 0))>, <POLYGON EMPTY>]
+    """
+    sizes = np.diff(offsets)
+    full = sizes > 0
+    # close each ring: its first corner again after its last
+    closed_sizes = np.where(full, sizes + 1, 0)
+    ring_ends = np.cumsum(closed_sizes)
+    coords = np.empty((int(ring_ends[-1]) if len(ring_ends) else 0, 2))
+    starts = ring_ends - closed_sizes
+    within = np.arange(len(coords)) - np.repeat(starts, closed_sizes)
+    src = np.repeat(offsets[:-1], closed_sizes) + np.where(within == np.repeat(sizes, closed_sizes), 0, within)
+    coords[:] = xy[src]
+    ring_offsets = np.concatenate([[0], ring_ends[full]]).astype(np.int64)
+    polygon_offsets = np.concatenate([[0], np.cumsum(full)]).astype(np.int64)
+    return shapely.from_ragged_array(shapely.GeometryType.POLYGON, coords, (ring_offsets, polygon_offsets))
+
+
+def clip_cells_to_polygon(vor: cdt_plugin.Voronoi, clip: Any) -> NDArray[np.object_]:
+    """Every cell of ``vor`` cut to a polygonal geometry ``clip`` (a Polygon
+    or MultiPolygon, any object with ``__geo_interface__``): the cells are
+    cut to its bounding box first, exactly as a box clip does, then intersected
+    with it by GEOS. One Polygon or MultiPolygon per site (a non-convex region
+    can cut a cell in pieces), an empty Polygon where nothing is left.
+    Raises :class:`cdt_plugin.ClipRegionError` for a non-polygonal, invalid or
+    empty region, or one that contains none of the sites."""
+    from cdt_plugin.errors import ClipRegionError
+    geom = clip if isinstance(clip, shapely.Geometry) else shapely.geometry.shape(clip) \
+        if hasattr(clip, "__geo_interface__") else None
+    if geom is None or shapely.get_type_id(geom) not in (_POLYGON, _MULTIPOLYGON):
+        raise ClipRegionError(f"clip must be a box (xmin, ymin, xmax, ymax) or a Polygon / "
+                              f"MultiPolygon, got {type(clip).__name__}")
+    if geom.is_empty or not geom.is_valid:
+        raise ClipRegionError(f"clip polygon is {'empty' if geom.is_empty else 'invalid'}: "
+                              f"{shapely.is_valid_reason(geom)}")
+    sites = shapely.points(vor.points)
+    shapely.prepare(geom)
+    if not shapely.intersects(geom, sites).any():
+        raise ClipRegionError(f"the clip polygon contains none of the {len(vor.points)} points")
+    boxed = vor.clipped(tuple(geom.bounds))
+    assert boxed.cell_offsets is not None and boxed.cell_xy is not None
+    cells = shapely.intersection(cells_to_polygons(boxed.cell_offsets, boxed.cell_xy), geom)
+    return _polygonal_parts(cells)
+
+
+def _polygonal_parts(geoms: NDArray[np.object_]) -> NDArray[np.object_]:
+    """Each geometry as a Polygon or MultiPolygon: the polygons of a collection
+    (an intersection that also touches the region along a line or at a point),
+    an empty Polygon where there are none."""
+    out = geoms.copy()
+    types = shapely.get_type_id(geoms)
+    for i in np.flatnonzero(~np.isin(types, (_POLYGON, _MULTIPOLYGON))):
+        parts = shapely.get_parts(geoms[i])
+        parts = parts[shapely.get_type_id(parts) == _POLYGON]
+        out[i] = (shapely.Polygon() if not len(parts) else parts[0] if len(parts) == 1
+                  else shapely.multipolygons(parts))
+    return out
+
+
 # ------------------------------------------------------------------------ drop-ins
 # shapely's element-wise form: an array of geometries in, an array of the same shape
 # out (a pandas Series keeps its index), None gives None, one geometry gives one.
@@ -725,10 +796,10 @@ def _tolerance_array(tolerance: ArrayLike) -> np.ndarray:
     return tol
 
 
-def _only_edges_array(only_edges: ArrayLike) -> np.ndarray:
+def _only_edges_array(only_edges: ArrayLike, name: str = "only_edges") -> np.ndarray:
     flags = np.asarray(only_edges)
     if flags.dtype != bool and not (flags.dtype.kind in "iu" and np.isin(flags, (0, 1)).all()):
-        raise CDTError(f"only_edges must be True or False (or an array of them), got {only_edges!r}")
+        raise CDTError(f"{name} must be True or False (or an array of them), got {only_edges!r}")
     return flags.astype(bool)
 
 
@@ -773,3 +844,226 @@ def _snapped(xy: np.ndarray, tolerance: float) -> np.ndarray:
     for s, e in zip(first, np.r_[first[1:], len(a)]):     # points with an earlier close one
         keep[a[s]] = not keep[b[s:e]].any()
     return np.flatnonzero(keep)
+
+
+def voronoi_polygons(geometry: Any, tolerance: ArrayLike = 0.0, extend_to: Any = None,
+                     only_edges: ArrayLike = False, ordered: ArrayLike = False, **kwargs: Any) -> Any:
+    """Drop-in for ``shapely.voronoi_polygons`` (same signature, same output
+    form): the Voronoi diagram of all the vertices of a geometry, dual to their
+    exact Delaunay triangulation (:meth:`cdt_plugin.Triangulation.voronoi`).
+
+    Parameters
+    ----------
+    geometry : Geometry or array_like
+        Any geometry (points, lines, polygons, collections): every vertex is a
+        site. An array / list / pandas Series / GeoSeries gives the results
+        element-wise.
+    tolerance : float or array_like, default 0.0
+        Snap vertices closer than this together, as in
+        :func:`delaunay_triangles` (lexicographic order, a vertex closer than
+        ``tolerance`` to one kept before it is dropped). Exact duplicates are
+        always merged. A negative or NaN tolerance raises
+        :class:`cdt_plugin.CDTError`.
+    extend_to : Geometry or array_like, optional
+        The cells are cut to GEOS's envelope: the bounding box of the vertices
+        (all of them, snapped or not) grown by its larger side on every side
+        (:meth:`cdt_plugin.Voronoi.envelope`), grown further to include the
+        bounding box of ``extend_to`` when given (it never shrinks).
+    only_edges : bool or array_like, default False
+        A MultiLineString of the Voronoi edges (two-point LineStrings, rays cut
+        at the envelope) instead of the cells.
+    ordered : bool or array_like, default False
+        Accepted for shapely's signature: the cells are always in the order of
+        the input vertices (first appearance of each distinct vertex; with
+        ``tolerance``, of the kept ones). Where GEOS raises for ``ordered=True``
+        on repeated vertices (or vertices snapped together), they are merged
+        here and their first appearance counts.
+    **kwargs
+        shapely's version takes NumPy ufunc keyword arguments; they are not
+        supported here (a ``TypeError`` names them).
+
+    Returns
+    -------
+    GeometryCollection / MultiLineString, or an array of them (the broadcast shape
+    of the five arguments; a pandas Series or GeoSeries in gives one out, with
+    its index)
+        * GeometryCollection of Polygons (clockwise closed shells, 2D, as GEOS
+          returns them), one per distinct vertex in input order, covering the
+          envelope; empty for fewer than two distinct vertices (one Polygon, the
+          envelope, when ``tolerance`` snaps them all into one, as GEOS). Four
+          or more exactly cocircular vertices (a grid) give one Voronoi vertex,
+          decided with exact predicates; vertices all on one line give
+          parallel strips;
+        * with ``only_edges``, a MultiLineString of the edges (the cells'
+          shared sides), empty for fewer than two sites;
+        * ``None`` for ``None``.
+
+    Raises
+    ------
+    cdt_plugin.NonFiniteCoordinateError
+        A NaN or infinite coordinate (GEOS raises ``GEOSException``); for array
+        input the message starts ``geometry i:`` (attribute ``index``).
+    TypeError
+        An element that is not a geometry, or ufunc keyword arguments.
+
+    Examples
+    --------
+    >>> import shapely
+    >>> points = shapely.MultiPoint([(2, 2), (4, 2)])
+    >>> voronoi_polygons(points)
+    <GEOMETRYCOLLECTION (POLYGON ((0 0, 0 4, 3 4, 3 0, 0 0)), POLYGON ((3 0, 3 4...>
+    >>> voronoi_polygons(points, only_edges=True)
+    <MULTILINESTRING ((3 4, 3 0))>
+    >>> voronoi_polygons(points, extend_to=shapely.LineString([(0, 0), (10, 10)]), only_edges=True)
+    <MULTILINESTRING ((3 10, 3 0))>
+    >>> voronoi_polygons(shapely.MultiPoint([(2, 2), (4, 2), (4.2, 2)]), tolerance=0.5, only_edges=True)
+    <MULTILINESTRING ((3 4.2, 3 -0.2))>
+    >>> grid = shapely.MultiPoint([(x, y) for x in range(4) for y in range(4)])
+    >>> sorted({round(cell.area, 12) for cell in voronoi_polygons(grid).geoms})
+    [1.0, 3.5, 12.25]
+    >>> voronoi_polygons([shapely.Point(2, 2), None])
+    array([<GEOMETRYCOLLECTION EMPTY>, None], dtype=object)
+    """
+    _reject_ufunc_kwargs("voronoi_polygons", kwargs)
+    arr, ext = _geometry_array(geometry), _geometry_array(extend_to)
+    tol = _tolerance_array(tolerance)
+    edges, order = _only_edges_array(only_edges), _only_edges_array(ordered, "ordered")
+    try:
+        arr, tol, ext, edges, _ = np.broadcast_arrays(arr, tol, ext, edges, order)
+    except ValueError:
+        raise InputShapeError(f"geometry, tolerance, extend_to, only_edges and ordered cannot be broadcast "
+                              f"together (shapes {np.shape(arr)}, {np.shape(tol)}, {np.shape(ext)}, "
+                              f"{np.shape(edges)}, {np.shape(order)})") from None
+    flat, tol, ext, edges = arr.ravel(), tol.ravel(), ext.ravel(), edges.ravel()
+    _check_geometries(flat)
+    _check_geometries(ext)
+    extent = shapely.bounds(ext)                 # NaN for None or an empty geometry
+    coords, owner = shapely.get_coordinates(flat, return_index=True)
+    start = np.searchsorted(owner, np.arange(len(flat) + 1))
+    indexed = arr.ndim > 0
+    out = np.empty(len(flat), dtype=object)
+    for i in np.flatnonzero(~shapely.is_missing(flat)):
+        try:
+            out[i] = _voronoi_of_vertices(coords[start[i]:start[i + 1]], tol[i], extent[i], edges[i])
+        except CDTError as e:
+            raise _with_index(e, int(i), indexed)
+    return _elementwise_output(out, arr.shape, geometry)
+
+
+def _voronoi_of_vertices(xy: np.ndarray, tolerance: float, extent: np.ndarray,
+                         only_edges: bool) -> shapely.Geometry:
+    """GEOS's output form of the Voronoi diagram of the points ``xy`` (n, 2),
+    cut to GEOS's envelope grown to ``extent`` (a bounds row, NaN for none)."""
+    empty = _EMPTY_MULTILINESTRING if only_edges else _EMPTY_COLLECTION
+    if not len(xy):
+        return empty
+    xy = as_points(xy)                                   # NaN, inf: NonFiniteCoordinateError
+    if not (xy != xy[0]).any():                          # fewer than two distinct vertices
+        return empty
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    grow = float((hi - lo).max())
+    lo, hi = np.fmin(lo - grow, extent[:2]), np.fmax(hi + grow, extent[2:])
+    box = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+    sites = xy[_snapped(xy, tolerance)] if tolerance > 0 else xy
+    tri = cdt_plugin.delaunay(sites)
+    if len(tri.vertices) < 2:                            # all snapped into one: the whole envelope
+        return empty if only_edges else shapely.geometrycollections([shapely.box(*box, ccw=False)])
+    if not len(tri.triangles):
+        return _collinear_voronoi(tri.vertices, box, only_edges)
+    vor = tri.voronoi(clip=box)
+    assert vor.cell_offsets is not None and vor.cell_xy is not None
+    if only_edges:
+        return _cell_edges(vor.cell_offsets, vor.cell_xy, box)
+    offsets = vor.cell_offsets
+    cell = np.repeat(np.arange(len(offsets) - 1), np.diff(offsets))
+    backwards = offsets[cell] + offsets[cell + 1] - 1 - np.arange(len(cell))   # clockwise, as GEOS
+    return shapely.geometrycollections(cells_to_polygons(offsets, vor.cell_xy[backwards]))
+
+
+def _cell_edges(offsets: np.ndarray, xy: np.ndarray, box: tuple[float, float, float, float]
+                ) -> shapely.MultiLineString:
+    """The Voronoi edges inside ``box`` from the cells cut to it: every side of
+    a cell that is not on the box, once (the two cells that share it list it
+    with the same corners, in opposite directions)."""
+    sizes = np.diff(offsets)
+    nxt = np.arange(len(xy)) + 1
+    nxt[offsets[1:][sizes > 0] - 1] = offsets[:-1][sizes > 0]      # each ring's last corner to its first
+    p, q = xy, xy[nxt]
+    xmin, ymin, xmax, ymax = box
+    on_side = (((p[:, 0] == q[:, 0]) & ((p[:, 0] == xmin) | (p[:, 0] == xmax)))
+               | ((p[:, 1] == q[:, 1]) & ((p[:, 1] == ymin) | (p[:, 1] == ymax))))
+    first = (p[:, 0] < q[:, 0]) | ((p[:, 0] == q[:, 0]) & (p[:, 1] < q[:, 1]))
+    keep = ~on_side & first
+    return _multilinestring(p[keep], q[keep])
+
+
+def _collinear_voronoi(sites: np.ndarray, box: tuple[float, float, float, float],
+                       only_edges: bool) -> shapely.Geometry:
+    """Parallel strips: the Voronoi diagram of ``sites`` (distinct, all on one
+    line, at least two) cut to ``box``. Along the line the sites are in
+    lexicographic (x, y) order, exactly; each pair of neighbours is separated by
+    its perpendicular bisector, a chord of the box."""
+    order = np.lexsort((sites[:, 1], sites[:, 0]))
+    s = sites[order]
+    along = s[1:] - s[:-1]
+    normal = np.column_stack([along[:, 1], -along[:, 0]])
+    big = np.full(len(s) - 1, np.inf)
+    a, b, _ = _clip_lines((s[1:] + s[:-1]) / 2, normal, -big, big, box)   # the midpoints are inside
+    if only_edges:
+        return _multilinestring(a, b)
+    m = len(s)
+    xmin, ymin, xmax, ymax = box
+    corners = np.array([[xmin, ymin], [xmax, ymin], [xmax, ymax], [xmin, ymax]])
+    nearest = np.argmin(((corners[:, None, :] - s[None, :, :]) ** 2).sum(axis=2), axis=1)
+    # each strip: the ends of its one or two chords and the box corners nearest its site
+    points = np.concatenate([a, b, a, b, corners])
+    owner = np.concatenate([np.arange(m - 1), np.arange(m - 1), np.arange(1, m), np.arange(1, m), nearest])
+    by_owner = np.argsort(owner, kind="stable")
+    hulls = shapely.convex_hull(shapely.multipoints(points[by_owner], indices=owner[by_owner]))
+    cells = np.empty(m, dtype=object)
+    cells[order] = hulls                                # back to the sites' order
+    ccw = shapely.is_ccw(shapely.get_exterior_ring(cells))
+    cells[ccw] = shapely.reverse(cells[ccw])
+    return shapely.geometrycollections(cells)
+
+
+def _clip_lines(p0: np.ndarray, step: np.ndarray, t0: np.ndarray, t1: np.ndarray,
+                box: tuple[float, float, float, float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Lines ``p0 + t * step`` for ``t0 <= t <= t1`` (infinite bounds for rays
+    and lines) cut to ``box`` (Liang-Barsky, vectorised): the ends ``a``, ``b``
+    and whether anything of positive length is left. An end on the box's
+    boundary gets that side's coordinate exactly."""
+    lo, hi = np.array(box[:2]), np.array(box[2:])
+    t0, t1 = t0.astype(np.float64).copy(), t1.astype(np.float64).copy()
+    a_side = np.full((len(p0), 2), np.nan)     # the box side each end lies on, per axis
+    b_side = np.full((len(p0), 2), np.nan)
+    ok = np.ones(len(p0), bool)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for k in range(2):
+            flat = step[:, k] == 0
+            ok &= ~(flat & ((p0[:, k] < lo[k]) | (p0[:, k] > hi[k])))
+            forward = step[:, k] > 0
+            enter_at = np.where(forward, lo[k], hi[k])
+            leave_at = np.where(forward, hi[k], lo[k])
+            enter = np.where(flat, -np.inf, (enter_at - p0[:, k]) / step[:, k])
+            leave = np.where(flat, np.inf, (leave_at - p0[:, k]) / step[:, k])
+            later = enter > t0
+            t0 = np.where(later, enter, t0)
+            a_side[later] = np.nan
+            a_side[later, k] = enter_at[later]
+            sooner = leave < t1
+            t1 = np.where(sooner, leave, t1)
+            b_side[sooner] = np.nan
+            b_side[sooner, k] = leave_at[sooner]
+    ok &= t0 < t1
+    t0, t1 = np.where(ok, t0, 0.0), np.where(ok, t1, 0.0)
+    a = np.where(np.isnan(a_side), p0 + t0[:, None] * step, a_side)
+    b = np.where(np.isnan(b_side), p0 + t1[:, None] * step, b_side)
+    ok &= (a != b).any(axis=1)
+    return a, b, ok
+
+
+def _multilinestring(a: np.ndarray, b: np.ndarray) -> shapely.MultiLineString:
+    if not len(a):
+        return _EMPTY_MULTILINESTRING
+    return shapely.multilinestrings(shapely.linestrings(np.stack([a, b], axis=1)))

@@ -1,7 +1,8 @@
 """The ``cdt-plugin`` command line (also ``python -m cdt_plugin``).
 
 ``cdt-plugin mesh INPUT -o OUTPUT`` triangulates a file and writes the mesh;
-``cdt-plugin report INPUT`` prints the quality report. Inputs: Triangle's
+``cdt-plugin report INPUT`` prints the quality report; ``cdt-plugin voronoi POINTS
+-o OUTPUT`` writes the Voronoi cell of every point of a point layer. Inputs: Triangle's
 ``.poly`` / ``.node``, GeoJSON (``.geojson`` / ``.json``: a geometry, a Feature or
 a FeatureCollection, one mesh per feature; a bare JSON array of rings is read as
 one polygon, earcut's fixture format), ``.wkt``, and GIS layers ``.shp`` /
@@ -19,6 +20,17 @@ feature's attributes, its index (``feature``), row number and part, in the sourc
 CRS (:func:`cdt_plugin.adapters.geo.triangulate`, one batch call for all
 features). ``--project utm|aeqd|CRS`` meshes a geographic layer in metres and maps
 the triangles back (input vertices exactly).
+
+Voronoi cells: ``cdt-plugin voronoi POINTS --boundary AREA -o CELLS`` reads a point
+layer (``.shp``, ``.gpkg``, ``.geojson`` / ``.json``) and writes a ``.gpkg`` or
+``.geojson`` / ``.json`` layer with one feature per point, its attributes and the
+point's Voronoi cell as the geometry, clipped to the union of the polygons of the
+``--boundary`` layer (reprojected to the points' CRS) or, without it, to the points'
+bounding box grown by its larger side; ``--weights COLUMN`` makes it a power
+diagram (:func:`cdt_plugin.adapters.geo.voronoi`). Where a non-convex boundary cuts
+a cell in pieces it is a MultiPolygon (and a GeoPackage then stores every cell as
+one); an empty cell (a submerged weighted point, a point whose cell misses the
+boundary) is an empty geometry, null in GeoJSON.
 
 Errors are one line on stderr (``cdt-plugin: error: ...``) and exit status 1;
 command-line usage errors exit with 2.
@@ -74,6 +86,8 @@ examples:
   cdt-plugin mesh countries.geojson -o countries.glb --extrude 0.5
   cdt-plugin mesh shape.wkt -o shape.stl --extrude 2 --plot shape.png
   cdt-plugin mesh A.poly -o A.ele --min-angle 30 --max-area 0.01
+  cdt-plugin voronoi shops.gpkg --boundary city.gpkg -o cells.gpkg
+  cdt-plugin voronoi stations.shp --boundary country.geojson --weights power -o cells.geojson
   cdt-plugin report polygon.json --against earcut
   cdt-plugin report polygon.geojson --against other_mesh.obj --json
 """
@@ -95,7 +109,7 @@ class Feature:
 
 # ------------------------------------------------------------------- parser
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser (subcommands ``mesh`` and ``report``)."""
+    """The argument parser (subcommands ``mesh``, ``report``, ``voronoi`` and ``compile``)."""
     fmt = argparse.RawDescriptionHelpFormatter
     parser = argparse.ArgumentParser(
         prog="cdt-plugin", formatter_class=fmt, epilog=EXAMPLES,
@@ -103,7 +117,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "mesh them, report their quality, compare with other meshes.")
     from . import __version__
     parser.add_argument("--version", action="version", version=f"cdt-plugin {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{mesh,report,compile}", required=True)
+    sub = parser.add_subparsers(dest="command", metavar="{mesh,report,voronoi,compile}", required=True)
 
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("input", metavar="INPUT",
@@ -129,11 +143,7 @@ def build_parser() -> argparse.ArgumentParser:
     common.add_argument("--workers", type=_workers_arg, metavar="N",
                         help="threads to mesh on (default: every core for many features; "
                              "the result is the same for any number)")
-    bar = common.add_mutually_exclusive_group()
-    bar.add_argument("--progress", dest="progress", action="store_true", default=None,
-                     help="always show a progress bar over the features (default: on a terminal)")
-    bar.add_argument("--no-progress", dest="progress", action="store_false",
-                     help="never show a progress bar")
+    _progress_options(common, "always show a progress bar over the features (default: on a terminal)")
 
     mesh = sub.add_parser("mesh", parents=[common], formatter_class=fmt, epilog=EXAMPLES,
                           help="triangulate INPUT and write the mesh",
@@ -166,6 +176,29 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--json", action="store_true", help="print the report as JSON")
     rep.set_defaults(func=_cmd_report)
 
+    vor = sub.add_parser("voronoi", formatter_class=fmt, epilog=EXAMPLES,
+                         help="write the Voronoi cell of every point of a point layer",
+                         description="The Voronoi cell (power cell with --weights) of every point "
+                                     "of POINTS, clipped to --boundary, written as a layer with one "
+                                     "feature per point and its attributes, in the points' CRS.")
+    vor.add_argument("input", metavar="POINTS",
+                     help="point layer: .gpkg, .shp, .geojson/.json (Point geometries)")
+    vor.add_argument("-o", "--output", required=True, type=Path, metavar="OUTPUT",
+                     help="output layer: .gpkg or .geojson/.json, one feature per point")
+    vor.add_argument("--boundary", type=Path, metavar="AREA",
+                     help="polygon layer to clip the cells to (.gpkg, .shp, .geojson/.json: the "
+                          "union of its polygons, reprojected to the points' CRS); default: the "
+                          "points' bounding box grown by its larger side, as GEOS does")
+    vor.add_argument("--layer", metavar="NAME",
+                     help="the layer of a multi-layer POINTS file (GeoPackage): name or number")
+    vor.add_argument("--boundary-layer", metavar="NAME",
+                     help="the layer of a multi-layer --boundary file: name or number")
+    vor.add_argument("--weights", metavar="COLUMN",
+                     help="power diagram: the points' weights are this numeric column (a point "
+                          "that claims no area gets an empty cell)")
+    _progress_options(vor, "always show progress bars (default: on a terminal)")
+    vor.set_defaults(func=_cmd_voronoi)
+
     from .compiling import ROUTES
     comp = sub.add_parser("compile", formatter_class=fmt,
                           help="compile every route ahead of time (Docker images, CI, Dask workers)",
@@ -186,6 +219,14 @@ def _workers_arg(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
     return value
+
+
+def _progress_options(parser: argparse.ArgumentParser, always: str) -> None:
+    """``--progress`` / ``--no-progress`` (default None: a bar on a terminal)."""
+    bar = parser.add_mutually_exclusive_group()
+    bar.add_argument("--progress", dest="progress", action="store_true", default=None, help=always)
+    bar.add_argument("--no-progress", dest="progress", action="store_false",
+                     help="never show a progress bar")
 
 
 # ------------------------------------------------------------------- reading
@@ -365,7 +406,9 @@ def _check_packages(args: argparse.Namespace) -> None:
             needs.append(("shapely", "writing GeoJSON"))
         elif suffix == ".gpkg":
             needs.append(("geopandas", "writing .gpkg"))
-    if args.plot is not None:
+    if args.command == "voronoi":
+        needs.append(("geopandas", "cdt-plugin voronoi"))
+    if getattr(args, "plot", None) is not None:
         needs.append(("matplotlib", "--plot"))
     against = getattr(args, "against", None)
     if against == "earcut":
@@ -533,25 +576,36 @@ def write_output(path: Path, features: Sequence[Feature], tris: Sequence[Triangu
 
 def write_layer(path: Path, triangles: GeoDataFrame, mesh: GeoMesh,
                 progress: Callable[[int], object] | None = None) -> str:
-    """Write a GeoDataFrame of triangles as a GeoPackage (``.gpkg``, with pyogrio) or
-    GeoJSON (:func:`cdt_plugin.adapters.geo.write_geojson`); either way the
-    coordinates read back bit for bit. An existing file is replaced. ``progress``:
-    called with the number of triangles written since the last call. Returns a
-    one-line summary."""
+    """Write a GeoDataFrame of triangles (``_write_frame``). ``progress``: called
+    with the number of triangles written since the last call. Returns a one-line
+    summary."""
+    path = Path(path)
+    _write_frame(path, triangles, progress)
+    meshed = int(np.count_nonzero(np.diff(mesh.offsets)))
+    return f"wrote {path}: {meshed} feature(s), {len(triangles):,} triangles"
+
+
+def _write_frame(path: Path, frame: GeoDataFrame,
+                 progress: Callable[[int], object] | None = None) -> None:
+    """Write a GeoDataFrame as a GeoPackage (``.gpkg``, with pyogrio, appended
+    ``LAYER_ROWS`` rows at a time) or GeoJSON
+    (:func:`cdt_plugin.adapters.geo.write_geojson`); either way the coordinates
+    read back bit for bit. An existing file is replaced. ``progress``: called with
+    the number of rows written since the last call."""
     path = Path(path)
     if path.suffix.lower() == ".gpkg":
         if path.exists():
             path.unlink()
-        for i in range(0, max(len(triangles), 1), LAYER_ROWS):      # appended in pieces
-            part = triangles.iloc[i:i + LAYER_ROWS]
-            part.to_file(path, driver="GPKG", engine="pyogrio", mode="a" if i else "w")
+        for i in range(0, max(len(frame), 1), LAYER_ROWS):      # appended in pieces
+            part = frame.iloc[i:i + LAYER_ROWS]
+            with warnings.catch_warnings():    # a layer without a CRS (.node, .poly in) is fine
+                warnings.filterwarnings("ignore", message="'crs' was not provided")
+                part.to_file(path, driver="GPKG", engine="pyogrio", mode="a" if i else "w")
             if progress is not None:
                 progress(len(part))
     else:
         from .adapters.geo import write_geojson
-        write_geojson(triangles, path, progress=progress)
-    meshed = int(np.count_nonzero(np.diff(mesh.offsets)))
-    return f"wrote {path}: {meshed} feature(s), {len(triangles):,} triangles"
+        write_geojson(frame, path, progress=progress)
 
 
 def _bar(show: bool | None, desc: str, unit: str, total: int) -> Any:
@@ -748,6 +802,89 @@ def _cmd_report(args: argparse.Namespace) -> int:
     if args.plot is not None:
         _save_plot(args.plot, combined, against, name)
     return 0
+
+
+def _cmd_voronoi(args: argparse.Namespace) -> int:
+    output = Path(args.output)
+    suffix = output.suffix.lower()
+    if suffix not in LAYER_OUTPUTS:
+        raise CLIError(f"{output}: voronoi writes a layer: expected one of "
+                       f"{', '.join(LAYER_OUTPUTS)}, got {suffix or '(no extension)'!r}")
+    if not output.parent.exists():
+        raise CLIError(f"{output}: the directory {output.parent} does not exist")
+    _check_packages(args)
+    inputs = [(Path(args.input), args.layer, "POINTS")]
+    if args.boundary is not None:
+        inputs.append((Path(args.boundary), args.boundary_layer, "--boundary"))
+    elif args.boundary_layer is not None:
+        raise CLIError("--boundary-layer needs --boundary")
+    layer_formats = GIS_FORMATS + GEOJSON_FORMATS
+    for k, (path, _, what) in enumerate(inputs):
+        allowed = layer_formats + ((".node",) if k == 0 else ())
+        if path.suffix.lower() not in allowed:
+            got = path.suffix.lower() or "(no extension)"
+            raise CLIError(f"{path}: {what} must be a layer: expected one of "
+                           f"{', '.join(allowed)}, got {got!r}")
+        if path.suffix.lower() == ".node" and args.layer is not None:
+            raise CLIError(f"--layer applies to GIS layers (.gpkg, .shp), not {path.name}")
+    reading = _bar(args.progress, "reading", "file", len(inputs))
+    try:
+        frames = []
+        for path, layer, _ in inputs:
+            frames.append(_node_points(path) if path.suffix.lower() == ".node" else read_layer(path, layer))
+            if reading is not None:
+                reading.update(1)
+    finally:
+        if reading is not None:
+            reading.close()
+    points = frames[0]
+    boundary = frames[1] if len(frames) > 1 else None
+    cells = _voronoi_layer(points, boundary, args)
+    writing = _bar(args.progress, "writing", "cell", len(cells))
+    try:
+        _write_frame(output, cells, None if writing is None else writing.update)
+    finally:
+        if writing is not None:
+            writing.close()
+    geoms = np.asarray(cells.geometry.array, dtype=object)
+    shapely = _import("shapely", "cdt-plugin voronoi")
+    empty = int((shapely.is_missing(geoms) | shapely.is_empty(geoms)).sum())
+    print(f"wrote {output}: {len(cells):,} cell(s)" + (f", {empty:,} empty" if empty else ""))
+    return 0
+
+
+def _node_points(path: Path) -> GeoDataFrame:
+    """A Triangle ``.node`` file as a point layer without a CRS: its node numbers
+    (``node``), attributes (``attribute_1``...) and boundary markers (``marker``)."""
+    geopandas = _import("geopandas", "cdt-plugin voronoi")
+    shapely = _import("shapely", "cdt-plugin voronoi")
+    from . import io
+    if not path.exists():
+        raise CLIError(f"{path}: no such file")
+    nodes = io.read_node(path)
+    columns: dict[str, Any] = {"node": np.arange(len(nodes.vertices)) + nodes.first_index}
+    for j in range(nodes.attributes.shape[1]):
+        columns[f"attribute_{j + 1}"] = nodes.attributes[:, j]
+    if nodes.markers is not None:
+        columns["marker"] = nodes.markers
+    return geopandas.GeoDataFrame(columns, geometry=shapely.points(nodes.vertices))
+
+
+def _voronoi_layer(points: GeoDataFrame, boundary: GeoDataFrame | None,
+                   args: argparse.Namespace) -> GeoDataFrame:
+    """:func:`cdt_plugin.adapters.geo.voronoi` with the command's options; its
+    warnings become ``cdt-plugin: warning:`` lines, its errors name the feature."""
+    from .adapters import geo
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            cells = geo.voronoi(points, boundary, weights=args.weights)
+        except CDTError as exc:
+            raise CLIError(_layer_error(exc, points)) from None
+    for w in caught:           # every warning as one line; the geographic one with a CLI hint
+        _warn(str(w.message).replace("e.g. points.to_crs(points.estimate_utm_crs())",
+                                     "e.g. with ogr2ogr -t_srs"))
+    return cells
 
 
 def _cmd_compile(args: argparse.Namespace) -> int:
