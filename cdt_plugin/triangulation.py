@@ -357,7 +357,7 @@ class Triangulation:
         from .voronoi import delaunay_subdivision
         return delaunay_subdivision(self)
 
-    def voronoi(self, clip: Any = None) -> Voronoi:
+    def voronoi(self, clip: Any = None, *, workers: int | None = None) -> Voronoi:
         """The Voronoi diagram of the vertices, dual to this Delaunay
         triangulation (Sec. 2.2), or their power diagram if it is weighted
         (Sec. 2.8): one Voronoi vertex per face of the Delaunay subdivision,
@@ -370,6 +370,8 @@ class Triangulation:
         constrained or non-Delaunay triangulation, :class:`CollinearPointsError`
         without triangles, :class:`ClipRegionError` for a malformed clip or
         one that contains none of the points (see :class:`cdt_plugin.voronoi.Voronoi`).
+        ``workers``: threads for large triangulations (default: every core from
+        100,000 triangles; the result is the same for any number).
 
         >>> import cdt_plugin
         >>> vor = cdt_plugin.delaunay([[0, 0], [2, 0], [0, 2], [2, 2], [1, 1.5]]).voronoi(clip=(0, 0, 2, 2))
@@ -383,7 +385,7 @@ class Triangulation:
         [[0.125, 1.0], [1.0, 0.4167], [1.875, 1.0], [1.375, 2.0], [0.625, 2.0]]
         """
         from .voronoi import voronoi
-        return voronoi(self, clip)
+        return voronoi(self, clip, workers=workers)
 
     # -------------------------------------------------------- moving vertices
     def move_vertices(self, new_vertices: ArrayLike, *, rebuild: bool = True) -> int:

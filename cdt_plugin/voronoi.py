@@ -23,9 +23,11 @@ from typing import TYPE_CHECKING, Any, Iterator
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._core.dual import cell_rings, clip_cells, face_centres, fuse_ties, subdivision_faces, vertex_rings
+from ._core.dual import (cell_rings, cell_sizes, clip_cells, face_centres, fuse_ties, mark_close,
+                         redo_centres, ring_offsets, subdivision_faces, vertex_rings)
 from .errors import ClipRegionError, CollinearPointsError, NotDelaunayError
 from .optional import require
+from .parallel import check_workers, map_ordered, resolve_workers
 from .validate import exact_range
 
 if TYPE_CHECKING:
@@ -118,7 +120,7 @@ class Voronoi:
     def __init__(self, tri: Triangulation, fused: NDArray[np.bool_], subdivision: Subdivision,
                  vertices: NDArray[np.float64], region_offsets: NDArray[np.int64],
                  region_indices: NDArray[np.int64], unbounded: NDArray[np.bool_],
-                 rings: tuple[NDArray[np.int64], NDArray[np.int64]]) -> None:
+                 rings: tuple[NDArray[np.int64], NDArray[np.int64]], threads: int = 1) -> None:
         self.points = tri.vertices
         self.weights = tri.weights
         self.vertices = vertices
@@ -134,6 +136,7 @@ class Voronoi:
         self._tri = tri
         self._fused = fused
         self._rings = rings
+        self._threads = threads
         self._ridges: tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]] | None = None
 
     def __repr__(self) -> str:
@@ -224,11 +227,18 @@ class Voronoi:
             raise ClipRegionError(f"the clip box {box} contains none of the {len(pts)} points")
         x, y, _, e = _near_unit(pts, None, np.array(box), self.vertices)
         offsets, ring = self._rings
-        centres = np.ldexp(self.vertices, -e)
+        centres = np.ldexp(self.vertices, -e) if e else self.vertices
         b = np.ldexp(np.array(box), -e)
-        off, ox, oy = clip_cells(x, y, self._tri.triangles, offsets, ring, self.unbounded, centres,
-                                 self.region_offsets, self.region_indices, b[0], b[1], b[2], b[3])
-        return off, np.ldexp(np.column_stack([ox, oy]), e)
+        parts = _in_ranges(self._threads, len(pts), lambda lo, hi: clip_cells(
+            x, y, self._tri.triangles, offsets, ring, self.unbounded, centres, self.region_offsets,
+            self.region_indices, b[0], b[1], b[2], b[3], lo, hi))
+        if len(parts) == 1:
+            off, xy = parts[0]
+        else:                            # the ranges' cells one after the other
+            shift = np.cumsum([0] + [len(p[1]) for p in parts[:-1]])
+            off = np.concatenate([[0]] + [p[0][1:] + s for p, s in zip(parts, shift)])
+            xy = np.concatenate([p[1] for p in parts])
+        return off, (np.ldexp(xy, e) if e else xy)
 
     def envelope(self) -> Box:
         """The box shapely / GEOS clip a diagram to by default: the sites'
@@ -251,34 +261,64 @@ class Voronoi:
 
 def delaunay_subdivision(tri: Triangulation) -> Subdivision:
     """The faces of the Delaunay subdivision of ``tri`` (see :class:`Subdivision`)."""
-    return _dual(tri)[1]
+    return _dual(tri, resolve_workers(None, 2))[1]
 
 
-def voronoi(tri: Triangulation, clip: Any = None) -> Voronoi:
+def voronoi(tri: Triangulation, clip: Any = None, *, workers: int | None = None) -> Voronoi:
     """The Voronoi diagram (power diagram) of ``tri``'s vertices, dual to it
     (see :meth:`cdt_plugin.Triangulation.voronoi`)."""
     check_clip(clip)                     # options first, before any work
-    fused, sub, x, y = _dual(tri)
-    pts = tri.vertices
-    offsets, ring, hull, reflex = vertex_rings(x, y, tri.triangles, tri.neighbors)
-    if reflex >= 0:
-        raise NotDelaunayError(f"the triangulation's boundary turns inwards at vertex {reflex} "
-                               f"{pts[reflex].tolist()}: not the Delaunay triangulation of its vertices "
-                               "(its domain is not their convex hull)")
-    lonely = np.flatnonzero(np.diff(offsets) == 0)
+    threads = resolve_workers(check_workers(workers), 2)
+    fused, sub, x, y = _dual(tri, threads)
+    pts, T, nv = tri.vertices, tri.triangles, len(tri.vertices)
+    offsets, first = ring_offsets(T, np.int64(nv))
+    lonely = np.flatnonzero(first < 0)
     if len(lonely):
         raise NotDelaunayError(f"vertex {lonely[0]} {pts[lonely[0]].tolist()} is in no triangle: "
                                "not the Delaunay triangulation of its vertices")
+    ring = np.empty(3 * len(T), np.int64)
+    hull = np.zeros(nv, bool)
+    reflex = min(_in_ranges(threads, len(T), lambda lo, hi: vertex_rings(
+        x, y, T, tri.neighbors, offsets, first, ring, hull, lo, hi)))
+    if reflex < nv:
+        raise NotDelaunayError(f"the triangulation's boundary turns inwards at vertex {reflex} "
+                               f"{pts[reflex].tolist()}: not the Delaunay triangulation of its vertices "
+                               "(its domain is not their convex hull)")
     ux, uy, uw, e = _near_unit(pts, tri.weights)
-    centres = np.ldexp(face_centres(ux, uy, uw, sub.offsets, sub.indices, tri.triangles, tri.neighbors,
-                                       sub.face_of_triangle), e)
-    region_offsets, region_indices = cell_rings(offsets, ring, hull, sub.face_of_triangle)
-    vor = Voronoi(tri, fused, sub, centres, region_offsets, region_indices, hull, (offsets, ring))
+    centres = np.empty((len(sub), 2))
+    err = np.empty(len(sub))
+    redo = np.zeros(len(sub), bool)
+    _in_ranges(threads, len(sub), lambda lo, hi: face_centres(
+        ux, uy, uw, sub.offsets, sub.indices, centres, err, lo, hi))
+    _in_ranges(threads, len(T), lambda lo, hi: mark_close(
+        T, tri.neighbors, sub.face_of_triangle, centres, err, redo, lo, hi))
+    _in_ranges(threads, len(sub), lambda lo, hi: redo_centres(
+        ux, uy, uw, sub.offsets, sub.indices, centres, redo, lo, hi))
+    sizes = np.empty(nv, np.int64)
+    _in_ranges(threads, nv, lambda lo, hi: cell_sizes(offsets, ring, hull, sub.face_of_triangle, sizes, lo, hi))
+    region_offsets = np.concatenate([[0], np.cumsum(sizes)])
+    region_indices = np.empty(region_offsets[-1], np.int64)
+    _in_ranges(threads, nv, lambda lo, hi: cell_rings(
+        offsets, ring, hull, sub.face_of_triangle, region_offsets, region_indices, lo, hi))
+    vor = Voronoi(tri, fused, sub, np.ldexp(centres, e) if e else centres, region_offsets,
+                  region_indices, hull, (offsets, ring), threads)
     return vor if clip is None else vor.clipped(clip)
 
 
-def _dual(tri: Triangulation) -> tuple[NDArray[np.bool_], Subdivision, NDArray[np.float64],
-                                       NDArray[np.float64]]:
+#: From this many triangles the kernels run on two threads (each on half the range)
+PARALLEL_TRIANGLES = 100_000
+
+
+def _in_ranges(threads: int, n: int, fn: Any) -> list[Any]:
+    """``fn(lo, hi)`` over ``threads`` consecutive ranges of ``0:n`` (one
+    range below :data:`PARALLEL_TRIANGLES`), on threads; results in order."""
+    pieces = threads if n >= PARALLEL_TRIANGLES else 1
+    bounds = [n * i // pieces for i in range(pieces + 1)]
+    return map_ordered(lambda i: fn(np.int64(bounds[i]), np.int64(bounds[i + 1])), range(pieces), pieces)
+
+
+def _dual(tri: Triangulation, threads: int = 1) -> tuple[NDArray[np.bool_], Subdivision, NDArray[np.float64],
+                                                         NDArray[np.float64]]:
     """Check that ``tri`` is a (weighted) Delaunay triangulation and fuse its
     cocircular triangles: (both sides' fused edge flags, the subdivision, and
     the coordinates scaled into the exact predicates' range)."""
@@ -293,9 +333,11 @@ def _dual(tri: Triangulation) -> tuple[NDArray[np.bool_], Subdivision, NDArray[n
     pts = tri.vertices
     x, y, w, _ = exact_range(pts[:, 0], pts[:, 1], tri.weights, "vertices")
     weighted = w is not None
-    fused, bad = fuse_ties(x, y, w if weighted else x, weighted, tri.triangles, tri.neighbors)
-    if bad >= 0:
-        t, j = divmod(int(bad), 3)
+    fused = np.zeros(tri.triangles.shape, bool)
+    found = [b for b in _in_ranges(threads, len(tri.triangles), lambda lo, hi: fuse_ties(
+        x, y, w if weighted else x, weighted, tri.triangles, tri.neighbors, fused, lo, hi)) if b >= 0]
+    if found:
+        t, j = divmod(int(found[0]), 3)
         edge = [int(tri.triangles[t, (j + 1) % 3]), int(tri.triangles[t, (j + 2) % 3])]
         raise NotDelaunayError(f"edge {edge} of triangle {t} is not locally "
                                f"{'regular' if weighted else 'Delaunay'}: not a "
@@ -346,8 +388,8 @@ def _near_unit(pts: NDArray[np.float64], weights: NDArray[np.float64] | None,
     top = max([float(np.abs(pts).max())] + [float(np.abs(m).max()) for m in more])
     e = int(np.frexp(top)[1])
     e = 0 if -64 <= e <= 64 else e
-    x = np.ldexp(pts[:, 0], -e)
-    y = np.ldexp(pts[:, 1], -e)
+    x = np.ldexp(pts[:, 0], -e) if e else np.ascontiguousarray(pts[:, 0])
+    y = np.ldexp(pts[:, 1], -e) if e else np.ascontiguousarray(pts[:, 1])
     w = np.zeros(len(pts)) if weights is None else np.ldexp(weights, -2 * e)
     return x, y, w, e
 

@@ -38,15 +38,15 @@ def back_corner(neighbors, u, t):
 
 
 @kernel
-def fuse_ties(vx, vy, vw, weighted, triangles, neighbors):
-    """The exact lifted test across every interior edge (Lemma 2.3; Sec. 2.8
-    with weights): ``fused[t, j]`` on both sides of each cocircular
-    (lifted-coplanar) edge. Returns ``(fused, bad)``: ``bad`` is the first
-    triangle with an edge that is not locally Delaunay, as ``3 t + j``, or -1."""
-    k = triangles.shape[0]
-    fused = np.zeros((k, 3), np.bool_)
+def fuse_ties(vx, vy, vw, weighted, triangles, neighbors, fused, lo, hi):
+    """The exact lifted test across the interior edges of triangles
+    ``lo:hi`` (each edge from its smaller triangle; Lemma 2.3, Sec. 2.8 with
+    weights): sets ``fused[t, j]`` on both sides of each cocircular
+    (lifted-coplanar) edge. Returns the first edge that is not locally
+    Delaunay, as ``3 t + j``, or -1. Ranges may run on threads side by side:
+    each writes only the flags of its own edges."""
     bad = -1
-    for t in range(k):
+    for t in range(lo, hi):
         a = triangles[t, 0]
         b = triangles[t, 1]
         c = triangles[t, 2]
@@ -66,7 +66,7 @@ def fuse_ties(vx, vy, vw, weighted, triangles, neighbors):
                 fused[u, i] = True
             elif r > 0 and bad < 0:
                 bad = 3 * t + j
-    return fused, bad
+    return bad
 
 
 @kernel
@@ -164,34 +164,43 @@ def reverse(a, lo, hi):
 
 
 @kernel
-def vertex_rings(vx, vy, triangles, neighbors):
-    """The triangles around each vertex, counter-clockwise; a hull vertex's
-    from the one after its outgoing hull edge to the one before its incoming
-    one. Returns ``(offsets, ring, hull, reflex)``: ``reflex`` is the first
-    hull vertex where the boundary turns right (exact ``orient2d``: the
-    triangles do not cover a convex domain), -1 if none. Vertices are visited
-    in triangle order, which keeps the walks' memory close together."""
-    k = triangles.shape[0]
-    nv = vx.shape[0]
+def ring_offsets(triangles, nv):
+    """``(offsets, first)``: where each vertex's ring of triangles starts in
+    the flat ring array (its degree in triangles), and the first triangle it
+    is on (the one whose range walks round it)."""
     offsets = np.zeros(nv + 1, np.int64)
-    for t in range(k):
+    first = np.full(nv, -1, np.int64)
+    for t in range(triangles.shape[0]):
         for j in range(3):
-            offsets[triangles[t, j] + 1] += 1
+            v = triangles[t, j]
+            offsets[v + 1] += 1
+            if first[v] < 0:
+                first[v] = t
     for v in range(nv):
         offsets[v + 1] += offsets[v]
-    ring = np.empty(3 * k, np.int64)
-    done = np.zeros(nv, np.bool_)
-    hull = np.zeros(nv, np.bool_)
-    reflex = -1
-    for t0 in range(k):
+    return offsets, first
+
+
+@kernel
+def vertex_rings(vx, vy, triangles, neighbors, offsets, first, ring, hull, lo, hi):
+    """Fill ``ring`` with the triangles around each vertex whose first
+    triangle is in ``lo:hi``, counter-clockwise; a hull vertex's (``hull``)
+    from the one after its outgoing hull edge to the one before its incoming
+    one. Returns the smallest such hull vertex where the boundary turns right
+    (exact ``orient2d``: the triangles do not cover a convex domain), or
+    ``len(vx)``. Vertices are visited in triangle order, which keeps the walks'
+    memory close together."""
+    k = triangles.shape[0]
+    reflex = vx.shape[0]
+    for t0 in range(lo, hi):
         for j0 in range(3):
             v = triangles[t0, j0]
-            if done[v]:
+            if first[v] != t0:
                 continue
-            done[v] = True
             n = offsets[v]
             t = t0
             j = j0
+            u = -1
             for _ in range(k):           # counter-clockwise round v
                 ring[n] = t
                 n += 1
@@ -209,7 +218,6 @@ def vertex_rings(vx, vy, triangles, neighbors):
                     break
                 j = corner_of(triangles, u, v)
                 t = u
-            start = t
             a = triangles[t, (j + 1) % 3]
             n = offsets[v]
             for _ in range(k):
@@ -221,51 +229,62 @@ def vertex_rings(vx, vy, triangles, neighbors):
                 j = corner_of(triangles, u, v)
                 t = u
             b = triangles[t, (j + 2) % 3]
-            if reflex < 0 and orient2d(vx[b], vy[b], vx[v], vy[v], vx[a], vy[a]) < 0:
+            if v < reflex and orient2d(vx[b], vy[b], vx[v], vy[v], vx[a], vy[a]) < 0:
                 reflex = v
-    return offsets, ring, hull, reflex
+    return reflex
 
 
 @kernel
-def cell_rings(offsets, ring, hull, face_of):
-    """Each vertex's Voronoi cell as the faces around it, counter-clockwise,
-    consecutive repeats (triangles of one face) merged; a hull vertex's cell
-    ends with -1, where it is open to infinity (scipy's form)."""
-    nv = offsets.shape[0] - 1
-    out_offsets = np.zeros(nv + 1, np.int64)
-    out = np.empty(ring.shape[0] + nv, np.int64)
-    n = 0
-    for v in range(nv):
-        lo = n
-        for i in range(offsets[v], offsets[v + 1]):
-            f = face_of[ring[i]]
-            if n == lo or out[n - 1] != f:
-                out[n] = f
-                n += 1
-        if hull[v]:
-            out[n] = -1
+def cell_ring(offsets, ring, hull, face_of, v, out, start):
+    """Vertex ``v``'s Voronoi cell written to ``out[start:]``: the faces
+    around it, counter-clockwise, consecutive repeats (triangles of one face)
+    merged; a hull vertex's cell ends with -1, where it is open to infinity
+    (scipy's form). Returns its length."""
+    n = start
+    for i in range(offsets[v], offsets[v + 1]):
+        f = face_of[ring[i]]
+        if n == start or out[n - 1] != f:
+            out[n] = f
             n += 1
-        elif n - lo > 1 and out[n - 1] == out[lo]:
-            n -= 1                       # round the vertex back to the first face
-        out_offsets[v + 1] = n
-    return out_offsets, out[:n]
+    if hull[v]:
+        out[n] = -1
+        n += 1
+    elif n - start > 1 and out[n - 1] == out[start]:
+        n -= 1                           # round the vertex back to the first face
+    return n - start
 
 
 @kernel
-def face_centres(vx, vy, vw, offsets, ring, triangles, neighbors, face_of):
-    """The centre of each face: the circumcentre (power centre with weights,
-    Sec. 2.8) of three of its vertices spread round it (any three give the same
-    point, these the best-conditioned), relative to the first of them.
+def cell_sizes(offsets, ring, hull, face_of, sizes, lo, hi):
+    """The length of the cell of each vertex in ``lo:hi``, into ``sizes``."""
+    deg = 0
+    for v in range(lo, hi):
+        deg = max(deg, offsets[v + 1] - offsets[v])
+    scratch = np.empty(deg + 1, np.int64)
+    for v in range(lo, hi):
+        sizes[v] = cell_ring(offsets, ring, hull, face_of, v, scratch, 0)
+
+
+@kernel
+def cell_rings(offsets, ring, hull, face_of, out_offsets, out, lo, hi):
+    """The cells of the vertices in ``lo:hi`` into ``out`` at ``out_offsets``."""
+    for v in range(lo, hi):
+        cell_ring(offsets, ring, hull, face_of, v, out, out_offsets[v])
+
+
+@kernel
+def face_centres(vx, vy, vw, offsets, ring, out, err, lo, hi):
+    """The centre of each face in ``lo:hi`` into ``out``: the circumcentre
+    (power centre with weights, Sec. 2.8) of three of its vertices spread round
+    it (any three give the same point, these the best-conditioned), relative to
+    the first of them; ``err``: a bound on its rounding error.
 
     Nearly cocircular triangles have centres a rounding error apart in plain
     doubles, which could put a cell's corners in the wrong order (a cell that
-    crosses itself). So every centre closer to a neighbouring face's centre
-    than a few times their error bounds is computed again in double-double
-    arithmetic (:func:`centre_dd`): then they keep their true order."""
-    nf = offsets.shape[0] - 1
-    out = np.empty((nf, 2))
-    err = np.empty(nf)
-    for f in range(nf):
+    crosses itself): :func:`mark_close` finds them and :func:`redo_centres`
+    computes them again in double-double arithmetic, in which they keep their
+    true order."""
+    for f in range(lo, hi):
         a, b, c = face_triple(offsets, ring, f)
         bx = vx[b] - vx[a]
         by = vy[b] - vy[a]
@@ -279,23 +298,32 @@ def face_centres(vx, vy, vw, offsets, ring, triangles, neighbors, face_of):
         size = max(abs(bx), abs(by), abs(cx), abs(cy), np.sqrt(abs(lb)), np.sqrt(abs(lc)))
         near = max(abs(vx[a]), abs(vy[a]), size)
         err[f] = 2.0 ** -46 * (size * size * near / abs(d)) + 2.0 ** -52 * (abs(out[f, 0]) + abs(out[f, 1]))
-    redo = np.zeros(nf, np.bool_)
-    for t in range(triangles.shape[0]):
+
+
+@kernel
+def mark_close(triangles, neighbors, face_of, centres, err, redo, lo, hi):
+    """Flag in ``redo`` both faces of every edge of triangles ``lo:hi`` whose
+    centres are closer than a few times their error bounds (or not finite)."""
+    for t in range(lo, hi):
+        f = face_of[t]
         for j in range(3):
             u = neighbors[t, j]
-            f = face_of[t]
             if u < t or face_of[u] == f:
                 continue
             g = face_of[u]
-            gap = max(abs(out[f, 0] - out[g, 0]), abs(out[f, 1] - out[g, 1]))
+            gap = max(abs(centres[f, 0] - centres[g, 0]), abs(centres[f, 1] - centres[g, 1]))
             if not gap > 8.0 * (err[f] + err[g]):        # (NaN too: a degenerate face)
                 redo[f] = True
                 redo[g] = True
-    for f in range(nf):
+
+
+@kernel
+def redo_centres(vx, vy, vw, offsets, ring, centres, redo, lo, hi):
+    """The flagged centres of faces ``lo:hi`` again, in double-double arithmetic."""
+    for f in range(lo, hi):
         if redo[f]:
             a, b, c = face_triple(offsets, ring, f)
-            out[f, 0], out[f, 1] = centre_dd(vx, vy, vw, a, b, c)
-    return out
+            centres[f, 0], centres[f, 1] = centre_dd(vx, vy, vw, a, b, c)
 
 
 @kernel
@@ -393,7 +421,7 @@ def dd_div(ah, al, bh, bl):
 
 @kernel
 def clip_cells(vx, vy, triangles, offsets, ring, hull, centres, region_offsets, region_indices,
-               xmin, ymin, xmax, ymax):
+               xmin, ymin, xmax, ymax, lo, hi):
     """Each vertex's cell cut to the box ``[xmin, xmax] x [ymin, ymax]``.
 
     A bounded cell is its ring of face centres; an unbounded one its chain of
@@ -404,11 +432,12 @@ def clip_cells(vx, vy, triangles, offsets, ring, hull, centres, region_offsets, 
     corner is made the same way in the two cells that share it (face centres,
     ray ends from the same hull edge, crossings computed from the edge's
     endpoints in a canonical order, the box side's coordinate set exactly),
-    so the cells form an exact coverage of the box. Returns ``(offsets, x,
-    y)``: counter-clockwise rings, not closed, empty where nothing is left."""
-    nv = vx.shape[0]
+    so the cells form an exact coverage of the box. Returns the cells of
+    vertices ``lo:hi`` as ``(offsets, xy)`` (offsets from 0): counter-clockwise
+    rings, not closed, empty where nothing is left."""
+    nv = hi - lo
     deg = 0
-    for v in range(nv):
+    for v in range(lo, hi):
         deg = max(deg, offsets[v + 1] - offsets[v])
     cap = 2 * deg + 32
     ax = np.empty(cap)
@@ -417,11 +446,9 @@ def clip_cells(vx, vy, triangles, offsets, ring, hull, centres, region_offsets, 
     by = np.empty(cap)
     far = far_box(vx, vy, centres, xmin, ymin, xmax, ymax)
     out_offsets = np.zeros(nv + 1, np.int64)
-    size = 8 * nv + 2 * ring.shape[0] + 16
-    ox = np.empty(size)
-    oy = np.empty(size)
+    out = np.empty((8 * nv + 2 * (offsets[hi] - offsets[lo]) + 16, 2))
     n = 0
-    for v in range(nv):
+    for v in range(lo, hi):
         na = 0
         inside = True
         for i in range(region_offsets[v], region_offsets[v + 1]):
@@ -443,11 +470,11 @@ def clip_cells(vx, vy, triangles, offsets, ring, hull, centres, region_offsets, 
         if na < 3:
             na = 0
         for p in range(na):
-            ox[n] = ax[p]
-            oy[n] = ay[p]
+            out[n, 0] = ax[p]
+            out[n, 1] = ay[p]
             n += 1
-        out_offsets[v + 1] = n
-    return out_offsets, ox[:n], oy[:n]
+        out_offsets[v - lo + 1] = n
+    return out_offsets, out[:n]
 
 
 @kernel

@@ -374,3 +374,27 @@ def test_clip_missing_every_point_raises():
         tri.voronoi(clip=(2, 2, 3, 3))
     with pytest.raises(ClipRegionError, match="unbounded"):
         tri.voronoi().cell(int(np.flatnonzero(tri.voronoi().unbounded)[0]))
+
+
+@pytest.mark.parametrize("kind", ["uniform", "grid", "weighted"])
+def test_threads_give_the_arrays_of_one(kind, monkeypatch):
+    """workers=2 splits every kernel's range in two (forced here on small inputs):
+    the same subdivision, vertices, cells, ridges and clipped cells as one thread."""
+    import cdt_plugin.voronoi as voronoi_module
+    rng = np.random.default_rng(31)
+    w = None
+    if kind == "uniform":
+        P = rng.random((3000, 2))
+    elif kind == "grid":
+        P = np.array([(x, y) for y in range(40) for x in range(50)], float)
+    else:
+        P, w = rng.random((3000, 2)), rng.random(3000) * 1e-4
+    tri = _delaunay(P, w)
+    box = (0.1, 0.1, 0.9 * P[:, 0].max(), 0.9 * P[:, 1].max() + 0.5)
+    one = tri.voronoi(clip=box, workers=1)
+    monkeypatch.setattr(voronoi_module, "PARALLEL_TRIANGLES", 10)
+    two = tri.voronoi(clip=box, workers=2)
+    for name in ("vertices", "region_offsets", "region_indices", "unbounded", "cell_offsets", "cell_xy",
+                 "ridge_points", "ridge_vertices", "ridge_directions"):
+        assert np.array_equal(getattr(one, name), getattr(two, name)), name
+    assert np.array_equal(one.subdivision.indices, two.subdivision.indices)
