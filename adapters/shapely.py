@@ -537,14 +537,8 @@ def cells_to_polygons(offsets: NDArray[np.int64], xy: NDArray[np.float64]) -> ND
     sizes = np.diff(offsets)
     full = sizes > 0
     # close each ring: its first corner again after its last
-    closed_sizes = np.where(full, sizes + 1, 0)
-    ring_ends = np.cumsum(closed_sizes)
-    coords = np.empty((int(ring_ends[-1]) if len(ring_ends) else 0, 2))
-    starts = ring_ends - closed_sizes
-    within = np.arange(len(coords)) - np.repeat(starts, closed_sizes)
-    src = np.repeat(offsets[:-1], closed_sizes) + np.where(within == np.repeat(sizes, closed_sizes), 0, within)
-    coords[:] = xy[src]
-    ring_offsets = np.concatenate([[0], ring_ends[full]]).astype(np.int64)
+    coords = np.insert(xy, offsets[1:][full], xy[offsets[:-1][full]], axis=0)
+    ring_offsets = np.concatenate([[0], np.cumsum(sizes[full] + 1)]).astype(np.int64)
     polygon_offsets = np.concatenate([[0], np.cumsum(full)]).astype(np.int64)
     return shapely.from_ragged_array(shapely.GeometryType.POLYGON, coords, (ring_offsets, polygon_offsets))
 
