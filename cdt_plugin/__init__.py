@@ -28,6 +28,7 @@ from .errors import (
     SegmentIndexError,
     SegmentIntersectionError,
     TooFewPointsError,
+    UnresolvedCrossingError,
 )
 from .plc import PLC
 
@@ -58,6 +59,7 @@ __all__ = [
     "Subdivision",
     "Voronoi",
     "TooFewPointsError",
+    "UnresolvedCrossingError",
 ]
 try:
     __version__ = _version("cdt-plugin")

@@ -74,6 +74,16 @@ class OverlappingSegmentsError(SegmentIntersectionError):
     """Two collinear segments share more than a point (``intersections="raise"``)."""
 
 
+class UnresolvedCrossingError(SegmentIntersectionError):
+    """``intersections="split"`` could not place the crossing points of some
+    segments: they cross within rounding of each other (near-concurrent or
+    nearly collinear segments), so that the rounded crossings keep making new
+    crossings, or a segment's pieces would not follow it in order. Raised
+    instead of a mesh whose segments are not what was given; ``segments``
+    names them and ``point`` is about where. Moving or merging those segments
+    (e.g. snapping the input to a coarser grid) resolves it."""
+
+
 class CoordinateRangeError(CDTError):
     """The coordinates (or weights) span more binary orders of magnitude than
     the exact predicates support: from the largest magnitude down to the finest

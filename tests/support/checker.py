@@ -788,7 +788,8 @@ def canonical_triangles(points, triangles) -> Set[Tuple[Tuple[float, float], ...
 
 
 def check_steiner_segments(in_points, in_segments, out_points, vertex_map, pieces, piece_ids,
-                           ulps: int = 4, partial: bool = False) -> CheckReport:
+                           ulps: int = 4, partial: bool = False,
+                           snapped_inputs: bool = False) -> CheckReport:
     """Refined output against its input PLC: every input segment ``s`` is the chain of the
     pieces with ``piece_ids == s``, from its first to its last endpoint, through vertices
     in strictly increasing order along it; each chain vertex that is an input point lies
@@ -798,7 +799,11 @@ def check_steiner_segments(in_points, in_segments, out_points, vertex_map, piece
 
     ``partial``: pieces outside the kept domain are not listed, so a segment's pieces
     may be any part of its chain: none, or paths along it in order that do not overlap
-    (that the listed ones are all that border the domain is the domain check's job)."""
+    (that the listed ones are all that border the domain is the domain check's job).
+
+    ``snapped_inputs``: an input point in a chain may lie within ``ulps`` of the
+    segment, like a Steiner point (a crossing whose nearest double is that input
+    point, met where segments cross within rounding of each other)."""
     rep = CheckReport()
     P = np.asarray(in_points, np.float64)
     V = np.asarray(out_points, np.float64)
@@ -807,7 +812,8 @@ def check_steiner_segments(in_points, in_segments, out_points, vertex_map, piece
     pieces = np.asarray(pieces, np.int64).reshape(-1, 2)
     piece_ids = np.asarray(piece_ids, np.int64)
     is_input = np.zeros(len(V), bool)
-    is_input[vm[vm >= 0]] = True
+    if not snapped_inputs:
+        is_input[vm[vm >= 0]] = True
     first: Dict[Tuple[int, int], int] = {}
     for s, (a, b) in enumerate(S):
         A, B = vm[a], vm[b]

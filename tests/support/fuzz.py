@@ -25,6 +25,11 @@ Families and what is checked for each case:
     valid, every input segment the chain of its pieces (Steiner points on it up
     to rounding), every input vertex on a segment splitting it, the same
     triangles for permuted and reversed segments.
+``near``
+    segments crossing within rounding of each other (fans through nearly one
+    point, nearly parallel, nearly collinear), ``intersections="split"``: a
+    valid mesh with every segment the chain of its pieces, or
+    ``UnresolvedCrossingError``; no order check (a known limit there).
 ``refine``
     polygons with holes, ``min_angle`` up to 30 and area bounds: valid,
     constrained Delaunay, segments chained, every triangle meeting the bounds
@@ -50,7 +55,7 @@ from cdt_plugin.report import triangle_quality  # noqa: E402
 from checker import canonical_triangles, check_steiner_segments, check_triangulation  # noqa: E402
 from helpers import verify  # noqa: E402
 
-FAMILIES = ("delaunay", "cdt", "split", "refine")
+FAMILIES = ("delaunay", "cdt", "split", "refine", "near")
 
 
 class FuzzFailure(AssertionError):
@@ -127,6 +132,33 @@ def segment_soup(rng):
     m = int(rng.integers(1, 3 * n))
     S = rng.integers(0, n, (m, 2))
     return P, S
+
+
+def near_crossings(rng):
+    """Segments that cross within rounding of each other: fans through nearly
+    one point, nearly parallel or nearly collinear segments."""
+    kind = int(rng.integers(0, 3))
+    m = int(rng.integers(3, 31))
+    if kind == 0:                                        # a fan through nearly one point
+        c = rng.random(2) + float(rng.choice([0.0, 1e-17, 1e-15, 1e-10])) * rng.standard_normal((m, 2))
+        angle = rng.random(m) * np.pi
+        d = np.column_stack([np.cos(angle), np.sin(angle)])
+        L = 1 + rng.random(m) * float(rng.choice([1, 100, 1e4]))
+        P = np.empty((2 * m, 2))
+        P[0::2] = c - d * L[:, None]
+        P[1::2] = c + d * (L * rng.random(m))[:, None]
+        return P, np.arange(2 * m).reshape(m, 2)
+    if kind == 1:                                        # nearly parallel
+        angle = rng.random() * np.pi + float(rng.choice([1e-6, 1e-10, 1e-14, 1e-16])) * rng.standard_normal(m)
+        c = rng.random((m, 2))
+        d = np.column_stack([np.cos(angle), np.sin(angle)]) * (rng.random(m) * 2 + 0.1)[:, None]
+        return np.vstack([c - d, c + d])[np.arange(2 * m).reshape(2, m).T.ravel()], np.arange(2 * m).reshape(m, 2)
+    n = int(rng.integers(3, 20))                         # nearly collinear points, segments among them
+    t = rng.random(n) * 10 - 5
+    k = rng.integers(-3, 4, n) * float(rng.choice([0.0, 2.0 ** -52, 1e-15]))
+    P = np.vstack([np.column_stack([t, (rng.random() * 4 - 2) * t + rng.random() + k]),
+                   rng.random((int(rng.integers(0, 6)), 2)) * 10 - 5])
+    return P, rng.integers(0, len(P), (m, 2))
 
 
 # ---------------------------------------------------------------- checks
@@ -206,6 +238,29 @@ def check_split(rng):
     _same(tri, other, "permuted and reversed segments")
 
 
+def check_near(rng):
+    """Near-concurrent and nearly collinear crossings: a valid mesh in which
+    every segment is the chain of its pieces (an input point that a rounded
+    crossing landed on may lie within rounding of the segment, like a Steiner
+    point), or UnresolvedCrossingError (the crossings cannot be placed in double
+    precision). Not checked here: the same
+    mesh for any order of such segments (a known limit: the rounded crossing
+    of one pair can decide where another pair's crossing goes)."""
+    P, S = near_crossings(rng)
+    try:
+        tri = cdt_plugin.triangulate(P, S, intersections="split", keep_hull=True)
+    except cdt_plugin.UnresolvedCrossingError:
+        return
+    if tri.stats.get("collinear"):
+        return
+    _check(check_triangulation(tri.vertices, tri.triangles, segments=tri.segments, domain="hull"),
+           "split CDT")
+    if not (tri.stats["merged_overlaps"] or tri.stats["duplicate_segments"]):
+        _check(check_steiner_segments(P, S, tri.vertices, tri.vertex_map, tri.segments,
+                                      tri.segment_ids, snapped_inputs=True), "segment chains")
+    _require(np.array_equal(tri.vertices[tri.vertex_map], P), "an input vertex moved or was lost")
+
+
 def check_vertices_split_segments(P, S, tri) -> None:
     """Every input vertex exactly on an input segment ends a piece of it (or of
     a segment on the same line, into which a repeated or overlapping one was
@@ -281,7 +336,8 @@ def permuted(rng, V, S):
     return V[perm], S2
 
 
-CHECKS = {"delaunay": check_delaunay, "cdt": check_cdt, "split": check_split, "refine": check_refine}
+CHECKS = {"delaunay": check_delaunay, "cdt": check_cdt, "split": check_split, "refine": check_refine,
+          "near": check_near}
 
 
 def run_case(family: str, case: int, seed: int = 0) -> None:
