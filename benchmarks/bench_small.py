@@ -91,7 +91,8 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from harness import (REPO_ROOT, WORKER_FLAG, Impl, Suite, Workload,  # noqa: E402
-                     command_line, machine_info, measure_times, short_reason, write_results)
+                     command_line, machine_info, measure_times, select_by_name, short_reason,
+                     write_results)
 from harness import main as harness_main  # noqa: E402
 
 FIRST_USE_FLAG = "--_first-use"
@@ -531,16 +532,6 @@ def _parse(argv: list[str]) -> argparse.Namespace:
     return p.parse_args(argv)
 
 
-def _select(spec: str | None, items: list, what: str) -> list:
-    if not spec:
-        return items
-    wanted = [s.strip() for s in spec.split(",") if s.strip()]
-    unknown = set(wanted) - {i.name for i in items}
-    if unknown:
-        raise SystemExit(f"unknown {what} {sorted(unknown)}; known: {[i.name for i in items]}")
-    return [i for i in items if i.name in wanted]
-
-
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if argv[:1] == [WORKER_FLAG]:                 # a timing worker (harness.py)
@@ -551,8 +542,8 @@ def main(argv: list[str] | None = None) -> int:
     args = _parse(argv)
     t_start = time.perf_counter()
     repeat = args.repeat if args.repeat is not None else (QUICK_REPEAT if args.quick else DEFAULT_REPEAT)
-    impls = _select(args.only, IMPLS, "implementation(s)")
-    workloads = _select(args.workloads, WORKLOADS, "polygon(s)")
+    impls = select_by_name(args.only, IMPLS, "implementation(s)")
+    workloads = select_by_name(args.workloads, WORKLOADS, "polygon(s)")
     info = machine_info(SUITE)
     _log(f"{SUITE.title}: {len(workloads)} polygon(s) x {len(impls)} implementation(s), {repeat} round(s); "
          f"{info['cpu_count']} CPUs; python {info['versions']['python']}")

@@ -71,12 +71,13 @@ from harness import (  # noqa: E402
     Impl,
     Suite,
     Workload,
-    _fmt_s,
     command_line,
+    fmt_s,
     machine_info,
     measure_cold,
     measure_memory,
     measure_times,
+    select_by_name,
     short_reason,
     write_results,
 )
@@ -361,7 +362,7 @@ def render(results: dict, info: dict, args_line: str) -> str:
             if c.get("peak_mb") is None and c.get("mem_error") and not c.get("error"):
                 notes.append(f"{wl.label} / {impl.label} memory: {c['mem_error']}")
             label = impl.label
-            med = "n/a" if c.get("error") else _fmt_s(c.get("median"))
+            med = "n/a" if c.get("error") else fmt_s(c.get("median"))
             count = f"{c['count']:,d}" if c.get("count") is not None else "n/a"
             mem = f"{c['peak_mb']:.1f}" if c.get("peak_mb") is not None else "n/a"
             lines.append(f"| {wl.label} | {label} | {med} | {_ratio(c.get('median'), ref)} | {count} | "
@@ -392,11 +393,11 @@ def render(results: dict, info: dict, args_line: str) -> str:
         impl = SUITE.impl(cold["impl"])
         wl = SUITE.workload(cold["workload"])
         warm = results["workloads"].get(wl.name, {}).get(impl.name, {}).get("median")
-        parts = [f"cold {_fmt_s(cold['cold_s'])} s" if "cold_s" in cold
+        parts = [f"cold {fmt_s(cold['cold_s'])} s" if "cold_s" in cold
                  else f"cold n/a ({cold.get('cold_s_error')})"]
         if "cached_s" in cold:
-            parts.append(f"cached start {_fmt_s(cold['cached_s'])} s")
-        parts.append(f"warm {_fmt_s(warm)} s" if warm else "warm n/a")
+            parts.append(f"cached start {fmt_s(cold['cached_s'])} s")
+        parts.append(f"warm {fmt_s(warm)} s" if warm else "warm n/a")
         lines += [f"{impl.label} start-up on {wl.label}: " + "; ".join(parts)
                   + (f" (warning: {cold['warning']})" if cold.get("warning") else "")
                   + ". Cold = new process, empty numba cache (`NUMBA_CACHE_DIR` = fresh temp dir), import + "
@@ -462,16 +463,6 @@ def _parse(argv: list[str]) -> argparse.Namespace:
     return p.parse_args(argv)
 
 
-def _select(spec: str | None, items: list, what: str) -> list:
-    if not spec:
-        return items
-    wanted = [s.strip() for s in spec.split(",") if s.strip()]
-    unknown = set(wanted) - {i.name for i in items}
-    if unknown:
-        raise SystemExit(f"unknown {what} {sorted(unknown)}; known: {[i.name for i in items]}")
-    return [i for i in items if i.name in wanted]
-
-
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if argv[:1] == [WORKER_FLAG]:                 # a timing / memory / cold worker (harness.py)
@@ -480,8 +471,8 @@ def main(argv: list[str] | None = None) -> int:
     t_start = time.perf_counter()
     repeat = args.repeat if args.repeat is not None else (1 if args.quick else 3)
     slow_repeat = min(repeat, max(args.slow_repeat, 1))
-    impls = _select(args.only, IMPLS, "implementation(s)")
-    workloads = _select(args.workloads, WORKLOADS, "workload(s)")
+    impls = select_by_name(args.only, IMPLS, "implementation(s)")
+    workloads = select_by_name(args.workloads, WORKLOADS, "workload(s)")
     if args.quick:
         workloads = [w for w in workloads if not w.large]
     info = machine_info(SUITE)

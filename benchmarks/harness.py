@@ -129,6 +129,19 @@ class Suite:
         return next(i for i in self.impls if i.name == name)
 
 
+def select_by_name(spec: str | None, items: list, what: str) -> list:
+    """The ``items`` named in a comma-separated ``spec`` (all of them for none),
+    in their own order; SystemExit naming any unknown name (``--only``,
+    ``--workloads``)."""
+    if not spec:
+        return items
+    wanted = [s.strip() for s in spec.split(",") if s.strip()]
+    unknown = set(wanted) - {i.name for i in items}
+    if unknown:
+        raise SystemExit(f"unknown {what} {sorted(unknown)}; known: {[i.name for i in items]}")
+    return [i for i in items if i.name in wanted]
+
+
 def short_reason(exc: BaseException) -> str:
     text = f"{type(exc).__name__}: {exc}".strip()
     text = " ".join(text.split())
@@ -526,7 +539,7 @@ def machine_info(suite: Suite) -> dict:
     }
 
 
-def _fmt_s(x: float | None) -> str:
+def fmt_s(x: float | None) -> str:
     if x is None:
         return "n/a"
     if x >= 100:
@@ -565,7 +578,7 @@ def render_markdown(suite: Suite, results: dict, info: dict, args_line: str) -> 
                 med = "n/a"
                 notes.append(f"{wl.label} / {impl.label}: {c['error']}")
             else:
-                med = _fmt_s(c["median"])
+                med = fmt_s(c["median"])
             ratio = (f"{c['median'] / ref_med:.2f}x" if c.get("median") and ref_med else "n/a")
             tris = f"{c['count']:,d}" if c.get("count") is not None else "n/a"
             mem = f"{c['peak_mb']:.1f}" if c.get("peak_mb") is not None else "n/a"
@@ -583,11 +596,11 @@ def render_markdown(suite: Suite, results: dict, info: dict, args_line: str) -> 
         wl = suite.workload(cold["workload"])
         warm = results["workloads"].get(wl.name, {}).get(impl.name, {}).get("median")
         parts = []
-        parts.append(f"cold {_fmt_s(cold['cold_s'])} s" if "cold_s" in cold
+        parts.append(f"cold {fmt_s(cold['cold_s'])} s" if "cold_s" in cold
                      else f"cold n/a ({cold.get('cold_s_error')})")
         if "cached_s" in cold:
-            parts.append(f"cached start {_fmt_s(cold['cached_s'])} s")
-        parts.append(f"warm {_fmt_s(warm)} s" if warm else "warm n/a")
+            parts.append(f"cached start {fmt_s(cold['cached_s'])} s")
+        parts.append(f"warm {fmt_s(warm)} s" if warm else "warm n/a")
         lines.append(
             f"{impl.label} start-up on {wl.label}: " + "; ".join(parts)
             + (f" (warning: {cold['warning']})" if cold.get("warning") else "") + ". Cold = new process, "
