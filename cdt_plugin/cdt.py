@@ -10,6 +10,7 @@ wraps the result, or raises the precise error for the route's stop.
 from __future__ import annotations
 
 import functools
+import numbers
 import time
 from typing import Optional, Tuple, TypedDict
 
@@ -169,11 +170,11 @@ def check_options(*, intersections: str = "raise", algorithm: str = "auto",
     if intersections not in INTERSECTIONS:
         raise CDTError(f"intersections must be one of {INTERSECTIONS}, got {intersections!r}")
     algorithm = resolve_algorithm(algorithm, False)
-    if min_angle is not None and not (np.isfinite(min_angle) and 0 <= min_angle < 60):
+    if min_angle is not None and not (np.isfinite(_real(min_angle, "min_angle")) and 0 <= min_angle < 60):
         raise CDTError(f"min_angle must be in [0, 60) degrees, got {min_angle!r}")
-    if max_area is not None and not (np.isfinite(max_area) and max_area > 0):
+    if max_area is not None and not (np.isfinite(_real(max_area, "max_area")) and max_area > 0):
         raise CDTError(f"max_area must be a positive number, got {max_area!r}")
-    if max_steiner is not None and not (np.isfinite(max_steiner) and max_steiner >= 0
+    if max_steiner is not None and not (np.isfinite(_real(max_steiner, "max_steiner")) and max_steiner >= 0
                                         and max_steiner == int(max_steiner)):
         raise CDTError(f"max_steiner must be a whole number >= 0, got {max_steiner!r}")
     refinement_options = (float(min_angle or 0.0), float(max_area or 0.0), bool(conforming_delaunay),
@@ -183,6 +184,14 @@ def check_options(*, intersections: str = "raise", algorithm: str = "auto",
             "refinement": refinement_options if refine else None,
             "refinement_options": refinement_options,
             "max_steiner": -1 if max_steiner is None else int(max_steiner)}
+
+
+def _real(value: object, name: str) -> float:
+    """``value`` as a float if it is a real number (not a bool, not a string),
+    else a :class:`CDTError` naming the option."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise CDTError(f"{name} must be a number, got {value!r} ({type(value).__name__})")
+    return float(value)
 
 
 def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,

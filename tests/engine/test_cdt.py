@@ -510,3 +510,12 @@ def test_route_arrays_made_on_first_access_are_those_of_the_route():
     assert len(fresh.segments) == 0 and len(fresh.segment_ids) == 8
     with pytest.raises(AttributeError, match="no attribute 'colour'"):
         fresh.colour
+
+
+@pytest.mark.parametrize("option", [{"min_angle": "30"}, {"max_area": "1"}, {"max_steiner": "3"},
+                                    {"max_steiner": True}, {"min_angle": [20]}, {"max_area": 1j}])
+def test_options_that_are_not_numbers_are_named_before_any_work(option):
+    """(#16: a string raised numpy's bare TypeError; True was taken as 1.)"""
+    square = [[0, 0], [1, 0], [1, 1], [0, 1]]
+    with pytest.raises(cdt_plugin.CDTError, match=next(iter(option)) + " must be a number"):
+        cdt_plugin.triangulate(square, [[0, 1], [1, 2], [2, 3], [3, 0]], **option)

@@ -95,3 +95,4 @@ def test_every_result_of_near_crossings_is_right_or_the_named_error():
         assert check_steiner_segments(P, S, tri.vertices, tri.vertex_map, tri.segments, tri.segment_ids,
                                       snapped_inputs=True).ok
     assert meshes and errors
+
