@@ -225,13 +225,13 @@ class Voronoi:
         inside = ((pts[:, 0] >= xmin) & (pts[:, 0] <= xmax) & (pts[:, 1] >= ymin) & (pts[:, 1] <= ymax))
         if not inside.any():
             raise ClipRegionError(f"the clip box {box} contains none of the {len(pts)} points")
-        x, y, _, e = _near_unit(pts, None, np.array(box), self.vertices)
+        x, y, w, e = _near_unit(pts, self.weights, np.array(box), self.vertices)
         offsets, ring = self._rings
         centres = np.ldexp(self.vertices, -e) if e else self.vertices
         b = np.ldexp(np.array(box), -e)
         parts = _in_ranges(self._threads, len(pts), lambda lo, hi: clip_cells(
-            x, y, self._tri.triangles, offsets, ring, self.unbounded, centres, self.region_offsets,
-            self.region_indices, b[0], b[1], b[2], b[3], lo, hi))
+            x, y, w, self._tri.triangles, offsets, ring, self.unbounded,
+            self.subdivision.face_of_triangle, centres, b[0], b[1], b[2], b[3], lo, hi))
         if len(parts) == 1:
             off, xy = parts[0]
         else:                            # the ranges' cells one after the other

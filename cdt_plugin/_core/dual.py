@@ -239,18 +239,25 @@ def cell_ring(offsets, ring, hull, face_of, v, out, start):
     """Vertex ``v``'s Voronoi cell written to ``out[start:]``: the faces
     around it, counter-clockwise, consecutive repeats (triangles of one face)
     merged; a hull vertex's cell ends with -1, where it is open to infinity
-    (scipy's form). Returns its length."""
+    (scipy's form). An interior vertex's cell starts where a face starts, so
+    nothing is written past its end. Returns its length."""
+    lo = offsets[v]
+    d = offsets[v + 1] - lo
+    s0 = 0
+    if not hull[v]:
+        for k in range(d):
+            if face_of[ring[lo + k]] != face_of[ring[lo + (k - 1) % d]]:
+                s0 = k
+                break
     n = start
-    for i in range(offsets[v], offsets[v + 1]):
-        f = face_of[ring[i]]
+    for k in range(d):
+        f = face_of[ring[lo + (s0 + k) % d]]
         if n == start or out[n - 1] != f:
             out[n] = f
             n += 1
     if hull[v]:
         out[n] = -1
         n += 1
-    elif n - start > 1 and out[n - 1] == out[start]:
-        n -= 1                           # round the vertex back to the first face
     return n - start
 
 
@@ -293,6 +300,11 @@ def face_centres(vx, vy, vw, offsets, ring, out, err, lo, hi):
         lb = bx * bx + by * by - (vw[b] - vw[a])
         lc = cx * cx + cy * cy - (vw[c] - vw[a])
         d = 2.0 * (bx * cy - by * cx)
+        if d == 0.0:                     # so flat that it rounds to a line: redone exactly below
+            out[f, 0] = np.nan
+            out[f, 1] = np.nan
+            err[f] = np.inf
+            continue
         out[f, 0] = vx[a] + (cy * lb - by * lc) / d
         out[f, 1] = vy[a] + (bx * lc - cx * lb) / d
         size = max(abs(bx), abs(by), abs(cx), abs(cy), np.sqrt(abs(lb)), np.sqrt(abs(lc)))
@@ -319,9 +331,10 @@ def mark_close(triangles, neighbors, face_of, centres, err, redo, lo, hi):
 
 @kernel
 def redo_centres(vx, vy, vw, offsets, ring, centres, redo, lo, hi):
-    """The flagged centres of faces ``lo:hi`` again, in double-double arithmetic."""
+    """The flagged centres of faces ``lo:hi`` (and any that rounding left
+    undefined) again, in double-double arithmetic."""
     for f in range(lo, hi):
-        if redo[f]:
+        if redo[f] or not (np.isfinite(centres[f, 0]) and np.isfinite(centres[f, 1])):
             a, b, c = face_triple(offsets, ring, f)
             centres[f, 0], centres[f, 1] = centre_dd(vx, vy, vw, a, b, c)
 
@@ -419,8 +432,12 @@ def dd_div(ah, al, bh, bl):
     return dd_add(hi, lo, q3, 0.0)
 
 
+FAR = -1          # label of a side of the far box
+SIDE = -2         # label of a side of the clip box
+
+
 @kernel
-def clip_cells(vx, vy, triangles, offsets, ring, hull, centres, region_offsets, region_indices,
+def clip_cells(vx, vy, vw, triangles, offsets, ring, hull, face_of, centres,
                xmin, ymin, xmax, ymax, lo, hi):
     """Each vertex's cell cut to the box ``[xmin, xmax] x [ymin, ymax]``.
 
@@ -428,13 +445,16 @@ def clip_cells(vx, vy, triangles, offsets, ring, hull, centres, region_offsets, 
     face centres, the two rays' ends on the boundary of a far box (the one
     that holds the clip box, the centres and the vertices with a margin) and
     the far box's corners between them, counter-clockwise: the cell cut to the
-    far box, exactly. Then Sutherland-Hodgman cuts it to the clip box. Every
-    corner is made the same way in the two cells that share it (face centres,
-    ray ends from the same hull edge, crossings computed from the edge's
-    endpoints in a canonical order, the box side's coordinate set exactly),
-    so the cells form an exact coverage of the box. Returns the cells of
-    vertices ``lo:hi`` as ``(offsets, xy)`` (offsets from 0): counter-clockwise
-    rings, not closed, empty where nothing is left."""
+    far box. Each side is labelled with the vertex across it (the ridge it
+    lies on). Then Sutherland-Hodgman cuts the polygon to the clip box; where a
+    ridge crosses a side of the box, the point is computed from the ridge's
+    two vertices (their bisector, the power bisector with weights), which is
+    accurate even where the face centres at its ends are far away (nearly
+    collinear vertices), and the same in both cells. Face centres, ray ends
+    and box sides are shared exactly too, so the cells form an exact coverage
+    of the box. Returns the cells of vertices ``lo:hi`` as ``(offsets, xy)``
+    (offsets from 0): counter-clockwise rings, not closed, empty where
+    nothing is left."""
     nv = hi - lo
     deg = 0
     for v in range(lo, hi):
@@ -442,8 +462,10 @@ def clip_cells(vx, vy, triangles, offsets, ring, hull, centres, region_offsets, 
     cap = 2 * deg + 32
     ax = np.empty(cap)
     ay = np.empty(cap)
+    al = np.empty(cap, np.int64)
     bx = np.empty(cap)
     by = np.empty(cap)
+    bl = np.empty(cap, np.int64)
     far = far_box(vx, vy, centres, xmin, ymin, xmax, ymax)
     out_offsets = np.zeros(nv + 1, np.int64)
     out = np.empty((8 * nv + 2 * (offsets[hi] - offsets[lo]) + 16, 2))
@@ -451,22 +473,28 @@ def clip_cells(vx, vy, triangles, offsets, ring, hull, centres, region_offsets, 
     for v in range(lo, hi):
         na = 0
         inside = True
-        for i in range(region_offsets[v], region_offsets[v + 1]):
-            f = region_indices[i]
-            if f < 0:
-                break
+        for i in range(offsets[v], offsets[v + 1]):      # the faces round v, and who is across
+            t = ring[i]
+            f = face_of[t]
+            across = triangles[t, (corner_of(triangles, t, v) + 2) % 3]
+            if na > 0 and face_of[ring[i - 1]] == f:
+                al[na - 1] = across                      # the same face: its side ends further on
+                continue
             ax[na] = centres[f, 0]
             ay[na] = centres[f, 1]
+            al[na] = across
             inside = inside and xmin <= ax[na] <= xmax and ymin <= ay[na] <= ymax
             na += 1
+        if na > 1 and not hull[v] and face_of[ring[offsets[v + 1] - 1]] == face_of[ring[offsets[v]]]:
+            na -= 1                                      # round v back to the first face
         if hull[v] and na > 0:
-            na = close_far(vx, vy, triangles, offsets, ring, v, ax, ay, na, far)
+            na = close_far(vx, vy, triangles, offsets, ring, v, ax, ay, al, na, far)
             inside = False
         if not inside:
-            na = cut_side(ax, ay, bx, by, na, False, xmin, False)
-            na = cut_side(ax, ay, bx, by, na, False, xmax, True)
-            na = cut_side(ax, ay, bx, by, na, True, ymin, False)
-            na = cut_side(ax, ay, bx, by, na, True, ymax, True)
+            na = cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, False, xmin, False)
+            na = cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, False, xmax, True)
+            na = cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, True, ymin, False)
+            na = cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, True, ymax, True)
         if na < 3:
             na = 0
         for p in range(na):
@@ -491,7 +519,7 @@ def far_box(vx, vy, centres, xmin, ymin, xmax, ymax):
 
 
 @kernel
-def close_far(vx, vy, triangles, offsets, ring, v, ax, ay, na, far):
+def close_far(vx, vy, triangles, offsets, ring, v, ax, ay, al, na, far):
     """Close the chain of face centres of hull vertex ``v``'s unbounded cell:
     the end of its outgoing ray on the far box, the far box's corners
     counter-clockwise, the end of its incoming ray. Each ray leaves its face
@@ -503,12 +531,16 @@ def close_far(vx, vy, triangles, offsets, ring, v, ax, ay, na, far):
     a = triangles[t, (corner_of(triangles, t, v) + 1) % 3]
     ex, ey, out = ray_end(ax[na - 1], ay[na - 1], vy[v] - vy[b], vx[b] - vx[v], far)
     sx, sy, back = ray_end(ax[0], ay[0], vy[a] - vy[v], vx[v] - vx[a], far)
+    al[na - 1] = b                               # the last centre's side: the ray out
     ax[na] = ex
     ay[na] = ey
+    al[na] = FAR
     na += 1
     span = back - out
     if span < 0.0:
         span += 4.0
+    if span > 3.5:       # a cell opens less than half a turn: the two ends, a rounding error
+        span = 0.0       # apart on a far box, came out the wrong way round (a straight hull)
     for k in range(1, 5):                        # corners passed going counter-clockwise
         corner = np.floor(out) + k
         if corner - out >= span:
@@ -516,9 +548,11 @@ def close_far(vx, vy, triangles, offsets, ring, v, ax, ay, na, far):
         c = int(corner) % 4
         ax[na] = far[2] if c == 1 or c == 2 else far[0]
         ay[na] = far[3] if c == 2 or c == 3 else far[1]
+        al[na] = FAR
         na += 1
     ax[na] = sx
     ay[na] = sy
+    al[na] = a                                   # the ray in, to the first centre
     return na + 1
 
 
@@ -552,13 +586,14 @@ def ray_end(cx, cy, nx, ny, far):
 
 
 @kernel
-def cut_side(ax, ay, bx, by, na, vertical, bound, upper):
-    """Cut the convex polygon ``(ax, ay)[:na]`` to ``x <= bound`` (``upper``)
-    or ``x >= bound`` (``y`` when ``vertical``), in place (one
+def cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, vertical, bound, upper):
+    """Cut vertex ``v``'s convex cell polygon ``(ax, ay)[:na]`` (side ``p``
+    from corner ``p`` to ``p + 1`` labelled ``al[p]``) to ``x <= bound``
+    (``upper``) or ``x >= bound`` (``y`` when ``vertical``), in place (one
     Sutherland-Hodgman step); returns its new size. Corners are compared
-    exactly; a crossing is interpolated from the edge's lexicographically
-    smaller end, so the two cells sharing the edge get the same point, with
-    the side's coordinate set to ``bound``."""
+    exactly. A crossing gets the side's coordinate ``bound`` exactly and the
+    other from :func:`crossing`; the new side along the box is labelled
+    ``SIDE``."""
     outside = False
     for p in range(na):
         c = ay[p] if vertical else ax[p]
@@ -577,21 +612,51 @@ def cut_side(ax, ay, bx, by, na, vertical, bound, upper):
         if in_p:
             bx[nb] = ax[p]
             by[nb] = ay[p]
+            bl[nb] = al[p]
             nb += 1
         if in_p != in_q and cp != bound and cq != bound:
-            i, j = p, q
-            if ax[q] < ax[p] or (ax[q] == ax[p] and ay[q] < ay[p]):
-                i, j = q, p
-            if vertical:
-                s = (bound - ay[i]) / (ay[j] - ay[i])
-                bx[nb] = min(max(ax[i] + s * (ax[j] - ax[i]), min(ax[i], ax[j])), max(ax[i], ax[j]))
-                by[nb] = bound
-            else:
-                s = (bound - ax[i]) / (ax[j] - ax[i])
-                bx[nb] = bound
-                by[nb] = min(max(ay[i] + s * (ay[j] - ay[i]), min(ay[i], ay[j])), max(ay[i], ay[j]))
+            other = crossing(vx, vy, vw, v, al[p], ax[p], ay[p], ax[q], ay[q], vertical, bound)
+            bx[nb] = other if vertical else bound
+            by[nb] = bound if vertical else other
+            bl[nb] = SIDE if in_p else al[p]             # leaving: along the box; entering: on
             nb += 1
     for p in range(nb):
         ax[p] = bx[p]
         ay[p] = by[p]
+        al[p] = bl[p]
     return nb
+
+
+@kernel
+def crossing(vx, vy, vw, v, u, px, py, qx, qy, vertical, bound):
+    """The other coordinate where the side ``p -> q`` of ``v``'s cell meets
+    the line ``x = bound`` (``y`` when ``vertical``), kept between ``p`` and
+    ``q``. On a ridge (``u >= 0``, the vertex across): from the bisector of
+    ``v`` and ``u`` (power bisector with weights) through their midpoint,
+    with the pair in increasing order, so both cells get the same point;
+    else (far box and clip box sides) interpolated from the end that comes
+    first lexicographically."""
+    if u >= 0:
+        i, j = min(u, v), max(u, v)
+        nx = vx[j] - vx[i]
+        ny = vy[j] - vy[i]
+        mx = 0.5 * (vx[i] + vx[j])
+        my = 0.5 * (vy[i] + vy[j])
+        rhs = 0.5 * (vw[i] - vw[j])          # n . (x - m) = (w_i - w_j) / 2
+        if vertical and nx != 0.0:
+            value = mx + (rhs - ny * (bound - my)) / nx
+        elif not vertical and ny != 0.0:
+            value = my + (rhs - nx * (bound - mx)) / ny
+        else:
+            value = np.nan
+    else:
+        value = np.nan
+    if not np.isfinite(value):
+        if qx < px or (qx == px and qy < py):
+            px, py, qx, qy = qx, qy, px, py
+        if vertical:
+            value = px + (bound - py) / (qy - py) * (qx - px)
+        else:
+            value = py + (bound - px) / (qx - px) * (qy - py)
+    lo_, hi_ = (min(px, qx), max(px, qx)) if vertical else (min(py, qy), max(py, qy))
+    return min(max(value, lo_), hi_)

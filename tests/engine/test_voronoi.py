@@ -255,6 +255,27 @@ def test_clipped_cells_share_their_corners_exactly(kind):
     _check_clipped(vor, box, rng, samples=50)
 
 
+def test_nearly_collinear_points_give_strips_that_tile_the_box():
+    """Points within 2**-50 of a line: the triangles are slivers whose centres lie
+    1e13 away. The cells near the box are cut along the sites' bisectors (not
+    between those far centres), and a straight hull vertex's two rays, a rounding
+    error apart out there, do not wrap its cell round the far box (it did)."""
+    P = np.array([[0.38567592, 0.19283796], [0.91194573, 0.45597287], [0.11364483, 0.05682241],
+                  [0.55442807, 0.27721403], [0.96852372, 0.48426186], [0.22510724, 0.11255362],
+                  [0.59370661, 0.29685331], [0.27738827, 0.13869413], [0.60230064, 0.30115032],
+                  [0.1462093, 0.07310465]])
+    P[:, 1] = P[:, 0] / 2 + np.array([0, 1, -1, 0, 2, 0, -2, 1, 0, 0]) * 2.0 ** -50
+    tri = _delaunay(P)
+    assert np.abs(tri.voronoi().vertices).max() > 1e10
+    box = (0.19, -0.03, 0.89, 0.57)
+    vor = tri.voronoi(clip=box)
+    _check_clipped(vor, box, np.random.default_rng(5), samples=400)
+    order = np.argsort(P[:, 0])
+    inside = [i for i in order if box[0] <= P[i, 0] <= box[2]]
+    for i in inside:
+        assert _in_ring(vor.cell(i), P[i], 1e-12)
+
+
 def test_clip_smaller_than_the_points_leaves_empty_cells():
     g = np.array([(x, y) for y in range(5) for x in range(5)], float)
     box = (1.2, 1.2, 2.6, 2.4)

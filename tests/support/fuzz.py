@@ -30,6 +30,13 @@ Families and what is checked for each case:
     point, nearly parallel, nearly collinear), ``intersections="split"``: a
     valid mesh with every segment the chain of its pieces, or
     ``UnresolvedCrossingError``; no order check (a known limit there).
+``voronoi``
+    the ``delaunay`` family's points and points on one circle, sometimes
+    weighted, at a random power-of-two scale: every face of the Delaunay
+    subdivision strictly convex and cocircular (lifted-coplanar), exactly; the
+    cells cut to a box an exact coverage of it (every side inside the box shared,
+    reversed, bit for bit), their areas summing to the box's, and sample points
+    in the cell of their nearest (least power) site.
 ``refine``
     polygons with holes, ``min_angle`` up to 30 and area bounds: valid,
     constrained Delaunay, segments chained, every triangle meeting the bounds
@@ -52,10 +59,11 @@ sys.path.insert(0, str(Path(__file__).parent))
 import cdt_plugin  # noqa: E402
 from cdt_plugin import RefinementLimitError  # noqa: E402
 from cdt_plugin.report import triangle_quality  # noqa: E402
-from checker import canonical_triangles, check_steiner_segments, check_triangulation  # noqa: E402
+from checker import (canonical_triangles, check_steiner_segments, check_triangulation,  # noqa: E402
+                     incircle_exact, orient2d_exact)
 from helpers import verify  # noqa: E402
 
-FAMILIES = ("delaunay", "cdt", "split", "refine", "near")
+FAMILIES = ("delaunay", "cdt", "split", "refine", "near", "voronoi")
 
 
 class FuzzFailure(AssertionError):
@@ -261,6 +269,98 @@ def check_near(rng):
     _require(np.array_equal(tri.vertices[tri.vertex_map], P), "an input vertex moved or was lost")
 
 
+CIRCLE = np.array([[5, 0], [4, 3], [3, 4], [0, 5], [-3, 4], [-4, 3], [-5, 0], [-4, -3], [-3, -4],
+                   [0, -5], [3, -4], [4, -3]], float)      # exactly on the circle of radius 5
+
+
+def check_voronoi(rng):
+    P = random_points(rng) if rng.random() < 0.8 else \
+        CIRCLE[rng.permutation(12)[:int(rng.integers(3, 13))]] + rng.integers(-3, 4, 2)
+    weights = rng.random(len(P)) * 1e-3 if rng.random() < 0.2 else None
+    e = int(rng.integers(-300, 300))
+    P = np.ldexp(P, e)
+    W = None if weights is None else np.ldexp(weights, 2 * e)
+    tri = cdt_plugin.delaunay(P, W)
+    if not len(tri.triangles):
+        try:
+            tri.voronoi()
+        except cdt_plugin.CollinearPointsError:
+            return
+        raise FuzzFailure("no triangles, but no CollinearPointsError")
+    V, w = tri.vertices, tri.weights
+    for face in tri.delaunay_subdivision():
+        for i in range(len(face)):
+            _require(orient2d_exact(V[face[i - 2]], V[face[i - 1]], V[face[i]]) > 0,
+                     f"face {face.tolist()} is not strictly convex")
+        for d in face[3:]:
+            _require(_lifted_test(V, w, *face[:3], d) == 0, f"face {face.tolist()} is not cocircular")
+    lo, hi = V.min(axis=0), V.max(axis=0)
+    grow = (hi - lo) * (rng.random(2) - 0.3)            # sometimes inside the points' box
+    box = (float(lo[0] - grow[0]), float(lo[1] - grow[1]), float(hi[0] + grow[0]), float(hi[1] + grow[1]))
+    if not (box[0] < box[2] and box[1] < box[3]):
+        return
+    try:
+        vor = tri.voronoi(clip=box)
+    except cdt_plugin.ClipRegionError:
+        inside = (V[:, 0] >= box[0]) & (V[:, 0] <= box[2]) & (V[:, 1] >= box[1]) & (V[:, 1] <= box[3])
+        _require(not inside.any(), "ClipRegionError for a box holding points")
+        return
+    _check_coverage(vor, box)
+    # (at unit scale, where squares neither overflow nor underflow: the scale is a power of two)
+    U, cells = np.ldexp(V, -e), [np.ldexp(vor.cell(i), -e) for i in range(len(V))]
+    wu = None if w is None else np.ldexp(w, -2 * e)
+    q = np.column_stack([rng.uniform(box[0], box[2], 20), rng.uniform(box[1], box[3], 20)])
+    for x in np.ldexp(q, -e):
+        power = ((U - x) ** 2).sum(axis=1) - (0 if wu is None else wu)
+        near = np.flatnonzero(power <= power.min() + 1e-9 * max(1.0, abs(power.min())))
+        _require(any(_holds(cells[i], x) for i in near), f"sample {x.tolist()} in no nearest cell")
+
+
+def _lifted_test(V, w, a, b, c, d) -> int:
+    """Exact incircle (weighted: the lifted orientation) of d against a, b, c."""
+    if w is None:
+        return incircle_exact(V[a], V[b], V[c], V[d])
+    from fractions import Fraction
+    rows = []
+    for v in (a, b, c):
+        dx, dy = Fraction(float(V[v, 0])) - Fraction(float(V[d, 0])), Fraction(float(V[v, 1])) - Fraction(float(V[d, 1]))
+        lift = (Fraction(float(V[v, 0])) ** 2 + Fraction(float(V[v, 1])) ** 2 - Fraction(float(w[v]))
+                - Fraction(float(V[d, 0])) ** 2 - Fraction(float(V[d, 1])) ** 2 + Fraction(float(w[d])))
+        rows.append((dx, dy, lift))
+    (a1, a2, a3), (b1, b2, b3), (c1, c2, c3) = rows
+    det = a1 * (b2 * c3 - b3 * c2) - a2 * (b1 * c3 - b3 * c1) + a3 * (b1 * c2 - b2 * c1)
+    return (det > 0) - (det < 0)
+
+
+def _check_coverage(vor, box) -> None:
+    """The clipped cells tile the box exactly: sides inside it shared, reversed."""
+    xmin, ymin, xmax, ymax = box
+    edges = set()
+    area = 0.0
+    for i in range(len(vor.points)):
+        ring = [tuple(p) for p in vor.cell(i).tolist()]
+        if ring:
+            r = np.array(ring) - ring[0]
+            area += 0.5 * float(np.dot(r[:, 0], np.roll(r[:, 1], -1)) - np.dot(np.roll(r[:, 0], -1), r[:, 1]))
+        for p, q in zip(ring, ring[1:] + ring[:1]):
+            _require(xmin <= p[0] <= xmax and ymin <= p[1] <= ymax, f"corner {p} outside the box")
+            if not ((p[0] == q[0] and p[0] in (xmin, xmax)) or (p[1] == q[1] and p[1] in (ymin, ymax))):
+                _require((p, q) not in edges, f"side {p}-{q} in two cells the same way")
+                edges.add((p, q))
+    _require(all((q, p) in edges for p, q in edges), "a side inside the box is not shared")
+    full = (xmax - xmin) * (ymax - ymin)
+    _require(abs(area - full) <= 1e-9 * full, f"cells cover {area} of the box's {full}")
+
+
+def _holds(ring, x) -> bool:
+    if not len(ring):
+        return False
+    b = np.roll(ring, -1, axis=0)
+    cross = (b[:, 0] - ring[:, 0]) * (x[1] - ring[:, 1]) - (b[:, 1] - ring[:, 1]) * (x[0] - ring[:, 0])
+    return bool((cross >= -1e-9 * np.hypot(b[:, 0] - ring[:, 0], b[:, 1] - ring[:, 1])
+                 * max(1.0, np.abs(ring).max())).all())
+
+
 def check_vertices_split_segments(P, S, tri) -> None:
     """Every input vertex exactly on an input segment ends a piece of it (or of
     a segment on the same line, into which a repeated or overlapping one was
@@ -337,7 +437,7 @@ def permuted(rng, V, S):
 
 
 CHECKS = {"delaunay": check_delaunay, "cdt": check_cdt, "split": check_split, "refine": check_refine,
-          "near": check_near}
+          "near": check_near, "voronoi": check_voronoi}
 
 
 def run_case(family: str, case: int, seed: int = 0) -> None:
