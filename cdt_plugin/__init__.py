@@ -6,6 +6,7 @@
 ((2, 3), True)
 """
 from importlib.metadata import PackageNotFoundError, version as _version
+from typing import TYPE_CHECKING, Any
 
 from . import compiling  # noqa: F401  (first: it says when numba compiles a route)
 from .cdt import triangulate
@@ -33,7 +34,9 @@ from .errors import (
 from .plc import PLC
 
 from .triangulation import Triangulation
-from .voronoi import Subdivision, Voronoi
+
+if TYPE_CHECKING:
+    from .voronoi import Subdivision, Voronoi
 
 __all__ = [
     "CDTError",
@@ -65,3 +68,12 @@ try:
     __version__ = _version("cdt-plugin")
 except PackageNotFoundError:  # pragma: no cover - run from a source tree that is not installed
     __version__ = "0+unknown"
+
+
+def __getattr__(name: str) -> Any:
+    # the Voronoi result classes load with their kernels on first use: every
+    # process pays for importing them only if it draws a Voronoi diagram
+    if name in ("Subdivision", "Voronoi"):
+        from . import voronoi
+        return getattr(voronoi, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
