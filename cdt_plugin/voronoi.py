@@ -295,11 +295,11 @@ def voronoi(tri: Triangulation, clip: Any = None, *, workers: int | None = None)
     _in_ranges(threads, len(sub), lambda lo, hi: redo_centres(
         ux, uy, uw, sub.offsets, sub.indices, centres, redo, lo, hi))
     sizes = np.empty(nv, np.int64)
-    _in_ranges(threads, nv, lambda lo, hi: cell_sizes(offsets, ring, hull, sub.face_of_triangle, sizes, lo, hi))
+    _in_ranges(threads, nv, lambda lo, hi: cell_sizes(T, offsets, ring, hull, sub.face_of_triangle, sizes, lo, hi))
     region_offsets = np.concatenate([[0], np.cumsum(sizes)])
     region_indices = np.empty(region_offsets[-1], np.int64)
     _in_ranges(threads, nv, lambda lo, hi: cell_rings(
-        offsets, ring, hull, sub.face_of_triangle, region_offsets, region_indices, lo, hi))
+        T, offsets, ring, hull, sub.face_of_triangle, region_offsets, region_indices, lo, hi))
     vor = Voronoi(tri, fused, sub, np.ldexp(centres, e) if e else centres, region_offsets,
                   region_indices, hull, (offsets, ring), threads)
     return vor if clip is None else vor.clipped(clip)

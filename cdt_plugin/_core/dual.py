@@ -235,12 +235,13 @@ def vertex_rings(vx, vy, triangles, neighbors, offsets, first, ring, hull, lo, h
 
 
 @kernel
-def cell_ring(offsets, ring, hull, face_of, v, out, start):
-    """Vertex ``v``'s Voronoi cell written to ``out[start:]``: the faces
-    around it, counter-clockwise, consecutive repeats (triangles of one face)
-    merged; a hull vertex's cell ends with -1, where it is open to infinity
-    (scipy's form). An interior vertex's cell starts where a face starts, so
-    nothing is written past its end. Returns its length."""
+def cell_ring(triangles, offsets, ring, hull, face_of, v, faces, across):
+    """Vertex ``v``'s Voronoi cell into ``faces[:m]``: the faces around it,
+    counter-clockwise, consecutive repeats (triangles of one face) merged; a
+    hull vertex's cell ends with -1, where it is open to infinity (scipy's
+    form). ``across[i]``: the vertex across the side from face ``i`` to the
+    next (the ridge it lies on). An interior vertex's cell starts where a face
+    starts, so its last face is not the first again. Returns ``m``."""
     lo = offsets[v]
     d = offsets[v + 1] - lo
     s0 = 0
@@ -249,34 +250,46 @@ def cell_ring(offsets, ring, hull, face_of, v, out, start):
             if face_of[ring[lo + k]] != face_of[ring[lo + (k - 1) % d]]:
                 s0 = k
                 break
-    n = start
+    n = 0
     for k in range(d):
-        f = face_of[ring[lo + (s0 + k) % d]]
-        if n == start or out[n - 1] != f:
-            out[n] = f
+        t = ring[lo + (s0 + k) % d]
+        f = face_of[t]
+        if n == 0 or faces[n - 1] != f:
+            faces[n] = f
             n += 1
+        across[n - 1] = triangles[t, (corner_of(triangles, t, v) + 2) % 3]
     if hull[v]:
-        out[n] = -1
+        faces[n] = -1
+        across[n] = -1
         n += 1
-    return n - start
+    return n
 
 
 @kernel
-def cell_sizes(offsets, ring, hull, face_of, sizes, lo, hi):
+def cell_sizes(triangles, offsets, ring, hull, face_of, sizes, lo, hi):
     """The length of the cell of each vertex in ``lo:hi``, into ``sizes``."""
+    faces, across = cell_scratch(offsets, lo, hi)
+    for v in range(lo, hi):
+        sizes[v] = cell_ring(triangles, offsets, ring, hull, face_of, v, faces, across)
+
+
+@kernel
+def cell_rings(triangles, offsets, ring, hull, face_of, out_offsets, out, lo, hi):
+    """The cells of the vertices in ``lo:hi`` into ``out`` at ``out_offsets``."""
+    faces, across = cell_scratch(offsets, lo, hi)
+    for v in range(lo, hi):
+        m = cell_ring(triangles, offsets, ring, hull, face_of, v, faces, across)
+        for i in range(m):
+            out[out_offsets[v] + i] = faces[i]
+
+
+@kernel
+def cell_scratch(offsets, lo, hi):
+    """Room for the cell of any vertex in ``lo:hi``: (faces, across)."""
     deg = 0
     for v in range(lo, hi):
         deg = max(deg, offsets[v + 1] - offsets[v])
-    scratch = np.empty(deg + 1, np.int64)
-    for v in range(lo, hi):
-        sizes[v] = cell_ring(offsets, ring, hull, face_of, v, scratch, 0)
-
-
-@kernel
-def cell_rings(offsets, ring, hull, face_of, out_offsets, out, lo, hi):
-    """The cells of the vertices in ``lo:hi`` into ``out`` at ``out_offsets``."""
-    for v in range(lo, hi):
-        cell_ring(offsets, ring, hull, face_of, v, out, out_offsets[v])
+    return np.empty(deg + 1, np.int64), np.empty(deg + 1, np.int64)
 
 
 @kernel
@@ -456,10 +469,8 @@ def clip_cells(vx, vy, vw, triangles, offsets, ring, hull, face_of, centres,
     (offsets from 0): counter-clockwise rings, not closed, empty where
     nothing is left."""
     nv = hi - lo
-    deg = 0
-    for v in range(lo, hi):
-        deg = max(deg, offsets[v + 1] - offsets[v])
-    cap = 2 * deg + 32
+    faces, across = cell_scratch(offsets, lo, hi)
+    cap = 2 * faces.shape[0] + 32
     ax = np.empty(cap)
     ay = np.empty(cap)
     al = np.empty(cap, np.int64)
@@ -471,22 +482,15 @@ def clip_cells(vx, vy, vw, triangles, offsets, ring, hull, face_of, centres,
     out = np.empty((8 * nv + 2 * (offsets[hi] - offsets[lo]) + 16, 2))
     n = 0
     for v in range(lo, hi):
-        na = 0
+        na = cell_ring(triangles, offsets, ring, hull, face_of, v, faces, across)
+        if hull[v]:
+            na -= 1                                      # (the -1 for infinity)
         inside = True
-        for i in range(offsets[v], offsets[v + 1]):      # the faces round v, and who is across
-            t = ring[i]
-            f = face_of[t]
-            across = triangles[t, (corner_of(triangles, t, v) + 2) % 3]
-            if na > 0 and face_of[ring[i - 1]] == f:
-                al[na - 1] = across                      # the same face: its side ends further on
-                continue
-            ax[na] = centres[f, 0]
-            ay[na] = centres[f, 1]
-            al[na] = across
-            inside = inside and xmin <= ax[na] <= xmax and ymin <= ay[na] <= ymax
-            na += 1
-        if na > 1 and not hull[v] and face_of[ring[offsets[v + 1] - 1]] == face_of[ring[offsets[v]]]:
-            na -= 1                                      # round v back to the first face
+        for p in range(na):
+            ax[p] = centres[faces[p], 0]
+            ay[p] = centres[faces[p], 1]
+            al[p] = across[p]
+            inside = inside and xmin <= ax[p] <= xmax and ymin <= ay[p] <= ymax
         if hull[v] and na > 0:
             na = close_far(vx, vy, triangles, offsets, ring, v, ax, ay, al, na, far)
             inside = False
