@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 from . import compiling  # noqa: F401  (first: it says when numba compiles a route)
 from .cdt import triangulate
 from .delaunay import delaunay
+from .dynamic import DynamicCDT
 from .errors import (
     CDTError,
     ClipRegionError,
@@ -29,6 +30,7 @@ from .errors import (
     SegmentIndexError,
     SegmentIntersectionError,
     TooFewPointsError,
+    UnknownIdError,
     UnresolvedCrossingError,
 )
 from .plc import PLC
@@ -42,6 +44,7 @@ __all__ = [
     "CDTError",
     "ClipRegionError",
     "CollinearPointsError",
+    "DynamicCDT",
     "CoordinateRangeError",
     "PLC",
     "Triangulation",
@@ -62,6 +65,7 @@ __all__ = [
     "Subdivision",
     "Voronoi",
     "TooFewPointsError",
+    "UnknownIdError",
     "UnresolvedCrossingError",
 ]
 try:

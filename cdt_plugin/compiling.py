@@ -9,7 +9,7 @@ route ahead of time, for Docker images, CI and Dask workers.
 
 >>> from cdt_plugin.compiling import ROUTES
 >>> sorted(ROUTES)
-['batch', 'delaunay', 'refine', 'triangulate', 'voronoi', 'weighted']
+['batch', 'delaunay', 'dynamic', 'query', 'refine', 'triangulate', 'voronoi', 'weighted']
 """
 from __future__ import annotations
 
@@ -32,7 +32,9 @@ _ENTRY_NAMES = {
     "build_mesh": "the Delaunay route (delaunay)",
 }
 _MODULE_NAMES = {"cdt_plugin._core.predicates": "the exact predicates",
-                 "cdt_plugin._core.dual": "the Voronoi diagram (voronoi, delaunay_subdivision)"}
+                 "cdt_plugin._core.dual": "the Voronoi diagram (voronoi, delaunay_subdivision)",
+                 "cdt_plugin._core.query": "point location and interpolation (locate, interpolate)",
+                 "cdt_plugin._core.dynamic": "the live triangulation (DynamicCDT)"}
 
 
 def cache_dir() -> str:
@@ -197,9 +199,25 @@ def _voronoi():
     tri.voronoi(clip=(0.0, 0.0, 1.0, 1.0))      # the subdivision, the cells, a box clip
 
 
+def _query():
+    from . import triangulate
+    tri = triangulate(*_square())
+    tri.locate([[0.5, 0.5]])
+    tri.interpolate([0.0, 1.0, 2.0, 1.0], [[0.5, 0.25]])
+    tri.interpolate([0.0, 1.0, 2.0, 1.0], [[0.5, 0.25]], method="natural")
+
+
+def _dynamic():
+    from . import DynamicCDT
+    dyn = DynamicCDT(_square()[0], [[0, 2]])
+    dyn.insert_points([[0.25, 0.5]])
+    dyn.remove_vertices([4])
+    dyn.triangulation(domain="even-odd")
+
+
 ROUTES: dict[str, Callable[[], None]] = {
     "delaunay": _delaunay, "weighted": _weighted, "triangulate": _triangulate,
-    "refine": _refine, "batch": _batch, "voronoi": _voronoi,
+    "refine": _refine, "batch": _batch, "voronoi": _voronoi, "query": _query, "dynamic": _dynamic,
 }
 
 

@@ -53,6 +53,11 @@ class InvertedTriangleError(CDTError):
     """Moving vertices inverted a triangle and no rebuild was allowed."""
 
 
+class UnknownIdError(CDTError):
+    """An edit of a :class:`cdt_plugin.DynamicCDT` names a vertex or segment id
+    that does not exist or was removed."""
+
+
 class SegmentIndexError(CDTError):
     """A segment names a vertex index that does not exist (or is not an integer)."""
 

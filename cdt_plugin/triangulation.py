@@ -204,6 +204,57 @@ class Triangulation:
         tri._lazy = functools.partial(_route_attributes, ints, vertices, plc)
         return tri
 
+    @classmethod
+    def from_triangles(cls, vertices: ArrayLike, triangles: ArrayLike) -> Triangulation:
+        """A triangulation given as vertices and index triangles (a mesh made
+        elsewhere, a TIN read back from a file), for queries and certificates.
+
+        Triangles may turn either way (clockwise ones are turned round). Raises
+        :class:`InputShapeError` for bad shapes or indices,
+        :class:`InvertedTriangleError` for a triangle without area and
+        :class:`CDTError` for repeated vertices or triangles that overlap along
+        an edge (an edge in more than two triangles, or twice in one direction).
+
+        >>> import cdt_plugin
+        >>> tri = cdt_plugin.Triangulation.from_triangles([[0, 0], [1, 0], [1, 1], [0, 1]],
+        ...                                               [[0, 1, 2], [0, 3, 2]])
+        >>> tri.triangles.tolist(), tri.neighbors.tolist()
+        ([[0, 1, 2], [0, 2, 3]], [[-1, 1, -1], [-1, -1, 0]])
+        """
+        from .report import _orientation_signs, mesh_neighbors
+        from .errors import InputShapeError
+        V = as_points(vertices, "vertices")
+        n = len(V)
+        raw = np.asarray(triangles)
+        if raw.size and raw.dtype.kind not in "iu":
+            raise InputShapeError(f"triangles must be integer vertex indices, got {raw.dtype}")
+        T = raw.astype(np.int64).reshape(-1, 3) if raw.size else np.empty((0, 3), np.int64)
+        if raw.size and (raw.ndim != 2 or raw.shape[1] != 3):
+            raise InputShapeError(f"triangles must have shape (k, 3), got {raw.shape}")
+        bad = np.flatnonzero(((T < 0) | (T >= n)).any(axis=1))
+        if len(bad):
+            raise InputShapeError(f"triangle {int(bad[0])} {T[bad[0]].tolist()} names a vertex outside 0..{n - 1}")
+        _, first, inverse = np.unique(V, axis=0, return_index=True, return_inverse=True)
+        same = np.flatnonzero(first[inverse.reshape(-1)] != np.arange(n))
+        if len(same):
+            i = int(same[0])
+            raise CDTError(f"vertices {int(first[inverse.reshape(-1)[i]])} and {i} are the same point {V[i].tolist()}")
+        x, y, _, _ = exact_range(V[:, 0].copy(), V[:, 1].copy(), None, "vertices")
+        signs = _orientation_signs(x, y, np.ascontiguousarray(T))
+        flat = np.flatnonzero(signs == 0)
+        if len(flat):
+            t = int(flat[0])
+            raise InvertedTriangleError(f"triangle {t} {T[t].tolist()} has no area (its corners are collinear)")
+        T = np.where((signs < 0)[:, None], T[:, [0, 2, 1]], T)
+        directed = T[:, [1, 2, 0]].ravel() * n + T[:, [2, 0, 1]].ravel()
+        nb, nonmanifold = mesh_neighbors(T)
+        if nonmanifold or len(np.unique(directed)) != len(directed):
+            raise CDTError("the triangles overlap: an edge lies in more than two triangles "
+                           "or in two on the same side")
+        T, nb = np.ascontiguousarray(T), np.ascontiguousarray(nb)
+        rotate_min_first(T, nb)
+        return cls(V, T, nb, np.arange(n, dtype=np.int64), {"triangles": len(T)})
+
     def __getattr__(self, name: str) -> Any:
         # only called when ``name`` is not set: the route's arrays made on first access
         lazy = self.__dict__.get("_lazy")
@@ -388,6 +439,50 @@ class Triangulation:
         return voronoi(self, clip, workers=workers)
 
     # -------------------------------------------------------- moving vertices
+    # -------------------------------------------------------------- queries
+    def locate(self, points: ArrayLike) -> NDArray[np.int64]:
+        """The triangle (row of ``triangles``) that holds each point, -1 outside
+        the domain (exact predicates).
+
+        A point on an edge or a vertex gets the smallest id among the triangles
+        that hold it, whatever the order of the queries. Queries are sorted along
+        a Hilbert curve and each walk starts at the previous hit, so a million
+        points cost a few walks' steps each.
+
+        >>> import cdt_plugin
+        >>> tri = cdt_plugin.delaunay([[0, 0], [2, 0], [0, 2], [2, 2]])
+        >>> tri.locate([[0.5, 0.2], [1, 1], [3, 3]]).tolist()     # (1, 1): on the diagonal of 0 and 1
+        [1, 0, -1]
+        """
+        from .queries import locate
+        return locate(self, points)
+
+    def interpolate(self, values: ArrayLike, points: ArrayLike, method: str = "linear") -> NDArray[np.float64]:
+        """Interpolate vertex ``values`` ((n,) or (n, k), one row per vertex) at
+        ``points``: NaN outside the domain.
+
+        ``method="linear"``: the linear interpolant on the triangle that holds the
+        point. ``"natural"``: Sibson's natural neighbour interpolation (the share
+        of each vertex's Voronoi cell the point's new cell would take; smooth away
+        from the vertices, weights non-negative, summing to 1, reproducing linear
+        functions). Its neighbourhood does not cross segments, the domain's
+        boundary, or edges that are not locally Delaunay; on a segment or the
+        boundary the linear interpolant along that edge applies, and so it does
+        where a segment hides part of the point's neighbourhood, and where
+        rounding spoils the coordinates (slivers, points nearly on a line: a
+        :class:`PrecisionWarning` says how many). Both give a vertex's own value
+        at the vertex.
+
+        >>> import numpy as np, cdt_plugin
+        >>> pts = np.array([[0, 0], [4, 0], [0, 4], [4, 4], [1, 2]], float)
+        >>> tri = cdt_plugin.delaunay(pts)
+        >>> plane = 1 + 2 * pts[:, 0] - pts[:, 1]
+        >>> tri.interpolate(plane, [[2, 1], [1, 2], [9, 9]], method="natural").round(12).tolist()
+        [4.0, 1.0, nan]
+        """
+        from .queries import interpolate
+        return interpolate(self, values, points, method)
+
     def move_vertices(self, new_vertices: ArrayLike, *, rebuild: bool = True) -> int:
         """Move the vertices to ``new_vertices`` (same shape as ``vertices``) and
         restore the Delaunay property with flips (Sec. 2.5, the simulation case).
@@ -427,6 +522,8 @@ class Triangulation:
                 flips = int(flip_to_delaunay(tri, twin, cons, x, y, x, False, inf, ntri, 20 * ntri + 1000))
                 if flips >= 0:
                     defect = first_defect(tri, twin, ntri, x, y, inf, True)
+        self.__dict__.pop("_walk", None)       # the queries' meshes follow the vertices
+        self.__dict__.pop("_blocked", None)
         if flips >= 0 and defect < 0:
             self._mesh = (tri, twin, cons, ntri, inf)
             self.triangles, self.neighbors, _ = solid_triangles(tri, twin, ntri, inf)

@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from .jit import kernel
-from .predicates import incircle, incircle_weighted, orient2d
+from .predicates import incircle, incircle_weighted
+from .query import OUTSIDE, walk
 
 
 @kernel
@@ -50,32 +51,8 @@ def edge_lifted_values(vx, vy, vw, weighted, triangles, neighbors):
 def locate_in_arrays(vx, vy, triangles, neighbors, px, py, start=0):
     """Triangle containing point (px, py) (closed), by a visibility walk over
     ``neighbors`` from triangle ``start``; -1 if outside the triangulation."""
-    k = start
-    nt = triangles.shape[0]
-    for _ in range(4 * nt + 16):
-        moved = False
-        for j in range(3):
-            a = triangles[k, (j + 1) % 3]
-            b = triangles[k, (j + 2) % 3]
-            if orient2d(vx[a], vy[a], vx[b], vy[b], px, py) < 0:
-                m = neighbors[k, j]
-                if m < 0:
-                    return -1
-                k = m
-                moved = True
-                break
-        if not moved:
-            return k
-    for k in range(nt):  # safety net: scan
-        inside = True
-        for j in range(3):
-            a = triangles[k, (j + 1) % 3]
-            b = triangles[k, (j + 2) % 3]
-            if orient2d(vx[a], vy[a], vx[b], vy[b], px, py) < 0:
-                inside = False
-        if inside:
-            return k
-    return -1
+    t, code, _ = walk(triangles, neighbors, vx, vy, px, py, start)
+    return -1 if code == OUTSIDE else t
 
 
 @kernel

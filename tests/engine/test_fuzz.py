@@ -19,5 +19,5 @@ def test_fuzz_quick(family):
 
 def test_fuzz_command_line_reports_its_cases(capsys):
     assert fuzz.main(["--count", "8"]) == 0
-    assert "8 cases (delaunay, cdt, split, refine, near, voronoi), seed 0: 0 failed" in capsys.readouterr().out
+    assert "8 cases (delaunay, cdt, split, refine, near, voronoi, query, dynamic), seed 0: 0 failed" in capsys.readouterr().out
     assert fuzz.main(["--family", "split", "--case", "3"]) == 0

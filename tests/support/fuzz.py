@@ -37,6 +37,17 @@ Families and what is checked for each case:
     cells cut to a box an exact coverage of it (every side inside the box shared,
     reversed, bit for bit), their areas summing to the box's, and sample points
     in the cell of their nearest (least power) site.
+``query``
+    the ``delaunay`` family's points (unweighted) and polygons with holes, queries
+    at random, on vertices, on edge midpoints and on a half-grid: ``locate``
+    gives the smallest id of the triangles that hold each point exactly (-1
+    when none does); the natural neighbour coordinates are non-negative, sum to
+    one and reproduce the point; both interpolants reproduce a linear function.
+``dynamic``
+    random edit sequences on a small grid (points, segments, removals, moves;
+    ``intersections`` raise or split): after each edit the snapshot is valid,
+    Delaunay, and the same triangles as ``triangulate`` of the vertices and
+    segments from scratch; a failed edit changes nothing.
 ``refine``
     polygons with holes, ``min_angle`` up to 30 and area bounds: valid,
     constrained Delaunay, segments chained, every triangle meeting the bounds
@@ -63,7 +74,7 @@ from checker import (canonical_triangles, check_steiner_segments, check_triangul
                      incircle_exact, orient2d_exact)
 from helpers import verify  # noqa: E402
 
-FAMILIES = ("delaunay", "cdt", "split", "refine", "near", "voronoi")
+FAMILIES = ("delaunay", "cdt", "split", "refine", "near", "voronoi", "query", "dynamic")
 
 
 class FuzzFailure(AssertionError):
@@ -361,6 +372,96 @@ def _holds(ring, x) -> bool:
                  * max(1.0, np.abs(ring).max())).all())
 
 
+def _holders(tri, p):
+    """The triangles holding ``p`` (closed), exactly."""
+    V = tri.vertices
+    return [t for t, (a, b, c) in enumerate(tri.triangles.tolist())
+            if orient2d_exact(V[a], V[b], p) >= 0 and orient2d_exact(V[b], V[c], p) >= 0
+            and orient2d_exact(V[c], V[a], p) >= 0]
+
+
+def check_query(rng):
+    if rng.random() < 0.5:
+        P = np.unique(random_points(rng), axis=0)
+        tri = cdt_plugin.delaunay(P)
+    else:
+        V, S, _ = polygon_with_holes(rng)
+        tri = cdt_plugin.triangulate(V, S)
+    if len(tri.triangles) == 0:
+        return
+    V, T = tri.vertices, tri.triangles
+    lo, hi = V.min(axis=0), V.max(axis=0)
+    pad = (hi - lo) * 0.1
+    k = min(len(T), 20)
+    Q = np.concatenate([rng.uniform(lo - pad, hi + pad, (30, 2)), V[rng.integers(0, len(V), 10)],
+                        (V[T[:k, 0]] + V[T[:k, 1]]) / 2,
+                        np.round(rng.uniform(lo, hi, (10, 2)) * 2) / 2])
+    found = tri.locate(Q)
+    for p, t in zip(Q, found.tolist()):
+        holders = _holders(tri, p)
+        _require(t == (min(holders) if holders else -1), f"locate {p.tolist()}: {t}, holders {holders}")
+    inside = found >= 0
+    W = tri.interpolate(np.eye(len(V)), Q[inside], method="natural")
+    scale = max(float(np.abs(V).max()), 1e-300)
+    _require(bool((W >= 0).all()), f"natural coordinates below zero: {W.min()}")
+    _require(np.abs(W.sum(axis=1) - 1).max() < 1e-9, "natural coordinates do not sum to one")
+    _require(np.abs(W @ V - Q[inside]).max() < 1e-8 * scale, "natural coordinates miss the point")
+    f = 1.5 + 2 * V[:, 0] - 3 * V[:, 1]
+    for method in ("linear", "natural"):
+        out = tri.interpolate(f, Q, method=method)
+        _require(bool((np.isnan(out) == ~inside).all()), f"{method}: NaN where the point is inside")
+        want = 1.5 + 2 * Q[inside, 0] - 3 * Q[inside, 1]
+        _require(np.abs(out[inside] - want).max() < 1e-8 * max(1.0, scale), f"{method}: not linear")
+
+
+def check_dynamic(rng):
+    k = int(rng.integers(2, 9))
+    grid = lambda m: rng.integers(0, k, (m, 2)).astype(float)  # noqa: E731
+    split = bool(rng.random() < 0.5)
+    dyn = cdt_plugin.DynamicCDT(grid(int(rng.integers(0, 8))), intersections="split" if split else "raise")
+    for _ in range(int(rng.integers(1, 10))):
+        ids, sids = dyn.vertex_ids, dyn.segment_ids
+        before = (dyn.vertices.copy(), dyn.segments.copy())
+        op = int(rng.integers(5))
+        try:
+            if op == 0 or len(ids) < 2:
+                dyn.insert_points(grid(int(rng.integers(1, 6))))
+            elif op == 1:
+                a, b = rng.choice(ids, 2, replace=False)
+                dyn.insert_segments([[a, b]])
+            elif op == 2:
+                dyn.remove_vertices(rng.choice(ids, int(rng.integers(1, 3)), replace=False))
+            elif op == 3 and len(sids):
+                dyn.remove_segments([rng.choice(sids)])
+            else:
+                dyn.move_vertices([rng.choice(ids)], grid(1))
+        except cdt_plugin.CDTError:
+            _require(np.array_equal(dyn.vertices, before[0]) and np.array_equal(dyn.segments, before[1]),
+                     "a failed edit changed the triangulation")
+        tri = dyn.triangulation()
+        V, S = dyn.vertices, dyn.segments
+        if len(tri.triangles):
+            # split crossings are rounded: the pieces (edges) are the segments then
+            S_check = tri.segments if split else S
+            _check(check_triangulation(V, tri.triangles, segments=S_check if len(S_check) else None,
+                                       domain="hull"), "snapshot")
+            if split and len(S):
+                # pieces follow their segments up to rounding (partial: an edge where two
+                # segments overlap carries one of their ids, as in triangulate)
+                rows = np.searchsorted(dyn.segment_ids, tri.segment_ids)
+                _check(check_steiner_segments(V, S, V, np.arange(len(V)), tri.segments, rows,
+                                              snapped_inputs=True, partial=True), "segment pieces")
+            _require(tri.is_delaunay(), "snapshot not Delaunay")
+        if len(V) >= 3:
+            try:
+                fresh = cdt_plugin.triangulate(V, S if len(S) else None, keep_hull=True)
+            except cdt_plugin.SegmentIntersectionError:
+                # split crossings: a segment through a rounded crossing point may
+                # cross again from scratch; the snapshot was checked above
+                continue
+            _same(tri, fresh, "snapshot against triangulate")
+
+
 def check_vertices_split_segments(P, S, tri) -> None:
     """Every input vertex exactly on an input segment ends a piece of it (or of
     a segment on the same line, into which a repeated or overlapping one was
@@ -437,7 +538,7 @@ def permuted(rng, V, S):
 
 
 CHECKS = {"delaunay": check_delaunay, "cdt": check_cdt, "split": check_split, "refine": check_refine,
-          "near": check_near, "voronoi": check_voronoi}
+          "near": check_near, "voronoi": check_voronoi, "query": check_query, "dynamic": check_dynamic}
 
 
 def run_case(family: str, case: int, seed: int = 0) -> None:
