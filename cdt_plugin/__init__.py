@@ -11,7 +11,6 @@ from typing import TYPE_CHECKING, Any
 from . import compiling  # noqa: F401  (first: it says when numba compiles a route)
 from .cdt import triangulate
 from .delaunay import delaunay
-from .dynamic import DynamicCDT
 from .errors import (
     CDTError,
     ClipRegionError,
@@ -38,6 +37,7 @@ from .plc import PLC
 from .triangulation import Triangulation
 
 if TYPE_CHECKING:
+    from .dynamic import DynamicCDT
     from .voronoi import Subdivision, Voronoi
 
 __all__ = [
@@ -75,9 +75,12 @@ except PackageNotFoundError:  # pragma: no cover - run from a source tree that i
 
 
 def __getattr__(name: str) -> Any:
-    # the Voronoi result classes load with their kernels on first use: every
-    # process pays for importing them only if it draws a Voronoi diagram
+    # the Voronoi result classes and DynamicCDT load with their kernels on first
+    # use: a process pays for importing them only if it uses them
     if name in ("Subdivision", "Voronoi"):
         from . import voronoi
         return getattr(voronoi, name)
+    if name == "DynamicCDT":
+        from .dynamic import DynamicCDT
+        return DynamicCDT
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
