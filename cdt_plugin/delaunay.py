@@ -196,13 +196,18 @@ def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, thre
     return tri, twin, cons, ntri, counts
 
 
-def _build_divide(xi, yi, wi, m, dup, cap, threads):
+def _build_divide(xi, yi, wi, m, dup, cap, threads, inf=None, with_cons=False):
     """Divide and conquer over the sorted points ``0..m-1``; with two threads
     and enough points, the halves of the first cut are built side by side
-    (the kernels release the GIL) and joined into the arrays one thread makes."""
+    (the kernels release the GIL) and joined into the arrays one thread makes.
+    ``inf``: the infinite vertex's id (default ``m``: no room for more
+    vertices); ``with_cons``: allocate the per-half-edge segment ids (a store
+    that segments will be inserted into)."""
+    inf = m if inf is None else inf
+    with_cons = np.bool_(with_cons)
     if threads < 2 or m < PARALLEL_POINTS:
         horizontal = lexicographic_order(yi[:m], -xi[:m])
-        return build_divide_sorted(xi, yi, wi, m, m, dup, cap, False, horizontal)
+        return build_divide_sorted(xi, yi, wi, m, inf, dup, cap, with_cons, horizontal)
     u, mid = split_halves(xi, yi, m, dup)
     nu = len(u)
     ranks = np.empty(nu, np.int64)
@@ -214,4 +219,4 @@ def _build_divide(xi, yi, wi, m, dup, cap, threads):
         return build_half(xi, yi, wi, u, ranks, lo, hi, nu if lo == 0 else hi - lo)
 
     left, right = map_ordered(half, [(0, mid), (mid, nu)], 2)
-    return join_halves(xi, yi, wi, *left, *right, m, cap, False)
+    return join_halves(xi, yi, wi, *left, *right, inf, cap, with_cons)

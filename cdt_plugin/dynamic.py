@@ -17,13 +17,16 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._core.dynamic import build_store, insert_points, insert_segments, snapshot, start_grid
+from ._core.construct import gather_coords, seed_triangle
+from ._core.dynamic import insert_points, insert_segments, snapshot, start_grid
 from ._core.mesh import grow_store
-from ._core.ordering import HILBERT_BITS, hilbert_keys
+from ._core.ordering import HILBERT_BITS, hilbert_keys, lexicographic_order
 from ._core.output import rotate_min_first
 from ._core.status import ALL_DONE, OK, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP
+from .delaunay import _build_divide
 from .errors import CDTError, CoordinateRangeError, SegmentIndexError, UnknownIdError
 from .triangulation import Triangulation
+from .parallel import resolve_workers
 from .queries import as_queries
 from .validate import exact_range
 
@@ -47,6 +50,8 @@ class DynamicCDT:
         :class:`cdt_plugin.SegmentIntersectionError` (the edit is undone), or
         insert the crossing point as a new vertex (as :func:`cdt_plugin.triangulate`).
 
+    Notes
+    -----
     After any sequence of edits, :meth:`triangulation` equals
     ``cdt_plugin.triangulate(dyn.vertices, dyn.segments, keep_hull=True)``: the
     constrained Delaunay triangulation is unique under the engine's symbolic
@@ -199,8 +204,15 @@ class DynamicCDT:
         self._last = meta[2]
         if status != OK:
             raise CDTError("internal error: a point could not be located; please report this input")
-        if meta[1] > self._adopted:
-            self._adopt_new_slots(new_steiner=False)
+        if meta[1] > self._adopted and order is None:
+            self._adopt_new_slots(False)
+        elif meta[1] > self._adopted:
+            # new vertices are numbered in the order the caller gave the points
+            first = self._adopted
+            fresh = slots >= first
+            first_input = np.full(int(meta[1]) - first, m, np.int64)
+            np.minimum.at(first_input, slots[fresh] - first, order[fresh])
+            self._adopt_new_slots(False, first + np.argsort(first_input))
         if order is None:
             return self._id_of[slots]
         out = np.empty(m, np.int64)
@@ -326,13 +338,9 @@ class DynamicCDT:
         self._last = np.int64(0)
         if len(live) < 3:
             return
-        room = max(16, len(live) // 4)
-        status, order, store = build_store(self._xy[live, 0].copy(), self._xy[live, 1].copy(),
-                                           np.int64(room))
-        if status < 0:
+        store, order = _new_store(self._xy[live, 0].copy(), self._xy[live, 1].copy())
+        if store is None:
             return                                       # all collinear: no triangle yet
-        if status != OK:
-            raise CDTError(f"internal error (status {status}) building the store; please report this input")
         self._store = store
         self._id_of = np.full(store[6] + 1, -1, np.int64)
         self._id_of[: len(live)] = live[order]
@@ -374,21 +382,23 @@ class DynamicCDT:
             self._grid, self._frame = start_grid(tri, x, y, inf, ntri, nv, np.int64(g))
             self._grid_vertices = nv + m
 
-    def _adopt_new_slots(self, new_steiner: bool) -> None:
-        """Give the store's new vertex slots (points just inserted, crossings:
-        slots are handed out in order) vertex ids."""
+    def _adopt_new_slots(self, new_steiner: bool, slots: NDArray[np.int64] | None = None) -> None:
+        """Give the store's new vertex slots (points just inserted, crossings)
+        vertex ids, in the order ``slots`` lists them (default: slot order)."""
         assert self._store is not None
         x, y, inf, nv = self._store[3], self._store[4], self._store[6], int(self._store[8])
         if len(self._id_of) < inf + 1:
             self._id_of = _grown(self._id_of, inf + 1, -1)
         a = self._adopted
         if nv > a:
+            if slots is None:
+                slots = np.arange(a, nv)
             xy = np.empty((nv - a, 2))
-            xy[:, 0] = x[a:nv]
-            xy[:, 1] = y[a:nv]
+            xy[:, 0] = x[slots]
+            xy[:, 1] = y[slots]
             ids = self._append_vertices(xy, steiner=new_steiner)
-            self._id_of[a:nv] = ids
-            self._slot_buf[ids[0]:ids[-1] + 1] = np.arange(a, nv)
+            self._id_of[slots] = ids
+            self._slot_buf[ids[0]:ids[-1] + 1] = slots
             self._adopted = nv
 
     def _append_vertices(self, xy: NDArray[np.float64], steiner: bool) -> NDArray[np.int64]:
@@ -499,6 +509,25 @@ class DynamicCDT:
             k = int(same[0])
             raise SegmentIndexError(f"segment {k} joins vertex {int(arr[k, 0])} to itself")
         return arr
+
+
+def _new_store(px: NDArray[np.float64], py: NDArray[np.float64]) -> tuple[Store | None, NDArray[np.int64]]:
+    """The Delaunay triangulation of the distinct points ``px, py`` as a store
+    with room for a quarter more vertices, built as :func:`cdt_plugin.delaunay`
+    builds it (divide and conquer, the halves on two threads for large sets).
+    Returns ``(store, order)``: slot ``i`` holds point ``order[i]``; no store
+    when the points are all collinear."""
+    n = len(px)
+    order = lexicographic_order(px, py)
+    _, k2 = seed_triangle(px, py, order)
+    if k2 < 0:
+        return None, order
+    room = max(16, n // 4)
+    xi, yi, wi = gather_coords(px, py, np.zeros(n), order, np.int64(room))
+    inf = n + room
+    tri, twin, cons, ntri = _build_divide(xi, yi, wi, n, np.full(n, -1, np.int64), max(4, 2 * inf + 2),
+                                          resolve_workers(None, 2), inf, True)
+    return (tri, twin, cons, xi, yi, wi, inf, np.int64(ntri), np.int64(n)), order
 
 
 def _spatial_order(pts: NDArray[np.float64]) -> NDArray[np.int64]:

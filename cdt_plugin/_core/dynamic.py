@@ -3,7 +3,7 @@
 The store is the engine's half-edge store (:mod:`.mesh`), ``store = (tri,
 twin, cons, x, y, w, inf, ntri, nv)``: vertex slots ``0..nv-1`` in use, slots up
 to ``inf`` free, the infinite vertex at ``inf``. Every edit runs the engine's own
-kernels: the Delaunay construction (:func:`.construct.build_mesh`), Lawson
+kernels: the Delaunay construction (``delaunay``'s divide and conquer), Lawson
 insertion (:func:`.insertion.insert_vertex`) and segment insertion
 (:func:`.pipeline.insert_all_segments`, which splits at vertices on a segment
 and, when asked, at crossings).
@@ -12,37 +12,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .construct import DIVIDE, build_mesh, gather_coords, horizontal_order, seed_triangle
 from .insertion import insert_vertex
 from .jit import kernel
 from .mesh import DEAD
-from .ordering import lexicographic_order_compiled
 from .output import solid_triangles
 from .pipeline import insert_all_segments
 from .regions import segment_depths
 from .status import LOCATE_FAILED, OK, ON_VERTEX
-
-
-@kernel
-def build_store(px, py, room):
-    """The Delaunay triangulation of the distinct points ``px, py`` with room
-    for ``room`` more vertices. Returns ``(status, order, store)``: slot ``i``
-    holds point ``order[i]``; status -1 when the points are all collinear."""
-    n = px.shape[0]
-    order = lexicographic_order_compiled(px, py)
-    k1, k2 = seed_triangle(px, py, order)
-    xi, yi, wi = gather_coords(px, py, np.zeros(n), order, room)
-    inf = n + room
-    if k2 < 0:
-        empty = np.empty(0, np.int32)
-        return np.int64(-1), order, (empty, empty.copy(), empty.copy(), xi, yi, wi, inf,
-                                     np.int64(0), np.int64(n))
-    slot = np.arange(n)
-    horizontal = horizontal_order(xi, yi, n, np.empty(0, np.int64), slot)
-    counts = np.zeros(2, np.int64)
-    status, tri, twin, cons, ntri, _, _ = build_mesh(xi, yi, wi, np.bool_(False), n, inf, DIVIDE,
-                                                     horizontal, room, np.bool_(True), counts)
-    return np.int64(status), order, (tri, twin, cons, xi, yi, wi, inf, ntri, np.int64(n))
 
 
 @kernel(inline='always')

@@ -125,6 +125,17 @@ def test_grows_from_collinear_and_empty():
     assert len(tri.triangles) == 2
 
 
+def test_batch_ids_follow_the_input_order():
+    rng = np.random.default_rng(8)
+    dyn = DynamicCDT(rng.random((100, 2)))
+    B = rng.random((300, 2))
+    ids = dyn.insert_points(np.vstack([B, B[:5], [dyn.vertices[7]]]))
+    assert ids[:300].tolist() == list(range(100, 400))        # sorted inside, numbered as given
+    assert ids[300:].tolist() == [100, 101, 102, 103, 104, 7]
+    assert np.array_equal(dyn.vertices[ids[:300]], B)
+    _verify(dyn)
+
+
 def test_many_single_point_inserts_grow_the_store():
     rng = np.random.default_rng(3)
     pts = rng.random((3000, 2))
