@@ -1252,3 +1252,7 @@ def _id_column_names(columns) -> tuple[str, ...]:
 
 
 _register_accessor()
+
+
+# ------------------------------------------------------------------ terrain
+from .terrain import grid, tin  # noqa: E402,F401  (terrain from spot heights: adapters/terrain.py)

@@ -88,6 +88,7 @@ examples:
   cdt-plugin mesh A.poly -o A.ele --min-angle 30 --max-area 0.01
   cdt-plugin voronoi shops.gpkg --boundary city.gpkg -o cells.gpkg
   cdt-plugin voronoi stations.shp --boundary country.geojson --weights power -o cells.geojson
+  cdt-plugin tin points.gpkg --breaklines lines.gpkg -o dem.tif --resolution 10
   cdt-plugin report polygon.json --against earcut
   cdt-plugin report polygon.geojson --against other_mesh.obj --json
 """
@@ -109,7 +110,7 @@ class Feature:
 
 # ------------------------------------------------------------------- parser
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser (subcommands ``mesh``, ``report``, ``voronoi`` and ``compile``)."""
+    """The argument parser (subcommands ``mesh``, ``report``, ``voronoi``, ``tin`` and ``compile``)."""
     fmt = argparse.RawDescriptionHelpFormatter
     parser = argparse.ArgumentParser(
         prog="cdt-plugin", formatter_class=fmt, epilog=EXAMPLES,
@@ -117,7 +118,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "mesh them, report their quality, compare with other meshes.")
     from . import __version__
     parser.add_argument("--version", action="version", version=f"cdt-plugin {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{mesh,report,voronoi,compile}", required=True)
+    sub = parser.add_subparsers(dest="command", metavar="{mesh,report,voronoi,tin,compile}", required=True)
 
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("input", metavar="INPUT",
@@ -198,6 +199,28 @@ def build_parser() -> argparse.ArgumentParser:
                           "that claims no area gets an empty cell)")
     _progress_options(vor, "always show progress bars (default: on a terminal)")
     vor.set_defaults(func=_cmd_voronoi)
+
+    tin = sub.add_parser("tin", formatter_class=fmt, epilog=EXAMPLES,
+                         help="terrain from spot heights and breaklines: a TIN layer or a DEM",
+                         description="The TIN (constrained Delaunay triangulation) of the spot "
+                                     "heights in POINTS, with --breaklines as segments, clipped "
+                                     "to --boundary; written as a layer of 3D triangles (.gpkg, "
+                                     ".geojson), or sampled on a grid of --resolution as a GeoTIFF "
+                                     "(.tif, needs rasterio) or a NumPy array (.npy).")
+    tin.add_argument("input", metavar="POINTS",
+                     help="point layer: .gpkg, .shp, .geojson/.json (Point Z, or --z COLUMN)")
+    tin.add_argument("-o", "--output", required=True, type=Path, metavar="OUTPUT",
+                     help="output: .gpkg or .geojson/.json (the TIN), .tif or .npy (the grid)")
+    tin.add_argument("--breaklines", type=Path, metavar="LINES",
+                     help="line layer (LineString Z) the surface must follow")
+    tin.add_argument("--boundary", type=Path, metavar="AREA",
+                     help="polygon layer: the TIN covers its union only")
+    tin.add_argument("--z", metavar="COLUMN", help="the heights are this numeric column of POINTS")
+    tin.add_argument("--resolution", type=float, metavar="SIZE",
+                     help="cell size of the grid (.tif, .npy), in the layer's units")
+    tin.add_argument("--method", choices=("linear", "natural"), default="linear",
+                     help="interpolation on the grid (default: linear)")
+    tin.set_defaults(func=_cmd_tin)
 
     from .compiling import ROUTES
     comp = sub.add_parser("compile", formatter_class=fmt,
@@ -885,6 +908,39 @@ def _voronoi_layer(points: GeoDataFrame, boundary: GeoDataFrame | None,
         _warn(str(w.message).replace("e.g. points.to_crs(points.estimate_utm_crs())",
                                      "e.g. with ogr2ogr -t_srs"))
     return cells
+
+
+def _cmd_tin(args: argparse.Namespace) -> int:
+    output = Path(args.output)
+    suffix = output.suffix.lower()
+    grids = (".tif", ".tiff", ".npy")
+    if suffix not in LAYER_OUTPUTS + grids:
+        raise CLIError(f"{output}: tin writes a layer ({', '.join(LAYER_OUTPUTS)}) or a grid "
+                       f"({', '.join(grids)}), got {suffix or '(no extension)'!r}")
+    if suffix in grids and (args.resolution is None or not args.resolution > 0):
+        raise CLIError(f"{output}: a grid needs --resolution (a positive cell size)")
+    if not output.parent.exists():
+        raise CLIError(f"{output}: the directory {output.parent} does not exist")
+    _check_packages(args)
+    if suffix in (".tif", ".tiff"):
+        _import("rasterio", "cdt-plugin tin -o *.tif")
+    from .adapters import geo
+    layers = [read_layer(Path(p), None) if p is not None else None
+              for p in (args.input, args.breaklines, args.boundary)]
+    try:
+        surface = geo.tin(layers[0], layers[1], layers[2], z=args.z)
+        if suffix in LAYER_OUTPUTS:
+            _write_frame(output, surface, None)
+            print(f"wrote {output}: {len(surface):,} triangle(s)")
+            return 0
+        dem, _ = geo.grid(surface, args.resolution, args.method,
+                          path=output if suffix != ".npy" else None)
+    except CDTError as exc:
+        raise CLIError(str(exc)) from None
+    if suffix == ".npy":
+        np.save(output, dem)
+    print(f"wrote {output}: {dem.shape[0]} x {dem.shape[1]} cells from {len(surface):,} triangle(s)")
+    return 0
 
 
 def _cmd_compile(args: argparse.Namespace) -> int:

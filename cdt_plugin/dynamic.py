@@ -206,7 +206,7 @@ class DynamicCDT:
             raise CDTError("internal error: a point could not be located; please report this input")
         if meta[1] > self._adopted and order is None:
             self._adopt_new_slots(False)
-        elif meta[1] > self._adopted:
+        elif meta[1] > self._adopted and order is not None:
             # new vertices are numbered in the order the caller gave the points
             first = self._adopted
             fresh = slots >= first

@@ -22,6 +22,7 @@ TYPED_MODULES = [
     "cdt_plugin.adapters.geo",
     "cdt_plugin.adapters.open3d",
     "cdt_plugin.adapters.shapely",
+    "cdt_plugin.adapters.terrain",
     "cdt_plugin.adapters.trimesh",
     "cdt_plugin.batch",
     "cdt_plugin.cdt",
