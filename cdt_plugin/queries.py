@@ -116,23 +116,35 @@ def as_queries(points: ArrayLike) -> NDArray[np.float64]:
 
 
 def _located(tri: Triangulation, pts: NDArray[np.float64]):
-    """``(mesh, x, y, qx, qy, found, where, code, j)``: the walk over spatially
-    sorted queries (see :func:`cdt_plugin._core.query.locate_all`)."""
+    """``(mesh, x, y, qx, qy, found, where, code, j, near)``: the walk over
+    spatially sorted queries (see :func:`cdt_plugin._core.query.locate_all`)
+    for the queries ``near`` (indices) in the vertices' bounding box; the others
+    are outside, whatever their magnitude."""
     mesh = walk_mesh(tri)
-    exact_range(pts[:, 0], pts[:, 1], None, "points")        # names the rows out of range
-    x, y, qx, qy = _scaled_vertices(tri, pts[:, 0], pts[:, 1])
-    idx = np.arange(len(pts), dtype=np.int64)
+    V = tri.vertices
+    inbox = (pts >= V.min(axis=0)).all(axis=1) & (pts <= V.max(axis=0)).all(axis=1)
+    near = np.flatnonzero(inbox)
+    sub = pts[near]
+    if len(near) and not inbox.all():      # (rows numbered as given: far ones as zeros, which fit any scale)
+        named = np.where(inbox[:, None], pts, 0.0)
+        exact_range(named[:, 0], named[:, 1], None, "points")
+    else:
+        exact_range(sub[:, 0], sub[:, 1], None, "points")    # names the rows out of range
+    x, y, qx, qy = _scaled_vertices(tri, sub[:, 0], sub[:, 1])
+    idx = np.arange(len(sub), dtype=np.int64)
     order = np.argsort(hilbert_keys(qx, qy, idx, np.int64(HILBERT_BITS)), kind="stable")
     found, where, code, j = locate_all(mesh.T, mesh.N, mesh.own, mesh.first_at, x, y, qx, qy, order)
-    return mesh, x, y, qx, qy, found, where, code, j
+    return mesh, x, y, qx, qy, found, where, code, j, near
 
 
 def locate(tri: Triangulation, points: ArrayLike) -> NDArray[np.int64]:
     """See :meth:`Triangulation.locate`."""
     pts = as_queries(points)
-    if len(pts) == 0 or len(tri.triangles) == 0:
-        return np.full(len(pts), -1, np.int64)
-    return _located(tri, pts)[5]
+    out = np.full(len(pts), -1, np.int64)
+    if len(pts) and len(tri.triangles):
+        located = _located(tri, pts)
+        out[located[-1]] = located[5]
+    return out
 
 
 def interpolate(tri: Triangulation, values: ArrayLike, points: ArrayLike,
@@ -151,16 +163,15 @@ def interpolate(tri: Triangulation, values: ArrayLike, points: ArrayLike,
         raise CDTError("method='natural' needs an unweighted triangulation (use 'linear')")
     pts = as_queries(points)
     table = np.ascontiguousarray(vals.reshape(n, -1), dtype=np.float64)
-    if len(pts) == 0 or len(tri.triangles) == 0:
-        out = np.full((len(pts), table.shape[1]), np.nan)
-    else:
-        mesh, x, y, qx, qy, found, where, code, j = _located(tri, pts)
+    out = np.full((len(pts), table.shape[1]), np.nan)
+    if len(pts) and len(tri.triangles):
+        mesh, x, y, qx, qy, found, where, code, j, near = _located(tri, pts)
         T_own = np.ascontiguousarray(tri.triangles, dtype=np.int64)
         if method == "linear":
-            out = interpolate_linear(T_own, x, y, qx, qy, found, table)
+            out[near] = interpolate_linear(T_own, x, y, qx, qy, found, table)
         else:
-            out, fallbacks = interpolate_natural(mesh.T, mesh.N, _blocked(tri, mesh), x, y, qx, qy,
-                                                 found, where, code, j, table)
+            out[near], fallbacks = interpolate_natural(mesh.T, mesh.N, _blocked(tri, mesh), x, y, qx, qy,
+                                                       found, where, code, j, table)
             if fallbacks[1]:
                 warnings.warn(f"{int(fallbacks[1])} of {len(pts)} points got the linear interpolant: "
                               "their natural neighbour coordinates lost every digit to rounding "

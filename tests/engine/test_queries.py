@@ -209,3 +209,13 @@ def test_queries_follow_moved_vertices():
     assert tri.locate([[1.9, 2.0]]).tolist() != [-1]
     tri.move_vertices([[0, 0], [2, 0], [0, 2], [2, 1.5]])
     assert tri.locate([[1.9, 2.0]]).tolist() == [-1]
+
+
+def test_far_queries_are_outside_whatever_their_magnitude():
+    tri = cdt_plugin.delaunay([[0, 0], [1, 0], [0, 1], [1, 1]])
+    assert tri.locate([[1e300, 0], [0.5, 0.25], [-1e-300, 0.5], [0, -1e308]]).tolist() == [-1, 1, -1, -1]
+    out = tri.interpolate([1.0, 2.0, 3.0, 4.0], [[1e300, 0], [0.25, 0.5]], method="natural")
+    assert np.isnan(out[0]) and out[1] == pytest.approx(2.25)
+    from cdt_plugin import CoordinateRangeError
+    with pytest.raises(CoordinateRangeError, match="row 3"):     # inside the box, beyond exact range
+        tri.locate([[1e300, 0], [0.5, 0.5], [-1e-300, 0.5], [1e-320, 0.5]])
