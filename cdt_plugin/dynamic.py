@@ -25,9 +25,9 @@ from ._core.output import rotate_min_first
 from ._core.status import ALL_DONE, OK, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP
 from .delaunay import _build_divide
 from .errors import CDTError, CoordinateRangeError, SegmentIndexError, UnknownIdError
-from .triangulation import Triangulation
 from .parallel import resolve_workers
 from .queries import as_queries
+from .triangulation import Triangulation
 from .validate import exact_range
 
 INTERSECTIONS = ("raise", "split")
@@ -420,8 +420,8 @@ class DynamicCDT:
 
     def _raise_segment_stop(self, status: int, info: NDArray[np.int64]) -> None:
         if status in (STOP_CROSSING, STOP_OVERLAP):
-            from .cdt import _raise_intersection
             from ._core.status import ROUTE_CROSSING, ROUTE_OVERLAP
+            from .cdt import _raise_intersection
             plc = SimpleNamespace(vertices=self._xy, segments=self._segs)
             _raise_intersection(ROUTE_CROSSING if status == STOP_CROSSING else ROUTE_OVERLAP, info, plc)
         if status == STOP_LIMIT:

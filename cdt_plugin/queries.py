@@ -25,7 +25,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core.ordering import HILBERT_BITS, hilbert_keys
-from ._core.query import convex_disk, interpolate_linear, interpolate_natural, locate_all
+from ._core.query import (
+    convex_disk,
+    interpolate_linear,
+    interpolate_natural,
+    locate_all,
+)
 from .errors import CDTError, InputShapeError, PrecisionWarning
 from .validate import exact_range, raise_nonfinite, real_array
 

@@ -13,10 +13,10 @@ import pytest
 geopandas = pytest.importorskip("geopandas")
 shapely = pytest.importorskip("shapely")
 
-from checker import check_triangulation  # noqa: E402
+from cdt_plugin.adapters import geo
+from checker import check_triangulation
 
-from cdt_plugin import CDTError, InputShapeError  # noqa: E402
-from cdt_plugin.adapters import geo  # noqa: E402
+from cdt_plugin import CDTError, InputShapeError
 
 
 def _plane(x, y):

@@ -10,12 +10,19 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
+from checker import canonical_triangles, check_triangulation
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import cdt_plugin
-from cdt_plugin import (CDTError, DynamicCDT, NonFiniteCoordinateError, SegmentIndexError,
-                        SegmentIntersectionError, UnknownIdError)
-from checker import canonical_triangles, check_triangulation
+from cdt_plugin import (
+    CDTError,
+    DynamicCDT,
+    NonFiniteCoordinateError,
+    SegmentIndexError,
+    SegmentIntersectionError,
+    UnknownIdError,
+)
 
 
 def _verify(dyn: DynamicCDT, domain: str = "hull") -> cdt_plugin.Triangulation:

@@ -13,12 +13,18 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
-
-import cdt_plugin
-from cdt_plugin import CDTError, InputShapeError, InvertedTriangleError, NonFiniteCoordinateError
 from checker import check_triangulation, orient2d_exact
 from helpers import verify
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import cdt_plugin
+from cdt_plugin import (
+    CDTError,
+    InputShapeError,
+    InvertedTriangleError,
+    NonFiniteCoordinateError,
+)
 
 
 def _holders(tri, p):

@@ -7,8 +7,9 @@ import pytest
 geopandas = pytest.importorskip("geopandas")
 shapely = pytest.importorskip("shapely")
 
-from cdt_plugin import cli  # noqa: E402
-from cdt_plugin.adapters import geo  # noqa: E402
+from cdt_plugin.adapters import geo
+
+from cdt_plugin import cli
 
 
 @pytest.fixture
