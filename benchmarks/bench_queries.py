@@ -94,8 +94,10 @@ from harness import (  # noqa: E402
     measure_cold,
     measure_memory,
     measure_times,
+    changed_sources,
     select_by_name,
     short_reason,
+    sources_state,
     write_results,
 )
 from harness import main as harness_main  # noqa: E402
@@ -445,21 +447,6 @@ SUITE = Suite(
 )
 
 # ----------------------------------------------------------------------------- checks
-
-
-def sources_state() -> dict[str, float]:
-    """mtime of each .py file of cdt_plugin and of the adapters (``adapters/``,
-    installed as ``cdt_plugin.adapters``), found without importing cdt_plugin."""
-    import importlib.util
-    spec = importlib.util.find_spec("cdt_plugin")
-    roots = [Path(p) for p in (spec.submodule_search_locations or [])] if spec else []
-    roots.append(REPO_ROOT / "adapters")
-    return {os.path.relpath(f, REPO_ROOT): f.stat().st_mtime
-            for root in roots if root.is_dir() for f in sorted(root.rglob("*.py"))}
-
-
-def changed_sources(before: dict[str, float], after: dict[str, float]) -> list[str]:
-    return sorted(k for k in before.keys() | after.keys() if before.get(k) != after.get(k))
 
 
 def checks(results: dict) -> list[str]:

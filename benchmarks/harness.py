@@ -799,3 +799,19 @@ def write_results(suite: Suite, results: dict, md: str, args: argparse.Namespace
     print(md)
     _log(f"total {results['elapsed_s']:.0f} s")
     return 0
+
+
+# ----------------------------------------------------------------------------- sources
+def sources_state() -> dict[str, float]:
+    """mtime of each .py file of cdt_plugin and of the adapters (``adapters/``,
+    installed as ``cdt_plugin.adapters``), found without importing cdt_plugin."""
+    import importlib.util
+    spec = importlib.util.find_spec("cdt_plugin")
+    roots = [Path(p) for p in (spec.submodule_search_locations or [])] if spec else []
+    roots.append(REPO_ROOT / "adapters")
+    return {os.path.relpath(f, REPO_ROOT): f.stat().st_mtime
+            for root in roots if root.is_dir() for f in sorted(root.rglob("*.py"))}
+
+
+def changed_sources(before: dict[str, float], after: dict[str, float]) -> list[str]:
+    return sorted(k for k in before.keys() | after.keys() if before.get(k) != after.get(k))
