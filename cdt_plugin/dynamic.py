@@ -234,7 +234,12 @@ class DynamicCDT:
         id_of_row[: len(have)] = ids_have
         id_of_row[new_rows] = new_ids
         out = id_of_row[first[inverse[len(have):]]]
-        self._rebuild()
+        try:
+            self._rebuild()        # (the segments go in now: they can cross)
+        except CDTError:
+            self._n -= len(new_ids)
+            self._rebuild()        # back to no triangle: nothing to fail
+            raise
         return out
 
     def insert_segments(self, pairs: ArrayLike) -> NDArray[np.int64]:

@@ -143,6 +143,17 @@ def test_batch_ids_follow_the_input_order():
     _verify(dyn)
 
 
+def test_segments_given_before_the_first_triangle_fail_with_the_edit_that_builds_it():
+    dyn = DynamicCDT([[0, 0], [2, 0], [4, 0]])
+    dyn.insert_segments([[0, 2], [2, 1]])          # overlap, found once there is a triangle
+    with pytest.raises(cdt_plugin.OverlappingSegmentsError):
+        dyn.insert_points([[1, 1]])
+    assert len(dyn) == 3 and len(dyn.triangulation().triangles) == 0
+    dyn.remove_segments([1])
+    assert dyn.insert_points([[1, 1]]).tolist() == [3]
+    _verify(dyn)
+
+
 def test_many_single_point_inserts_grow_the_store():
     rng = np.random.default_rng(3)
     pts = rng.random((3000, 2))
