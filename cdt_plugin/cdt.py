@@ -328,14 +328,20 @@ def _raise_stop(status, info, plc):
         P = plc.vertices
         raise range_error("vertices", P[:, 0], P[:, 1], None, int(info[0]), int(info[1]))
     if status == ROUTE_STEINER_LIMIT:
-        s, t, cap = int(info[0]) - 1, int(info[1]) - 1, int(info[2])
+        s, t, cap, need = int(info[0]) - 1, int(info[1]) - 1, int(info[2]), int(info[3])
+        a, b = plc.segments[s]
+        if need:      # the snap-rounded crossings, counted before anything was inserted
+            raise UnresolvedCrossingError(
+                f"the crossing segments need {need} intersection points, more than "
+                f"max_steiner={cap} (segments {s} ({_fmt(plc.vertices[a])}-"
+                f"{_fmt(plc.vertices[b])}) and {t} cross, among others); raise max_steiner",
+                segments=(s, t))
         m = len(plc.segments)
         if cap < m * (m - 1) // 2 + len(plc.vertices):   # fewer than the crossings there can be
             hint = "raise max_steiner"
         else:                                            # more: rounded crossings keep crossing
             hint = ("they cross within rounding of other segments (near-concurrent or nearly "
                     "collinear): move or merge them, e.g. snap the input to a coarser grid")
-        a, b = plc.segments[s]
         raise UnresolvedCrossingError(
             f"max_steiner={cap} intersection points inserted and segments {s} "
             f"({_fmt(plc.vertices[a])}-{_fmt(plc.vertices[b])}) and {t} still cross; {hint}",

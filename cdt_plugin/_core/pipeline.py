@@ -26,7 +26,7 @@ from .construct import DIVIDE, FLIP, build_mesh, gather_coords, horizontal_order
 from .flips import flip_to_delaunay
 from .jit import kernel
 from .mesh import DEAD, grow_store, nxt
-from .ordering import lexicographic_order_compiled
+from .ordering import HILBERT_BITS, hilbert_keys, lexicographic_order_compiled
 from .output import cdt_arrays, cdt_vertices, solid_triangles
 from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, OUT,
                      STEINER_ROOM, count_below, refine_store)
@@ -34,7 +34,9 @@ from .regions import flood_seeds, polygon_across, segment_depths, segment_rings
 from .rings import ring_is_degenerate, ring_segments
 from .scaling import NO_FIT, fit_shift, scaled, scaled_area, scaled_seeds, unscale_rows
 from .segments import by_smaller_end, insert_segments, make_buffers
-from .status import (FINISHED, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OK, ROUTE_COLLINEAR,
+from .snap import snap_plan
+from .insertion import insert_vertex
+from .status import (FINISHED, LOCATE_FAILED, LOCATION_FAILED, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OK, ROUTE_COLLINEAR,
                      ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP,
                      ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT,
                      STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP, ALL_DONE)
@@ -107,6 +109,65 @@ def dedup_tasks(segs, nv):
             tasks[ntask, 2] = i + 1
             ntask += 1
     return tasks, ntask, mult, nzero, first
+
+
+@kernel
+def segment_has_length(x, y, segs):
+    """Whether each segment's ends lie apart."""
+    out = np.empty(segs.shape[0], np.bool_)
+    for i in range(segs.shape[0]):
+        a, b = segs[i, 0], segs[i, 1]
+        out[i] = x[a] != x[b] or y[a] != y[b]
+    return out
+
+
+@kernel
+def insert_points_at(tri, twin, cons, x, y, w, inf, ntri, nv, px, py):
+    """Insert points ``px, py`` (distinct, none at a vertex; room made) as
+    vertices ``nv, nv + 1, ...``, in Hilbert order (short walks). Returns
+    ``(ntri, nv, status)``."""
+    k = px.shape[0]
+    for j in range(k):
+        x[nv + j] = px[j]
+        y[nv + j] = py[j]
+        w[nv + j] = 0.0
+    order = np.argsort(hilbert_keys(px, py, np.arange(k), np.int64(HILBERT_BITS)))
+    stack = np.empty(inf + 16, np.int64)
+    flip_counts = np.zeros(2, np.int64)
+    no_weights = np.zeros(1, np.int8)
+    hint = np.int64(0)
+    for r in range(k):
+        q = nv + order[r]
+        code, p, ntri, hint = insert_vertex(tri, twin, cons, x, y, w, np.bool_(False), inf, q, hint,
+                                            ntri, np.bool_(False), no_weights, flip_counts, stack)
+        if code == LOCATE_FAILED or p != q:
+            return ntri, nv, LOCATION_FAILED
+    return ntri, nv + k, OK
+
+
+@kernel
+def chain_tasks(chains, first, segs, mesh_of, n):
+    """The segment tasks for snap-rounded chains (:func:`.snap.snap_plan`): the
+    pieces ``(u, v, segment)`` of the segments kept by :func:`dedup_tasks`, in
+    mesh ids (new points ``n + j`` are mesh vertices ``n + j``), stacked so
+    that the first segment's first piece is on top. Returns ``(tasks, ntask,
+    input vertices the chains pass through)``."""
+    tasks = np.empty((chains.shape[0] + 16, 3), np.int64)
+    ntask = 0
+    passed = 0
+    for r in range(chains.shape[0] - 1, -1, -1):
+        u, v, s = chains[r, 0], chains[r, 1], chains[r, 2]
+        if first[s] != s:
+            continue
+        mu = mesh_of[u] if u < n else u
+        mv = mesh_of[v] if v < n else v
+        if u < n and u != segs[s, 0]:
+            passed += 1
+        tasks[ntask, 0] = mu
+        tasks[ntask, 1] = mv
+        tasks[ntask, 2] = s + 1
+        ntask += 1
+    return tasks, ntask, passed
 
 
 @kernel(inline="always")
@@ -449,12 +510,43 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     counts[K_DUPLICATE_SEGMENTS] = ms - nzero - ntask
     limit = max_steiner if max_steiner >= 0 else 10 * ms + 1000
     seg_counts = np.zeros(3, np.int64)
+    # splitting, a first pass with no room for a crossing point: most inputs have no crossing
     status, store = insert_all_segments(tri, twin, cons, xi, yi, wi, inf, ntri, n, tasks, ntask,
-                                        seg_ends, split, limit, seg_counts, info)
+                                        seg_ends, split, np.int64(0) if split else limit,
+                                        seg_counts, info)
     tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
+    if split and status == STOP_LIMIT:
+        # segments cross: snap-round every crossing at once (.snap), and insert the chains
+        # into the Delaunay triangulation of the points again
+        snap_x, snap_y, chains, pairs = snap_plan(px, py, n, segs, segment_has_length(px, py, segs))
+        if snap_x.shape[0] > limit:
+            info[0] = pairs[0, 0] + 1
+            info[1] = pairs[0, 1] + 1
+            info[2] = limit
+            info[3] = snap_x.shape[0]
+            return ROUTE_STEINER_LIMIT, info, counts, no_mesh()
+        for e in range(3 * ntri):
+            cons[e] = 0
+        flip_to_delaunay(tri, twin, cons, xi, yi, wi, np.bool_(False), inf, ntri)
+        if inf - n < snap_x.shape[0] + 16:
+            tri, twin, cons, xi, yi, wi, inf = grow_store(tri, twin, cons, xi, yi, wi, inf, n,
+                                                          n + snap_x.shape[0] + 16 + ms // 2)
+        ntri, nv, status = insert_points_at(tri, twin, cons, xi, yi, wi, inf, ntri, n, snap_x, snap_y)
+        if status != OK:
+            info[0] = 3
+            info[1] = status
+            return ROUTE_INTERNAL, info, counts, no_mesh()
+        tasks, ntask, passed = chain_tasks(chains, first, segs, mesh_of, n)
+        seg_counts[0] = passed
+        seg_counts[1] = 0
+        seg_counts[2] = 0
+        status, store = insert_all_segments(tri, twin, cons, xi, yi, wi, inf, ntri, nv, tasks,
+                                            ntask, seg_ends, split, limit - (nv - n), seg_counts,
+                                            info)
+        tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
     counts[K_ON_SEGMENTS] = seg_counts[0]
     counts[K_MERGED_OVERLAPS] = seg_counts[1]
-    counts[K_INTERSECTIONS] = seg_counts[2]
+    counts[K_INTERSECTIONS] = nv - n
     if status != ALL_DONE:
         if status == STOP_CROSSING:
             return ROUTE_CROSSING, info, counts, no_mesh()

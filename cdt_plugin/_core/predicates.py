@@ -1105,6 +1105,27 @@ def _crossing_coordinate(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, axis):
     return q + r / dh
 
 
+@kernel(_f8(_W, _i8, _f8, _f8, _f8, _f8, _f8, _f8), inline='never')
+def orient_offset_exact(w, n0, ax, ay, bx, by, hx, hy):
+    """The sign (+1.0, -1.0 or 0.0) of orient2d(a, b, c + (hx, hy)) for powers
+    of two ``hx, hy`` (or zeros), exactly: a corner of a hot pixel (:mod:`.snap`),
+    a midpoint between doubles and so not a double itself. ``w[8:8 + n0]``
+    holds orient2d(a, b, c) as an exact expansion (:func:`_orient_expansion`
+    at 0), computed once for the four corners; the sum adds ``(bx - ax) hy -
+    (by - ay) hx``, whose terms scale exact differences by powers of two
+    (exact). Uses ``w[80:160]``."""
+    n1 = _diff_expansion(w, 80, bx, ax)
+    for k in range(80, 80 + n1):
+        w[k] *= hy
+    n2 = _diff_expansion(w, 84, ay, by)
+    for k in range(84, 84 + n2):
+        w[k] *= hx
+    n3 = _fast_expansion_sum_zeroelim(w, 8, n0, 80, n1, 90)
+    n4 = _fast_expansion_sum_zeroelim(w, 90, n3, 84, n2, 120)
+    top = w[120 + n4 - 1]
+    return 1.0 if top > 0.0 else (-1.0 if top < 0.0 else 0.0)
+
+
 # ---------------------------------------------------------------------------
 # The slow stages, compiled once and called by symbol.
 # ---------------------------------------------------------------------------

@@ -48,7 +48,7 @@ ROUTE_OK = 0
 ROUTE_COLLINEAR = 1        # all vertices on one line: no triangles (handled in Python)
 ROUTE_CROSSING = 2         # info = (segment id, other segment id) 1-based
 ROUTE_OVERLAP = 3          # info = (segment id, other segment id) 1-based
-ROUTE_STEINER_LIMIT = 4    # intersections: info = (segment id, other segment id, limit)
+ROUTE_STEINER_LIMIT = 4    # intersections: info = (segment id, other segment id, limit, points needed or 0)
 ROUTE_HOLE_OUTSIDE = 5     # info = (ring,) a hole ring entered from outside its shell
 ROUTE_REFINE_LIMIT = 6     # refinement ran out of Steiner points (the mesh is complete)
 ROUTE_INTERNAL = 7         # info = (stage, code)
