@@ -27,7 +27,7 @@ from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUP
 from ._core.segments import intersection_point
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
                            ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT,
-                           ROUTE_STEINER_LIMIT)
+                           ROUTE_STEINER_LIMIT, ROUTE_UNRESOLVED)
 from .delaunay import resolve_algorithm
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError, UnresolvedCrossingError)
@@ -237,61 +237,12 @@ def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
     seconds = time.perf_counter() - t0
     tri = Triangulation.from_route(ints, vertices, plc, functools.partial(
         _stats, plc, algorithm, counts, refinement, seconds))
-    if split and len(plc.segments):
-        _check_pieces_follow_segments(tri, plc)
     if status == ROUTE_REFINE_LIMIT:
         raise RefinementLimitError(
             f"refinement stopped at max_steiner={int(counts[K_REF_LIMIT])} Steiner points with "
             "triangles still breaking the bounds; raise max_steiner (or relax min_angle/max_area); "
             "the partial mesh is in this error's .triangulation", triangulation=tri)
     return tri
-
-
-def _check_pieces_follow_segments(tri: Triangulation, plc: PLC) -> None:
-    """After ``intersections="split"``: the pieces of every input segment lie
-    along it in order, from its first end to its last, none overlapping or
-    turning back (pieces outside the domain may be missing). Rounded crossings
-    of segments that cross within rounding of each other can break that; the
-    mesh is then not the input's, and :class:`UnresolvedCrossingError` says
-    where. Positions along a segment are compared exactly: by the coordinate of
-    its major axis, then of the other, each oriented from its first end."""
-    pieces, ids = tri.segments, tri.segment_ids
-    if not len(pieces):
-        return
-    V, ends = tri.vertices, tri.vertex_map[plc.segments[ids]]
-    d = V[ends[:, 1]] - V[ends[:, 0]]
-    major = (np.abs(d[:, 1]) > np.abs(d[:, 0])).astype(np.int64)
-    rows = np.arange(len(ids))
-    along = np.sign(d[rows, major])
-    across = np.where(d[rows, 1 - major] < 0, -1.0, 1.0)
-
-    def key(v):       # (position along the major axis, then along the other)
-        return V[v, major] * along, V[v, 1 - major] * across
-
-    def less(a, b):
-        return (a[0] < b[0]) | ((a[0] == b[0]) & (a[1] < b[1]))
-
-    start, stop = key(ends[:, 0]), key(ends[:, 1])
-    p, q = key(pieces[:, 0]), key(pieces[:, 1])
-    forward = less(p, q)
-    lo = (np.where(forward, p[0], q[0]), np.where(forward, p[1], q[1]))
-    hi = (np.where(forward, q[0], p[0]), np.where(forward, q[1], p[1]))
-    bad = (along != 0) & (less(lo, start) | less(stop, hi))
-    order = np.lexsort((lo[1], lo[0], ids))
-    nxt, prev = order[1:], order[:-1]
-    overlap = (ids[nxt] == ids[prev]) & less((lo[0][nxt], lo[1][nxt]), (hi[0][prev], hi[1][prev]))
-    bad[nxt[overlap]] = True          # the next piece starts before this one ends
-    if bad.any():
-        k = int(np.flatnonzero(bad)[0])
-        s = int(ids[k])
-        a, b = plc.segments[s]
-        x, y = V[pieces[k]].mean(axis=0)
-        raise UnresolvedCrossingError(
-            f"segment {s} ({_fmt(plc.vertices[a])}-{_fmt(plc.vertices[b])}) crosses other segments "
-            f"within rounding of each other near ({float(x)!r}, {float(y)!r}): the rounded crossing "
-            "points would make its pieces turn back or branch, so the mesh would not contain it as "
-            "given; move or merge the segments that cross there (e.g. snap the input to a coarser "
-            f"grid) ({int(bad.sum())} such pieces)", segments=(s,), point=(float(x), float(y)))
 
 
 def _stats(plc, algorithm, counts, refinement, seconds, tri) -> dict:
@@ -346,6 +297,16 @@ def _raise_stop(status, info, plc):
             f"max_steiner={cap} intersection points inserted and segments {s} "
             f"({_fmt(plc.vertices[a])}-{_fmt(plc.vertices[b])}) and {t} still cross; {hint}",
             segments=(s, t))
+    if status == ROUTE_UNRESOLVED:
+        s, nbad = int(info[0]) - 1, int(info[1])
+        x, y = (float(v) for v in np.array(info[2:4], np.int64).view(np.float64))
+        a, b = plc.segments[s]
+        raise UnresolvedCrossingError(
+            f"segment {s} ({_fmt(plc.vertices[a])}-{_fmt(plc.vertices[b])}) crosses other segments "
+            f"within rounding of each other near ({x!r}, {y!r}): the rounded crossing points would "
+            "make its pieces turn back or branch, so the mesh would not contain it as given; move "
+            f"or merge the segments that cross there (e.g. snap the input to a coarser grid) "
+            f"({nbad} such pieces)", segments=(s,), point=(x, y))
     if status == ROUTE_HOLE_OUTSIDE:
         r = int(info[0])
         p = int(plc.ring_polygon[r])

@@ -81,12 +81,13 @@ class OverlappingSegmentsError(SegmentIntersectionError):
 
 class UnresolvedCrossingError(SegmentIntersectionError):
     """``intersections="split"`` could not place the crossing points of some
-    segments: they cross within rounding of each other (near-concurrent or
-    nearly collinear segments), so that the rounded crossings keep making new
-    crossings, or a segment's pieces would not follow it in order. Raised
-    instead of a mesh whose segments are not what was given; ``segments``
-    names them and ``point`` is about where. Moving or merging those segments
-    (e.g. snapping the input to a coarser grid) resolves it."""
+    segments: they need more than ``max_steiner`` of them (raise it), or, in
+    :meth:`DynamicCDT.insert_segments`, which rounds crossings one at a time,
+    they cross within rounding of each other so that the rounded crossings keep
+    making new ones. ``triangulate`` snap-rounds every crossing at once and
+    checks that each segment's pieces follow it in order; this error is raised
+    rather than a mesh whose segments are not what was given. ``segments``
+    names them and ``point`` (when known) is about where."""
 
 
 class CoordinateRangeError(CDTError):

@@ -33,13 +33,13 @@ from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_
 from .regions import flood_seeds, polygon_across, segment_depths, segment_rings
 from .rings import ring_is_degenerate, ring_segments
 from .scaling import NO_FIT, fit_shift, scaled, scaled_area, scaled_seeds, unscale_rows
-from .segments import by_smaller_end, insert_segments, make_buffers
+from .segments import by_smaller_end, insert_segments, make_buffers, pieces_out_of_order
 from .snap import snap_plan
 from .insertion import insert_vertex
 from .status import (FINISHED, LOCATE_FAILED, LOCATION_FAILED, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OK, ROUTE_COLLINEAR,
                      ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP,
                      ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT,
-                     STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP, ALL_DONE)
+                     ROUTE_UNRESOLVED, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP, ALL_DONE)
 
 NO_REFINEMENT = (False, 0.0, 0.0, False, False, -1)
 
@@ -109,6 +109,12 @@ def dedup_tasks(segs, nv):
             tasks[ntask, 2] = i + 1
             ntask += 1
     return tasks, ntask, mult, nzero, first
+
+
+@kernel
+def float_bits(v):
+    """The bits of double ``v`` as an int64 (a float in the integer ``info``)."""
+    return np.array([v]).view(np.int64)[0]
 
 
 @kernel
@@ -558,6 +564,14 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
         info[1] = status
         info[2] = 2
         return ROUTE_INTERNAL, info, counts, no_mesh()
+    if split:      # every segment's pieces along it in order (a net under the rounding)
+        nbad, s_bad, u, v = pieces_out_of_order(tri, cons, ntri, xi, yi, seg_ends)
+        if nbad:
+            info[0] = s_bad
+            info[1] = nbad
+            info[2] = float_bits(0.5 * (xi[u] + xi[v]) * 2.0 ** -shift)
+            info[3] = float_bits(0.5 * (yi[u] + yi[v]) * 2.0 ** -shift)
+            return ROUTE_UNRESOLVED, info, counts, no_mesh()
     counts[K_FLIPS] = build_counts[0]
     if algorithm == FLIP:     # the modified flip algorithm after the segments (Sec. 2.10.3)
         counts[K_FLIPS] += flip_to_delaunay(tri, twin, cons, xi, yi, wi, np.bool_(False), inf, ntri)

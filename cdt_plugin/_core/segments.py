@@ -519,3 +519,79 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
         ntask = push_task(tasks, ntask, p, b, sid)
         ntask = push_task(tasks, ntask, a, p, sid)
     return ALL_DONE, ntri, nv, ntask
+
+
+# ------------------------------------------------------------------ after splitting
+@kernel
+def along_key(x, y, A, B, v):
+    """Where vertex ``v`` lies along segment ``A -> B``: ``(position on the
+    major axis, position on the other)``, each oriented from ``A`` (exact
+    comparisons of coordinates; the pieces of a segment follow it in order when
+    their keys do)."""
+    dx = x[B] - x[A]
+    dy = y[B] - y[A]
+    if abs(dy) > abs(dx):
+        return y[v] * (1.0 if dy > 0 else -1.0), x[v] * (-1.0 if dx < 0 else 1.0)
+    return x[v] * (1.0 if dx > 0 else -1.0), y[v] * (-1.0 if dy < 0 else 1.0)
+
+
+@kernel
+def key_less(a0, a1, b0, b1):
+    return a0 < b0 or (a0 == b0 and a1 < b1)
+
+
+@kernel
+def pieces_out_of_order(tri, cons, ntri, x, y, seg_ends):
+    """After splitting: whether every segment's pieces (the constrained edges
+    with its id) lie along it between its ends in order, none overlapping
+    another or turning back (gaps allowed: merged overlaps carry one id).
+    Returns ``(bad pieces, segment id, u, v)`` naming the first bad piece in
+    (segment, position) order, ``(0, -1, -1, -1)`` when all are in order."""
+    m = 0
+    for e in range(3 * ntri):
+        if cons[e] != 0 and tri[3 * (e // 3)] != DEAD and tri[e] < tri[nxt(e)]:
+            m += 1
+    sid = np.empty(m, np.int64)
+    lo0 = np.empty(m)
+    lo1 = np.empty(m)
+    hi0 = np.empty(m)
+    hi1 = np.empty(m)
+    pu = np.empty(m, np.int64)
+    pv = np.empty(m, np.int64)
+    bad = np.zeros(m, np.bool_)
+    k = 0
+    for e in range(3 * ntri):
+        u = tri[e]
+        v = tri[nxt(e)]
+        if cons[e] == 0 or tri[3 * (e // 3)] == DEAD or u >= v:
+            continue
+        s = cons[e]
+        A = seg_ends[s - 1, 0]
+        B = seg_ends[s - 1, 1]
+        p0, p1 = along_key(x, y, A, B, u)
+        q0, q1 = along_key(x, y, A, B, v)
+        if key_less(q0, q1, p0, p1):
+            p0, p1, q0, q1 = q0, q1, p0, p1
+        a0, a1 = along_key(x, y, A, B, A)
+        b0, b1 = along_key(x, y, A, B, B)
+        sid[k], lo0[k], lo1[k], hi0[k], hi1[k], pu[k], pv[k] = s, p0, p1, q0, q1, u, v
+        bad[k] = key_less(p0, p1, a0, a1) or key_less(b0, b1, q0, q1)
+        k += 1
+    order = np.argsort(lo1, kind="mergesort")        # by segment, then start: stable sorts
+    order = order[np.argsort(lo0[order], kind="mergesort")]
+    order = order[np.argsort(sid[order], kind="mergesort")]
+    for r in range(1, m):
+        i = order[r - 1]
+        j = order[r]
+        if sid[i] == sid[j] and key_less(lo0[j], lo1[j], hi0[i], hi1[i]):
+            bad[j] = True                  # it starts before the previous piece ends
+    nbad = 0
+    first = -1
+    for r in range(m):
+        if bad[order[r]]:
+            nbad += 1
+            if first < 0:
+                first = order[r]
+    if first < 0:
+        return np.int64(0), np.int64(-1), np.int64(-1), np.int64(-1)
+    return np.int64(nbad), sid[first], pu[first], pv[first]

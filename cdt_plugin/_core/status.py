@@ -54,3 +54,4 @@ ROUTE_REFINE_LIMIT = 6     # refinement ran out of Steiner points (the mesh is c
 ROUTE_INTERNAL = 7         # info = (stage, code)
 ROUTE_RANGE = 8            # info = (row of the finest bit, row of the largest magnitude): no shift fits
 ROUTE_POLYGONS_OVERLAP = 9  # info = (polygon, other polygon, input vertex, input vertex) of an edge
+ROUTE_UNRESOLVED = 10     # split: info = (segment id, bad pieces, x bits, y bits) pieces out of order

@@ -249,3 +249,45 @@ def test_meets_pixel_on_every_segment_between_neighbouring_doubles(cx, cy):
             assert bool(meets_pixel(b[0], b[1], a[0], a[1], cx, cy, w)) == want, (b, a)
             answers.add(want)
     assert answers == {True, False}
+
+
+# ------------------------------------------------------------------ the net under it
+def store(triangles, constrained):
+    """A half-edge store of ``triangles`` (vertex triples) whose first edge
+    carries segment id ``constrained[t]`` (0: none): what the check reads."""
+    tri = np.array(triangles, np.int64).ravel()
+    cons = np.zeros_like(tri)
+    cons[0::3] = constrained
+    return tri, cons, len(triangles)
+
+
+def test_pieces_out_of_order_finds_overlapping_and_overshooting_pieces():
+    """The compiled check that runs after every split (single calls and batches):
+    pieces of segment 1 from (0, 0) to (4, 0) through (1, 0), (2, 0), (3, 0)."""
+    from cdt_plugin._core.segments import pieces_out_of_order
+    x = np.array([0.0, 1, 2, 3, 4, 5, 2])
+    y = np.array([0.0, 0, 0, 0, 0, 0, 1])
+    ends = np.array([[0, 4]], np.int64)
+    apex = 6
+    in_order = store([[0, 1, apex], [1, 2, apex], [2, 4, apex]], [1, 1, 1])
+    assert pieces_out_of_order(*in_order, x, y, ends) == (0, -1, -1, -1)
+    with_gap = store([[0, 1, apex], [2, 4, apex]], [1, 1])            # a merged overlap's gap
+    assert pieces_out_of_order(*with_gap, x, y, ends)[0] == 0
+    overlapping = store([[0, 2, apex], [1, 3, apex], [3, 4, apex]], [1, 1, 1])
+    assert pieces_out_of_order(*overlapping, x, y, ends) == (1, 1, 1, 3)
+    beyond = store([[0, 2, apex], [2, 5, apex]], [1, 1])              # past the segment's end
+    assert pieces_out_of_order(*beyond, x, y, ends) == (1, 1, 2, 5)
+    reversed_ends = np.array([[4, 0]], np.int64)                      # the same, either direction
+    assert pieces_out_of_order(*overlapping, x, y, reversed_ends)[0] == 1
+
+
+def test_the_route_stop_for_pieces_out_of_order_names_segment_and_point():
+    from cdt_plugin._core.status import ROUTE_UNRESOLVED
+    from cdt_plugin.cdt import _raise_stop
+    from cdt_plugin.plc import as_plc
+    plc = as_plc(np.array([[0.0, 0], [4, 0], [2, -1], [2, 1]]), np.array([[0, 1], [2, 3]]))
+    bits = np.array([2.0, 1e-16]).view(np.int64)
+    with pytest.raises(UnresolvedCrossingError, match=r"segment 1 \(\(2.0, -1.0\)-\(2.0, 1.0\)\).*"
+                                                       r"near \(2.0, 1e-16\).*\(3 such pieces\)") as e:
+        _raise_stop(ROUTE_UNRESOLVED, np.array([2, 3, bits[0], bits[1]]), plc)
+    assert e.value.segments == (1,) and e.value.point == (2.0, 1e-16)
