@@ -1,6 +1,8 @@
 """Array helpers the kernels share."""
 from __future__ import annotations
 
+import numpy as np
+
 from .jit import kernel
 
 
@@ -16,3 +18,15 @@ def copy_rows(dst, src, n):
     k = n * (s.shape[0] // src.shape[0])
     for i in range(k):
         d[i] = s[i]
+
+
+@kernel
+def append(arr, n, v):
+    """``arr[n] = v`` for a growing 1-D array holding ``n`` values: twice as
+    long first when full. Returns ``(arr, n + 1)``."""
+    if n == arr.shape[0]:
+        bigger = np.empty(2 * n + 8, arr.dtype)
+        copy_rows(bigger, arr, n)
+        arr = bigger
+    arr[n] = v
+    return arr, n + 1

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .arrays import copy_rows
+from .arrays import append
 from .jit import kernel
 from .kernel import edge_is_illegal, lifted_test, orient
 from .locate import locate
@@ -204,10 +204,5 @@ def redundant_vertices(tri, twin, x, y, w, inf, ntri):
                 else:
                     unexplained += 1
         if v >= 0:
-            if n == out.shape[0]:
-                bigger = np.empty(2 * n, np.int64)
-                copy_rows(bigger, out, n)
-                out = bigger
-            out[n] = v
-            n += 1
+            out, n = append(out, n, v)
     return np.unique(out[:n]), flips, unexplained

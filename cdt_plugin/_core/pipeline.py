@@ -24,6 +24,7 @@ import numpy as np
 from .arrays import copy_rows
 from .construct import DIVIDE, FLIP, build_mesh, gather_coords, horizontal_order, seed_first, seed_triangle, to_input_ids
 from .flips import flip_to_delaunay
+from .insertion import insert_vertex
 from .jit import kernel
 from .mesh import DEAD, grow_store, nxt
 from .ordering import HILBERT_BITS, hilbert_keys, lexicographic_order_compiled
@@ -35,11 +36,11 @@ from .rings import ring_is_degenerate, ring_segments
 from .scaling import NO_FIT, fit_shift, scaled, scaled_area, scaled_seeds, unscale_rows
 from .segments import by_smaller_end, insert_segments, make_buffers, pieces_out_of_order
 from .snap import snap_plan
-from .insertion import insert_vertex
-from .status import (FINISHED, LOCATE_FAILED, LOCATION_FAILED, NEED_EDGE_ROOM, NEED_VERTEX_ROOM, OK, ROUTE_COLLINEAR,
-                     ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP,
-                     ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT,
-                     ROUTE_UNRESOLVED, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP, ALL_DONE)
+from .status import (ALL_DONE, FINISHED, LOCATE_FAILED, LOCATION_FAILED, NEED_EDGE_ROOM,
+                     NEED_VERTEX_ROOM, OK, ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE,
+                     ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE,
+                     ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT, ROUTE_UNRESOLVED, STOP_CROSSING,
+                     STOP_LIMIT, STOP_OVERLAP)
 
 NO_REFINEMENT = (False, 0.0, 0.0, False, False, -1)
 

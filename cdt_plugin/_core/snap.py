@@ -33,7 +33,7 @@ import math
 
 import numpy as np
 
-from .arrays import copy_rows
+from .arrays import append, copy_rows
 from .jit import kernel
 from .predicates import (EPSILON, _orient_expansion, _two_diff, _two_one_sum, _two_product,
                          orient_offset_exact)
@@ -297,12 +297,7 @@ def crossing_pairs(x, y, nv, pieces):
                     continue
                 if not boxes_meet(x, y, a, b, u, v) or not crosses(x, y, a, b, u, v):
                     continue
-                if nk == keys.shape[0]:
-                    grown = np.empty(2 * nk, np.int64)
-                    copy_rows(grown, keys, nk)
-                    keys = grown
-                keys[nk] = min(i, j) * m + max(i, j)
-                nk += 1
+                keys, nk = append(keys, nk, min(i, j) * m + max(i, j))
     keys = np.unique(keys[:nk])
     pairs = np.empty((keys.shape[0], 2), np.int64)
     for k in range(keys.shape[0]):
@@ -403,12 +398,7 @@ def snap_pieces(x, y, nv, pieces):
                     continue
                 if not meets_pixel(ax, ay, bx, by, hx, hy, w):
                     continue
-                if nm == met.shape[0]:
-                    grown = np.empty(2 * nm, np.int64)
-                    copy_rows(grown, met, nm)
-                    met = grown
-                met[nm] = h
-                nm += 1
+                met, nm = append(met, nm, h)
         mx = np.empty(nm)
         my = np.empty(nm)
         for t in range(nm):

@@ -12,13 +12,18 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import cdt_plugin
 from cdt_plugin import UnresolvedCrossingError
 from cdt_plugin._core.scaling import GRID, ON_GRID_ABOVE
 from cdt_plugin._core.snap import meets_pixel
-from tests.support.checker import canonical_triangles, check_steiner_segments, check_triangulation
+from tests.support.checker import (
+    canonical_triangles,
+    check_steiner_segments,
+    check_triangulation,
+)
 
 h = float.fromhex
 
