@@ -25,9 +25,10 @@ from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUP
                              K_ZERO_SEGMENTS, PACK_ARRAYS, PACK_HEADER, cdt_route_packed,
                              refinement_arg)
 from ._core.segments import intersection_point
+from ._core.snap import snap_route
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
                            ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT,
-                           ROUTE_STEINER_LIMIT, ROUTE_UNRESOLVED)
+                           ROUTE_NEEDS_SNAP, ROUTE_STEINER_LIMIT, ROUTE_UNRESOLVED)
 from .delaunay import resolve_algorithm
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError, UnresolvedCrossingError)
@@ -40,6 +41,7 @@ INTERSECTIONS = ("raise", "split")
 _NO_IDS = np.empty(0, np.int64)
 _NO_RINGS = np.empty(0, np.bool_)
 _NO_SEEDS = np.empty((0, 2))
+_NOT_SNAPPED = (np.empty(0), np.empty(0), np.empty((0, 3), np.int64))   # crossings not snapped yet
 _NO_REGIONS = np.empty((0, 4))
 
 #: The refinement options as the compiled route takes them: min_angle, max_area,
@@ -223,13 +225,23 @@ def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
     use_seeds = plc.holes is not None or plc.regions is not None
     holes = plc.holes if plc.holes is not None and len(plc.holes) else _NO_SEEDS
     regions = plc.regions if plc.regions is not None and len(plc.regions) else _NO_REGIONS
-    with deferred_interrupt(n):
-        status, ints, vertices = cdt_route_packed(
-            x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
-            plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
-            holes, regions, use_seeds, ALGORITHM_CODES[algorithm], order, horizontal, split,
-            bool(keep_hull), max_steiner, refinement_arg(refinement))
-    info, counts = ints[PACK_HEADER:PACK_HEADER + 4], ints[PACK_HEADER + 4:PACK_ARRAYS]
+    snapped = _NOT_SNAPPED
+    while True:
+        with deferred_interrupt(n):
+            status, ints, vertices = cdt_route_packed(
+                x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
+                plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
+                holes, regions, use_seeds, ALGORITHM_CODES[algorithm], order, horizontal, split,
+                bool(keep_hull), max_steiner, snapped, refinement_arg(refinement))
+        info, counts = ints[PACK_HEADER:PACK_HEADER + 4], ints[PACK_HEADER + 4:PACK_ARRAYS]
+        if status != ROUTE_NEEDS_SNAP:
+            break
+        # segments cross: snap-round them all (compiled apart: only such inputs pay for it)
+        with deferred_interrupt(n):
+            status, info, *plan = snap_route(x, y, plc.segments, max_steiner)
+        if status != ROUTE_OK:
+            _raise_stop(status, info, plc)
+        snapped = tuple(plan)
     if status == ROUTE_COLLINEAR:
         return _collinear_result(plc, algorithm, t0)
     if status not in (ROUTE_OK, ROUTE_REFINE_LIMIT):

@@ -9,7 +9,7 @@ route ahead of time, for Docker images, CI and Dask workers.
 
 >>> from cdt_plugin.compiling import ROUTES
 >>> sorted(ROUTES)
-['batch', 'delaunay', 'dynamic', 'query', 'refine', 'triangulate', 'voronoi', 'weighted']
+['batch', 'delaunay', 'dynamic', 'query', 'refine', 'split', 'triangulate', 'voronoi', 'weighted']
 """
 from __future__ import annotations
 
@@ -30,6 +30,7 @@ _ENTRY_NAMES = {
     "cdt_route_packed": "the constrained Delaunay route (triangulate)",
     "mesh_geometries": "the batch route (triangulate_rings)",
     "build_mesh": "the Delaunay route (delaunay)",
+    "snap_route": "snap rounding of crossing segments (intersections='split')",
 }
 _MODULE_NAMES = {"cdt_plugin._core.predicates": "the exact predicates",
                  "cdt_plugin._core.dual": "the Voronoi diagram (voronoi, delaunay_subdivision)",
@@ -186,6 +187,12 @@ def _refine():
     triangulate(*_square(), min_angle=30, max_area=0.1)
 
 
+def _split():
+    from . import triangulate
+    bowtie = np.array([[0, 0], [2, 2], [2, 0], [0, 2.0]])
+    triangulate(bowtie, [[0, 1], [1, 2], [2, 3], [3, 0]], intersections="split")
+
+
 def _batch():
     from .batch import triangulate_rings
     xy = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [2, 0], [3, 0], [2, 1.0]])
@@ -217,7 +224,7 @@ def _dynamic():
 
 ROUTES: dict[str, Callable[[], None]] = {
     "delaunay": _delaunay, "weighted": _weighted, "triangulate": _triangulate,
-    "refine": _refine, "batch": _batch, "voronoi": _voronoi, "query": _query, "dynamic": _dynamic,
+    "refine": _refine, "split": _split, "batch": _batch, "voronoi": _voronoi, "query": _query, "dynamic": _dynamic,
 }
 
 

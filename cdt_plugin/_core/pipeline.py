@@ -35,12 +35,12 @@ from .regions import flood_seeds, polygon_across, segment_depths, segment_rings
 from .rings import ring_is_degenerate, ring_segments
 from .scaling import NO_FIT, fit_shift, scaled, scaled_area, scaled_seeds, unscale_rows
 from .segments import by_smaller_end, insert_segments, make_buffers, pieces_out_of_order
-from .snap import snap_plan
+from .snap import steiner_limit
 from .status import (ALL_DONE, FINISHED, LOCATE_FAILED, LOCATION_FAILED, NEED_EDGE_ROOM,
                      NEED_VERTEX_ROOM, OK, ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE,
                      ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE,
-                     ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT, ROUTE_UNRESOLVED, STOP_CROSSING,
-                     STOP_LIMIT, STOP_OVERLAP)
+                     ROUTE_NEEDS_SNAP, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT, ROUTE_UNRESOLVED,
+                     STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP)
 
 NO_REFINEMENT = (False, 0.0, 0.0, False, False, -1)
 
@@ -119,16 +119,6 @@ def float_bits(v):
 
 
 @kernel
-def segment_has_length(x, y, segs):
-    """Whether each segment's ends lie apart."""
-    out = np.empty(segs.shape[0], np.bool_)
-    for i in range(segs.shape[0]):
-        a, b = segs[i, 0], segs[i, 1]
-        out[i] = x[a] != x[b] or y[a] != y[b]
-    return out
-
-
-@kernel
 def insert_points_at(tri, twin, cons, x, y, w, inf, ntri, nv, px, py):
     """Insert points ``px, py`` (distinct, none at a vertex; room made) as
     vertices ``nv, nv + 1, ...``, in Hilbert order (short walks). Returns
@@ -138,7 +128,11 @@ def insert_points_at(tri, twin, cons, x, y, w, inf, ntri, nv, px, py):
         x[nv + j] = px[j]
         y[nv + j] = py[j]
         w[nv + j] = 0.0
-    order = np.argsort(hilbert_keys(px, py, np.arange(k), np.int64(HILBERT_BITS)))
+    keys = hilbert_keys(px, py, np.arange(k), np.int64(HILBERT_BITS))
+    fkeys = np.empty(k)
+    for j in range(k):
+        fkeys[j] = keys[j]          # (below 2**32: exact, for the compiled sort the route has)
+    order = lexicographic_order_compiled(fkeys, np.zeros(k))
     stack = np.empty(inf + 16, np.int64)
     flip_counts = np.zeros(2, np.int64)
     no_weights = np.zeros(1, np.int8)
@@ -154,7 +148,7 @@ def insert_points_at(tri, twin, cons, x, y, w, inf, ntri, nv, px, py):
 
 @kernel
 def chain_tasks(chains, first, segs, mesh_of, n):
-    """The segment tasks for snap-rounded chains (:func:`.snap.snap_plan`): the
+    """The segment tasks for snap-rounded chains (:func:`.snap.snap_route`): the
     pieces ``(u, v, segment)`` of the segments kept by :func:`dedup_tasks`, in
     mesh ids (new points ``n + j`` are mesh vertices ``n + j``), stacked so
     that the first segment's first piece is on top. Returns ``(tasks, ntask,
@@ -442,7 +436,8 @@ def no_mesh():
 
 @kernel
 def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
-              algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, refinement):
+              algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, snapped,
+              refinement):
     """Constrained Delaunay triangulation of one PLC, every step in one call.
 
     Parameters: the vertices ``px, py`` (n,); ``segs`` (m, 2) vertex pairs;
@@ -453,8 +448,11 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     code; ``order_in`` / ``horizontal_in`` the insertion and (y, -x) orders
     when the caller sorted already (empty: sorted here); ``split`` crossing
     segments are split (else reported); ``keep_hull``; ``max_steiner`` the cap
-    on intersection points (-1: default); ``refinement`` the refinement
-    options (:func:`refinement_arg`).
+    on intersection points (-1: default); ``snapped`` the snap-rounded
+    crossings ``(new points x, y, chains)`` of :func:`.snap.snap_route`
+    (empty: none yet; splitting segments that cross then stops with
+    ROUTE_NEEDS_SNAP, so that only inputs with crossings compile and run the
+    snap rounding); ``refinement`` the refinement options (:func:`refinement_arg`).
 
     Returns ``(status, info, counts, out)`` with ``out = (vertices, triangles,
     neighbors, constrained, segments, segment_ids, regions, vertex_map, kept,
@@ -479,7 +477,8 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     if algorithm != DIVIDE:
         order = seed_first(order, k1, k2)
     ms = segs.shape[0]
-    extra = 16 + ms // 2 if split else 0
+    snap_x, snap_y, chains = snapped
+    extra = 16 + ms // 2 + snap_x.shape[0] if split else 0
     refine = refinement[0]
     if refine:   # the room refinement starts with, made now rather than by a copy
         extra = max(extra, STEINER_ROOM * n + 64 - n)
@@ -515,29 +514,13 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     tasks, ntask, mult, nzero, first = dedup_tasks(seg_ends, n)
     counts[K_ZERO_SEGMENTS] = nzero
     counts[K_DUPLICATE_SEGMENTS] = ms - nzero - ntask
-    limit = max_steiner if max_steiner >= 0 else 10 * ms + 1000
+    limit = steiner_limit(max_steiner, ms)
     seg_counts = np.zeros(3, np.int64)
-    # splitting, a first pass with no room for a crossing point: most inputs have no crossing
-    status, store = insert_all_segments(tri, twin, cons, xi, yi, wi, inf, ntri, n, tasks, ntask,
-                                        seg_ends, split, np.int64(0) if split else limit,
-                                        seg_counts, info)
-    tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
-    if split and status == STOP_LIMIT:
-        # segments cross: snap-round every crossing at once (.snap), and insert the chains
-        # into the Delaunay triangulation of the points again
-        snap_x, snap_y, chains, pairs = snap_plan(px, py, n, segs, segment_has_length(px, py, segs))
-        if snap_x.shape[0] > limit:
-            info[0] = pairs[0, 0] + 1
-            info[1] = pairs[0, 1] + 1
-            info[2] = limit
-            info[3] = snap_x.shape[0]
-            return ROUTE_STEINER_LIMIT, info, counts, no_mesh()
-        for e in range(3 * ntri):
-            cons[e] = 0
-        flip_to_delaunay(tri, twin, cons, xi, yi, wi, np.bool_(False), inf, ntri)
-        if inf - n < snap_x.shape[0] + 16:
-            tri, twin, cons, xi, yi, wi, inf = grow_store(tri, twin, cons, xi, yi, wi, inf, n,
-                                                          n + snap_x.shape[0] + 16 + ms // 2)
+    nv = n
+    if split and chains.shape[0] > 0:     # the crossings, snap-rounded: points, then chains
+        if shift != 0:
+            snap_x = scaled(snap_x, shift)
+            snap_y = scaled(snap_y, shift)
         ntri, nv, status = insert_points_at(tri, twin, cons, xi, yi, wi, inf, ntri, n, snap_x, snap_y)
         if status != OK:
             info[0] = 3
@@ -545,12 +528,14 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
             return ROUTE_INTERNAL, info, counts, no_mesh()
         tasks, ntask, passed = chain_tasks(chains, first, segs, mesh_of, n)
         seg_counts[0] = passed
-        seg_counts[1] = 0
-        seg_counts[2] = 0
-        status, store = insert_all_segments(tri, twin, cons, xi, yi, wi, inf, ntri, nv, tasks,
-                                            ntask, seg_ends, split, limit - (nv - n), seg_counts,
-                                            info)
-        tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
+    # (splitting before the crossings are snapped: no room for a crossing point, so the
+    # first crossing stops the loop; most inputs have none)
+    cap = np.int64(0) if split and chains.shape[0] == 0 else limit - (nv - n)
+    status, store = insert_all_segments(tri, twin, cons, xi, yi, wi, inf, ntri, nv, tasks, ntask,
+                                        seg_ends, split, cap, seg_counts, info)
+    tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
+    if split and status == STOP_LIMIT and chains.shape[0] == 0:
+        return ROUTE_NEEDS_SNAP, info, counts, no_mesh()
     counts[K_ON_SEGMENTS] = seg_counts[0]
     counts[K_MERGED_OVERLAPS] = seg_counts[1]
     counts[K_INTERSECTIONS] = nv - n
@@ -650,7 +635,8 @@ PACK_ARRAYS = PACK_HEADER + 4 + NCOUNTS      # then info and counts, then the ar
 
 @kernel
 def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
-                     algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, refinement):
+                     algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, snapped,
+                     refinement):
     """:func:`cdt_route` for a call from Python: ``(status, ints, vertices)``,
     every integer output in the one array ``ints`` (read by ``Triangulation.from_route``).
     numba hands each returned array to Python on its own, about a microsecond
@@ -658,7 +644,8 @@ def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, 
     quarter of the call."""
     status, info, counts, out = cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole,
                                           holes, regions, use_seeds, algorithm, order_in,
-                                          horizontal_in, split, keep_hull, max_steiner, refinement)
+                                          horizontal_in, split, keep_hull, max_steiner, snapped,
+                                          refinement)
     vertices, triangles, neighbors, constrained, pieces, piece_ids, out_regions, vertex_map, kept, \
         below = out
     k = triangles.shape[0]
@@ -722,6 +709,7 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     no_seeds = np.empty((0, 2))
     no_regions = np.empty((0, 4))
     no_order = np.empty(0, np.int64)
+    not_snapped = (np.empty(0), np.empty(0), np.empty((0, 3), np.int64))
     no = np.bool_(False)    # (a literal False would compile the route once more)
     keep_all = np.ones(geom_ring_start[g1] - geom_ring_start[g0] + 1, np.bool_)
     for g in range(g0, g1):
@@ -740,7 +728,8 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
         segs, ring_of = ring_segments(ring_start, r0, r1, keep_all)
         status, _, _, out = cdt_route(x[v0:v1], y[v0:v1], segs, ring_of, ring_polygon[r0:r1],
                                       ring_is_hole[r0:r1], no_seeds, no_regions, no, algorithm,
-                                      no_order, no_order, split, no, max_steiner, refinement)
+                                      no_order, no_order, split, no, max_steiner, not_snapped,
+                                      refinement)
         if status != ROUTE_OK:
             failed[g - g0] = True
             continue

@@ -25,6 +25,7 @@ from .insertion import insert_vertex
 from .locate import ON_VERTEX, locate
 from .flips import flip_from_stack
 from .mesh import DEAD, flip, nxt, prv
+from .ordering import sort_ids
 from .predicates import crossing_point as exact_crossing
 from .scaling import on_grid
 from .status import (ALL_DONE, BUFFERS_TOO_SMALL, CROSSING, DONE, LOCATE_FAILED, LOST,  # noqa: F401
@@ -577,9 +578,22 @@ def pieces_out_of_order(tri, cons, ntri, x, y, seg_ends):
         sid[k], lo0[k], lo1[k], hi0[k], hi1[k], pu[k], pv[k] = s, p0, p1, q0, q1, u, v
         bad[k] = key_less(p0, p1, a0, a1) or key_less(b0, b1, q0, q1)
         k += 1
-    order = np.argsort(lo1, kind="mergesort")        # by segment, then start: stable sorts
-    order = order[np.argsort(lo0[order], kind="mergesort")]
-    order = order[np.argsort(sid[order], kind="mergesort")]
+    # by segment (counting sort), then by start (the route's compiled sort)
+    nseg = seg_ends.shape[0]
+    start = np.zeros(nseg + 2, np.int64)
+    for i in range(m):
+        start[sid[i] + 1] += 1
+    for s in range(nseg + 1):
+        start[s + 1] += start[s]
+    order = np.empty(m, np.int64)
+    for i in range(m):
+        order[start[sid[i]]] = i
+        start[sid[i]] += 1
+    tmp = np.empty(m, np.int64)
+    lo = 0
+    for s in range(1, nseg + 1):           # start[s] is now where segment s's pieces end
+        sort_ids(order, lo, start[s], lo0, lo1, tmp)
+        lo = start[s]
     for r in range(1, m):
         i = order[r - 1]
         j = order[r]

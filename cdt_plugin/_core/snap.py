@@ -35,9 +35,11 @@ import numpy as np
 
 from .arrays import append, copy_rows
 from .jit import kernel
+from .status import ROUTE_OK, ROUTE_STEINER_LIMIT
+from .ordering import lexicographic_order_compiled
 from .predicates import (EPSILON, _orient_expansion, _two_diff, _two_one_sum, _two_product,
                          orient_offset_exact)
-from .scaling import GRID, ON_GRID_ABOVE, on_grid
+from .scaling import GRID, ON_GRID_ABOVE, fit_shift, on_grid, scaled
 from .segments import crosses, intersection_point
 
 ROUNDS = 8     # snap rounds at most (one suffices on a uniform grid of pixels)
@@ -298,33 +300,29 @@ def crossing_pairs(x, y, nv, pieces):
                 if not boxes_meet(x, y, a, b, u, v) or not crosses(x, y, a, b, u, v):
                     continue
                 keys, nk = append(keys, nk, min(i, j) * m + max(i, j))
-    keys = np.unique(keys[:nk])
-    pairs = np.empty((keys.shape[0], 2), np.int64)
-    for k in range(keys.shape[0]):
-        pairs[k, 0] = keys[k] // m
-        pairs[k, 1] = keys[k] % m
-    return pairs
+    # sorted, once each (a pair meets in every bucket both pieces pass through);
+    # keys below 2**53 are exact as doubles, for the compiled sort the route has already
+    fkeys = np.empty(nk)
+    for k in range(nk):
+        fkeys[k] = keys[k]
+    order = lexicographic_order_compiled(fkeys, np.zeros(nk))
+    pairs = np.empty((nk, 2), np.int64)
+    npairs = 0
+    for r in range(nk):
+        key = keys[order[r]]
+        if r > 0 and key == keys[order[r - 1]]:
+            continue
+        pairs[npairs, 0] = key // m
+        pairs[npairs, 1] = key % m
+        npairs += 1
+    return pairs[:npairs]
 
 
 # ------------------------------------------------------------------ hot pixels
 @kernel
-def lex_order(x, y):
-    """Indices sorting ``x, y`` by x, then y (two stable sorts)."""
-    by_y = np.argsort(y, kind="mergesort")
-    xs = np.empty(x.shape[0])
-    for k in range(x.shape[0]):
-        xs[k] = x[by_y[k]]
-    by_x = np.argsort(xs, kind="mergesort")
-    out = np.empty(x.shape[0], np.int64)
-    for k in range(x.shape[0]):
-        out[k] = by_y[by_x[k]]
-    return out
-
-
-@kernel
 def distinct_points(x, y, nv):
     """The first of the vertices ``0..nv-1`` at each position."""
-    order = lex_order(x[:nv], y[:nv])   # stable: at one position, the lowest id first
+    order = lexicographic_order_compiled(x[:nv].copy(), y[:nv].copy())   # stable: at one position, the lowest id first
     keep = np.empty(nv, np.int64)
     k = 0
     for r in range(nv):
@@ -368,7 +366,7 @@ def along_order(ax, ay, bx, by, hx, hy):
     by column in the direction of travel, then by row (the pixels form a grid)."""
     sx = 1.0 if bx > ax else (-1.0 if bx < ax else 0.0)
     sy = 1.0 if by > ay else (-1.0 if by < ay else 0.0)
-    return lex_order(sx * hx, sy * hy)
+    return lexicographic_order_compiled(sx * hx, sy * hy)
 
 
 @kernel
@@ -426,7 +424,7 @@ def canonical_new_points(x, y, n, nv, pieces):
     and ``pieces``), so that the plan does not depend on the order of the
     rounds' discoveries."""
     k = nv - n
-    order = lex_order(x[n:nv], y[n:nv])
+    order = lexicographic_order_compiled(x[n:nv].copy(), y[n:nv].copy())
     new_id = np.empty(k, np.int64)
     nx = np.empty(k)
     ny = np.empty(k)
@@ -494,3 +492,50 @@ def snap_plan(x, y, n, segs, use):
         pieces = snap_pieces(X, Y, nv, pieces)
     new_x, new_y = canonical_new_points(X, Y, n, nv, pieces)
     return new_x, new_y, pieces, first_pairs
+
+
+# ------------------------------------------------------------------ the entry point
+@kernel
+def steiner_limit(max_steiner, m):
+    """The cap on crossing points for ``m`` segments: ``max_steiner``, or by
+    default ``10 m + 1000``."""
+    return max_steiner if max_steiner >= 0 else 10 * m + 1000
+
+
+@kernel
+def segment_has_length(x, y, segs):
+    """Whether each segment's ends lie apart."""
+    out = np.empty(segs.shape[0], np.bool_)
+    for i in range(segs.shape[0]):
+        a, b = segs[i, 0], segs[i, 1]
+        out[i] = x[a] != x[b] or y[a] != y[b]
+    return out
+
+
+@kernel
+def snap_route(px, py, segs, max_steiner):
+    """The snap-rounded crossings of segments ``segs`` over points ``px, py``
+    (input ids), for :func:`.pipeline.cdt_route`'s ``snapped``, compiled
+    apart from it: only inputs whose segments cross pay for it. In the
+    route's power-of-two scale (:mod:`.scaling`), the new points returned in
+    the input's (exact both ways). Returns ``(status, info, new_x, new_y,
+    chains)``; ROUTE_STEINER_LIMIT with ``info = (segment id, other segment id,
+    limit, points needed)`` (1-based ids) when the new points exceed the cap."""
+    info = np.zeros(4, np.int64)
+    shift, _, _ = fit_shift(px, py, np.empty(0))     # (in range: the route checked)
+    if shift != 0:
+        px = scaled(px, shift)
+        py = scaled(py, shift)
+    new_x, new_y, chains, pairs = snap_plan(px, py, px.shape[0], segs,
+                                            segment_has_length(px, py, segs))
+    limit = steiner_limit(max_steiner, segs.shape[0])
+    if new_x.shape[0] > limit:
+        info[0] = pairs[0, 0] + 1
+        info[1] = pairs[0, 1] + 1
+        info[2] = limit
+        info[3] = new_x.shape[0]
+        return ROUTE_STEINER_LIMIT, info, new_x, new_y, chains
+    if shift != 0:
+        new_x = scaled(new_x, -shift)
+        new_y = scaled(new_y, -shift)
+    return ROUTE_OK, info, new_x, new_y, chains

@@ -55,3 +55,4 @@ ROUTE_INTERNAL = 7         # info = (stage, code)
 ROUTE_RANGE = 8            # info = (row of the finest bit, row of the largest magnitude): no shift fits
 ROUTE_POLYGONS_OVERLAP = 9  # info = (polygon, other polygon, input vertex, input vertex) of an edge
 ROUTE_UNRESOLVED = 10     # split: info = (segment id, bad pieces, x bits, y bits) pieces out of order
+ROUTE_NEEDS_SNAP = 11     # split: segments cross; call again with .snap.snap_route's crossings

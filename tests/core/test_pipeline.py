@@ -14,8 +14,9 @@ from cdt_plugin._core.pipeline import (K_DUPLICATE_SEGMENTS, K_DUPLICATES, K_FLI
                                        K_INTERSECTIONS, K_MERGED_OVERLAPS, K_REF_COMPLETE,
                                        K_ZERO_SEGMENTS, NO_REFINEMENT, cdt_route,
                                        mesh_geometries, refinement_arg)
+from cdt_plugin._core.snap import snap_route
 from cdt_plugin._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE,
-                                     ROUTE_OK, ROUTE_OVERLAP, ROUTE_REFINE_LIMIT,
+                                     ROUTE_NEEDS_SNAP, ROUTE_OK, ROUTE_OVERLAP, ROUTE_REFINE_LIMIT,
                                      ROUTE_STEINER_LIMIT)
 from checker import assert_valid, canonical_triangles, check_steiner_segments
 from helpers import check_neighbors
@@ -24,6 +25,7 @@ NO_IDS = np.empty(0, np.int64)
 NO_RINGS = np.empty(0, np.bool_)
 NO_SEEDS = np.empty((0, 2))
 NO_REGIONS = np.empty((0, 4))
+NOT_SNAPPED = (np.empty(0), np.empty(0), np.empty((0, 3), np.int64))
 
 
 def route(points, segs=(), rings=None, algorithm=DIVIDE, split=False, keep_hull=False,
@@ -37,10 +39,19 @@ def route(points, segs=(), rings=None, algorithm=DIVIDE, split=False, keep_hull=
                                              np.asarray(rings[1], np.int64),
                                              np.asarray(rings[2], np.bool_)))
     holes = np.asarray(holes, float).reshape(-1, 2)
-    status, info, counts, out = cdt_route(
-        P[:, 0].copy(), P[:, 1].copy(), S, seg_ring, ring_polygon, ring_is_hole, holes,
-        NO_REGIONS, len(holes) > 0, algorithm, NO_IDS, NO_IDS, split, keep_hull, max_steiner,
-        refinement_arg(refinement))
+    x, y = P[:, 0].copy(), P[:, 1].copy()
+    snapped = NOT_SNAPPED
+    while True:
+        status, info, counts, out = cdt_route(
+            x, y, S, seg_ring, ring_polygon, ring_is_hole, holes, NO_REGIONS, len(holes) > 0,
+            algorithm, NO_IDS, NO_IDS, split, keep_hull, max_steiner, snapped,
+            refinement_arg(refinement))
+        if status != ROUTE_NEEDS_SNAP:
+            break
+        status, info, *plan = snap_route(x, y, S, max_steiner)   # segments cross: snap them
+        if status != ROUTE_OK:
+            return int(status), info, None, None
+        snapped = tuple(plan)
     names = ("vertices", "triangles", "neighbors", "constrained", "pieces", "piece_ids",
              "regions", "vertex_map", "kept", "below")
     return int(status), info, counts, SimpleNamespace(**dict(zip(names, out)))
@@ -271,3 +282,26 @@ def test_mesh_geometries_refuses_a_degenerate_ring_like_triangulate():
                                          np.array([False, True]), 0, 1, False, -1, DIVIDE,
                                          NO_REFINEMENT, len(xy))
     assert failed[0] or len(T) == 0
+
+
+def test_crossings_stop_the_route_until_they_are_snap_rounded():
+    """Splitting, the route stops at the first crossing with ROUTE_NEEDS_SNAP (the
+    snap rounding is compiled apart, for the inputs that need it); called again with
+    ``snap_route``'s crossings it finishes. The batch loop leaves such a geometry to
+    the single call."""
+    bowtie = np.array([[0, 0], [2, 2], [2, 0], [0, 2.0]])
+    S = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
+    x, y = bowtie[:, 0].copy(), bowtie[:, 1].copy()
+    status, *_ = cdt_route(x, y, S, NO_IDS, NO_IDS, NO_RINGS, NO_SEEDS, NO_REGIONS, False, DIVIDE,
+                           NO_IDS, NO_IDS, True, False, -1, NOT_SNAPPED, NO_REFINEMENT)
+    assert status == ROUTE_NEEDS_SNAP
+    status, info, new_x, new_y, chains = snap_route(x, y, S, -1)
+    assert status == ROUTE_OK and new_x.tolist() == [1.0] and new_y.tolist() == [1.0]
+    # (the new point is vertex 4: segments 0 and 2 pass through it, in order)
+    assert chains.tolist() == [[0, 4, 0], [4, 1, 0], [1, 2, 1], [2, 4, 2], [4, 3, 2], [3, 0, 3]]
+    status, info, counts, o = route(bowtie, S, split=True)
+    assert status == ROUTE_OK and counts[K_INTERSECTIONS] == 1
+    verify_out(bowtie, o, S)
+    T, G, R, St, failed = mesh_geometries(x, y, np.array([0, 4]), np.array([0, 1]), NO_IDS,
+                                          NO_RINGS, 0, 1, True, -1, DIVIDE, NO_REFINEMENT, 4)
+    assert failed.tolist() == [True] and len(T) == 0
