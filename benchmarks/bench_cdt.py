@@ -16,6 +16,11 @@ Workloads (DESIGN.md, "Benchmarks"):
   ignored), one call per file, times summed per round. ``c2-all`` is all of them;
   ``c2-polygons`` only the files that are polygons with holes (no free vertex, no
   dangling segment), so that the polygon-only peers run too.
+* C3 — crossing segments: 1,000 random segments in the unit square (seeded; about 110,000
+  crossings), meshed over their convex hull with every crossing inserted (ours:
+  ``intersections="split", keep_hull=True``, snap rounding; Triangle: ``pcQ``, which
+  splits crossing segments too; pythoncdt: ``TRY_RESOLVE`` and ``erase_super_triangle``).
+  The polygon peers do not take it.
 
 Peers, all run in the same worker process, interleaved round-robin:
 
@@ -180,6 +185,25 @@ def c2(polygons_only: bool):
     return make
 
 
+def segment_soup(m: int, seed: int = 0) -> dict:
+    """``m`` random segments in the unit square: ends drawn uniformly, so about m**2 / 9
+    pairs cross. Meshed over the convex hull, crossings inserted (``split``)."""
+    V = np.random.default_rng(seed).random((2 * m, 2))
+    S = np.arange(2 * m, dtype=np.int64).reshape(m, 2)
+    return {"name": f"soup{m}", "V": V, "S": S, "H": np.empty((0, 2)), "faces": None,
+            "not_polygon": f"soup{m} (crossing segments)", "split": True}
+
+
+def c3(m: int):
+    def make() -> dict:
+        return {"items": [segment_soup(m)]}
+    return make
+
+
+def c3_warmup(_data: dict) -> dict:
+    return {"items": [segment_soup(30, seed=1)]}
+
+
 
 WORKLOADS = [
     Workload("c1-1e4", "C1 star 10k + 200x64 holes (22,800 v)", c1(10_000), c1_warmup,
@@ -190,6 +214,8 @@ WORKLOADS = [
              number=50, memory=False),
     Workload("c2-polygons", "C2 Triangle's .poly files, polygons only (sum)", c2(True), size=1_000,
              number=50, memory=False),
+    Workload("c3-1e3", "C3 1,000 crossing segments (split, convex hull)", c3(1_000), c3_warmup,
+             2_000),
 ]
 
 # ----------------------------------------------------------------------------- quality
@@ -228,7 +254,7 @@ def setup_triangle():
         pslg = {"vertices": d["V"], "segments": d["S"]}
         if len(d["H"]):
             pslg["holes"] = d["H"]                   # an empty holes array crashes triangle
-        return triangle.triangulate(pslg, "pQ")
+        return triangle.triangulate(pslg, "pcQ" if d.get("split") else "pQ")
 
     def run(data):
         return [one(d) for d in data["items"]]
@@ -248,12 +274,16 @@ def setup_ours(even_odd: bool = False):
     def setup():
         import cdt_plugin
         triangulate = cdt_plugin.triangulate
-        if even_odd:
-            def run(data):
-                return [triangulate(d["V"], d["S"]) for d in data["items"]]
-        else:
-            def run(data):
-                return [triangulate(d["V"], d["S"], holes=d["H"]) for d in data["items"]]
+
+        def one(d):
+            if d.get("split"):
+                return triangulate(d["V"], d["S"], intersections="split", keep_hull=True)
+            if even_odd:
+                return triangulate(d["V"], d["S"])
+            return triangulate(d["V"], d["S"], holes=d["H"])
+
+        def run(data):
+            return [one(d) for d in data["items"]]
         return run
     return setup
 
@@ -270,10 +300,15 @@ def setup_pythoncdt():
     import pythoncdt as cdt
 
     def one(d):
+        split = d.get("split", False)
         t = cdt.Triangulation(cdt.VertexInsertionOrder.AUTO,
-                              cdt.IntersectingConstraintEdges.NOT_ALLOWED, 0.0)
+                              cdt.IntersectingConstraintEdges.TRY_RESOLVE if split
+                              else cdt.IntersectingConstraintEdges.NOT_ALLOWED, 0.0)
         t.insert_vertices(d["V"])                    # (n, 2) C-contiguous float64 buffer
         t.insert_edges(d["S"].astype(np.uint32))     # it accepts only uint32 (CDT::VertInd)
+        if split:
+            t.erase_super_triangle()                 # the convex hull, crossings inserted
+            return t.triangles_array(copy=False)["vertices"], t.vertices_array()
         t.erase_outer_triangles_and_holes()          # even-odd depth; no hole points
         return t.triangles_array(copy=False)["vertices"]   # the view keeps t alive
 
@@ -282,12 +317,19 @@ def setup_pythoncdt():
     return run
 
 
-def count_len(res) -> int:
-    return sum(len(r) for r in res)
+def count_pythoncdt(res) -> int:
+    return sum(len(r[0]) if isinstance(r, tuple) else len(r) for r in res)
 
 
 def extras_pythoncdt(data, res) -> dict:
-    return quality([d["V"][r.astype(np.int64)] for d, r in zip(data["items"], res)])
+    tris = []
+    for d, r in zip(data["items"], res):
+        if isinstance(r, tuple):            # split: its vertices, crossings included
+            T, V = r
+            tris.append(np.column_stack([V["x"], V["y"]])[T.astype(np.int64)])
+        else:
+            tris.append(d["V"][r.astype(np.int64)])
+    return quality(tris)
 
 
 def _require_polygons(data) -> None:
@@ -373,7 +415,7 @@ IMPLS = [
          numba_cold_start=True, package="cdt_plugin"),
     Impl("ours_eo", "cdt_plugin (even-odd)", setup_ours(True), count_ours, extras=extras_ours,
          timed="triangulate(V, S) without hole points"),
-    Impl("pythoncdt", "CDT (pythoncdt)", setup_pythoncdt, count_len, extras=extras_pythoncdt,
+    Impl("pythoncdt", "CDT (pythoncdt)", setup_pythoncdt, count_pythoncdt, extras=extras_pythoncdt,
          timed="uint32 edges + insert + insert_edges + erase_outer_triangles_and_holes + triangle array",
          dist="pythoncdt"),
     Impl("geos", "GEOS (shapely)", setup_geos, count_geos, extras=extras_geos,
@@ -464,6 +506,11 @@ SUITE = Suite(
         "segments) is n/a for them. CDT (pythoncdt) and cdt_plugin (even-odd) take no hole "
         "points and decide the domain by even-odd depth (box.poly: 2 triangles instead of "
         "Triangle's 0). earcut drops collinear vertices (double_hex*), hence fewer triangles.",
+        "C3: 1,000 random segments whose ~110,000 crossings are all inserted, meshed over the "
+        "convex hull (Triangle `pcQ`; cdt_plugin `intersections=\"split\", keep_hull=True`, "
+        "which snap-rounds the crossings and runs the route twice: once to find that segments "
+        "cross, once with the snapped crossings; pythoncdt `TRY_RESOLVE`). Both cdt_plugin rows "
+        "run the same call here. The polygon peers do not take crossing segments.",
         "Minimum angle: smallest interior angle of the output triangles, computed with numpy "
         "after the run (untimed). A CDT maximises it over all triangulations of the same input, "
         "so an exact CDT agrees with Triangle. earcut and manifold3d are ear clippers, not "

@@ -130,9 +130,12 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         With ``False`` no Steiner point goes on the domain boundary (Triangle's
         ``-Y``); the triangles there may then miss the bounds.
     max_steiner : int, optional
-        Cap on Steiner points (intersections with ``"split"`` plus refinement);
-        refinement that reaches it raises :class:`RefinementLimitError`
-        carrying the partial mesh. The default cap stops runaway refinement:
+        Cap on Steiner points (intersections with ``"split"`` plus refinement).
+        Crossings are counted before anything is built: more than the cap
+        raise :class:`UnresolvedCrossingError`; by default every crossing is
+        inserted (at most ``m (m - 1) / 2`` for ``m`` segments). Refinement
+        that reaches the cap raises :class:`RefinementLimitError` carrying the
+        partial mesh. The default cap stops runaway refinement:
         100 per input vertex plus 100,000, and with ``max_area`` 8 per
         ``max_area`` of the domain's area, at most 1,000,000 more (pass a
         larger ``max_steiner`` for finer meshes).

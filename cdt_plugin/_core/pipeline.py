@@ -530,7 +530,11 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
         seg_counts[0] = passed
     # (splitting before the crossings are snapped: no room for a crossing point, so the
     # first crossing stops the loop; most inputs have none)
-    cap = np.int64(0) if split and chains.shape[0] == 0 else limit - (nv - n)
+    cap = limit
+    if split and chains.shape[0] == 0:
+        cap = np.int64(0)
+    elif max_steiner >= 0:
+        cap = limit - (nv - n)
     status, store = insert_all_segments(tri, twin, cons, xi, yi, wi, inf, ntri, nv, tasks, ntask,
                                         seg_ends, split, cap, seg_counts, info)
     tri, twin, cons, xi, yi, wi, inf, ntri, nv = store

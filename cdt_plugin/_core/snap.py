@@ -497,8 +497,10 @@ def snap_plan(x, y, n, segs, use):
 # ------------------------------------------------------------------ the entry point
 @kernel
 def steiner_limit(max_steiner, m):
-    """The cap on crossing points for ``m`` segments: ``max_steiner``, or by
-    default ``10 m + 1000``."""
+    """The cap on crossing points that segment insertion places one at a time
+    for ``m`` segments: ``max_steiner``, or by default ``10 m + 1000`` (rounded
+    one at a time, crossings can keep making new ones; snap rounding's are
+    counted before anything is built and are not capped by default)."""
     return max_steiner if max_steiner >= 0 else 10 * m + 1000
 
 
@@ -520,7 +522,8 @@ def snap_route(px, py, segs, max_steiner):
     route's power-of-two scale (:mod:`.scaling`), the new points returned in
     the input's (exact both ways). Returns ``(status, info, new_x, new_y,
     chains)``; ROUTE_STEINER_LIMIT with ``info = (segment id, other segment id,
-    limit, points needed)`` (1-based ids) when the new points exceed the cap."""
+    max_steiner, points needed)`` (1-based ids) when the new points exceed
+    ``max_steiner`` (-1: no cap)."""
     info = np.zeros(4, np.int64)
     shift, _, _ = fit_shift(px, py, np.empty(0))     # (in range: the route checked)
     if shift != 0:
@@ -528,11 +531,10 @@ def snap_route(px, py, segs, max_steiner):
         py = scaled(py, shift)
     new_x, new_y, chains, pairs = snap_plan(px, py, px.shape[0], segs,
                                             segment_has_length(px, py, segs))
-    limit = steiner_limit(max_steiner, segs.shape[0])
-    if new_x.shape[0] > limit:
+    if 0 <= max_steiner < new_x.shape[0]:     # (by default every crossing: finitely many)
         info[0] = pairs[0, 0] + 1
         info[1] = pairs[0, 1] + 1
-        info[2] = limit
+        info[2] = max_steiner
         info[3] = new_x.shape[0]
         return ROUTE_STEINER_LIMIT, info, new_x, new_y, chains
     if shift != 0:
