@@ -296,3 +296,17 @@ def test_the_route_stop_for_pieces_out_of_order_names_segment_and_point():
                                                        r"near \(2.0, 1e-16\).*\(3 such pieces\)") as e:
         _raise_stop(ROUTE_UNRESOLVED, np.array([2, 3, bits[0], bits[1]]), plc)
     assert e.value.segments == (1,) and e.value.point == (2.0, 1e-16)
+
+
+def test_every_crossing_of_a_dense_soup_by_default():
+    """Snap rounding counts the crossings before anything is built, so the default cap
+    of the one-at-a-time rounding (10 m + 1000 points) does not apply: 200 random
+    segments cross about 4,400 times."""
+    m = 200
+    P = np.random.default_rng(9).random((2 * m, 2))
+    S = np.arange(2 * m).reshape(m, 2)
+    tri = cdt_plugin.triangulate(P, S, intersections="split", keep_hull=True)
+    assert tri.stats["intersection_points"] > 10 * m + 1000
+    assert check_triangulation(tri.vertices, tri.triangles, segments=tri.segments, domain="hull").ok
+    assert check_steiner_segments(P, S, tri.vertices, tri.vertex_map, tri.segments, tri.segment_ids,
+                                  partial=bool(tri.stats["merged_overlaps"])).ok
