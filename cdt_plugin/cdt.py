@@ -228,23 +228,23 @@ def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
     use_seeds = plc.holes is not None or plc.regions is not None
     holes = plc.holes if plc.holes is not None and len(plc.holes) else _NO_SEEDS
     regions = plc.regions if plc.regions is not None and len(plc.regions) else _NO_REGIONS
-    snapped = _NOT_SNAPPED
-    while True:
+    def route(snapped):
         with deferred_interrupt(n):
-            status, ints, vertices = cdt_route_packed(
+            return cdt_route_packed(
                 x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
                 plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
                 holes, regions, use_seeds, ALGORITHM_CODES[algorithm], order, horizontal, split,
                 bool(keep_hull), max_steiner, snapped, refinement_arg(refinement))
-        info, counts = ints[PACK_HEADER:PACK_HEADER + 4], ints[PACK_HEADER + 4:PACK_ARRAYS]
-        if status != ROUTE_NEEDS_SNAP:
-            break
+
+    status, ints, vertices = route(_NOT_SNAPPED)
+    if status == ROUTE_NEEDS_SNAP:
         # segments cross: snap-round them all (compiled apart: only such inputs pay for it)
         with deferred_interrupt(n):
             status, info, *plan = snap_route(x, y, plc.segments, max_steiner)
         if status != ROUTE_OK:
             _raise_stop(status, info, plc)
-        snapped = tuple(plan)
+        status, ints, vertices = route(tuple(plan))
+    info, counts = ints[PACK_HEADER:PACK_HEADER + 4], ints[PACK_HEADER + 4:PACK_ARRAYS]
     if status == ROUTE_COLLINEAR:
         return _collinear_result(plc, algorithm, t0)
     if status not in (ROUTE_OK, ROUTE_REFINE_LIMIT):
