@@ -20,12 +20,16 @@ the centres a segment meets are monotone in both coordinates. The result
 depends on the set of segments only, not on their order or direction.
 
 Where the grid changes its spacing (at powers of two) the chains can still
-cross in rare cases; segment insertion then splits them as before.
+cross in rare cases: later rounds add those crossings as hot pixels and snap
+the pieces again (:func:`snap_plan`); segment insertion splits whatever might
+be left.
 
 Every decision is exact: the crossings by :func:`.kernel.orient`, whether a
 segment meets a pixel by the exact sign of the orientation of its corners
-(:func:`.predicates.orient_offset`, the corners being midpoints between
-doubles). A uniform grid of buckets finds the candidate pairs and pixels.
+(a double-double stage, then :func:`.predicates.orient_offset_exact`, the
+corners being midpoints between doubles). A uniform grid of buckets finds
+the candidate pairs and pixels. The route calls :func:`snap_route` only for
+inputs whose segments cross, so that only they compile and run this module.
 """
 from __future__ import annotations
 
@@ -35,12 +39,12 @@ import numpy as np
 
 from .arrays import append, copy_rows
 from .jit import kernel
-from .status import ROUTE_OK, ROUTE_STEINER_LIMIT
 from .ordering import lexicographic_order_compiled
 from .predicates import (EPSILON, _orient_expansion, _two_diff, _two_one_sum, _two_product,
                          orient_offset_exact)
 from .scaling import GRID, ON_GRID_ABOVE, fit_shift, on_grid, scaled
 from .segments import crosses, intersection_point
+from .status import ROUTE_OK, ROUTE_STEINER_LIMIT
 
 ROUNDS = 8     # snap rounds at most (one suffices on a uniform grid of pixels)
 
