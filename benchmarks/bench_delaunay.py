@@ -2,7 +2,8 @@
 
 Workloads (DESIGN.md, "Benchmarks"):
 
-* D1 — uniform random points in the unit square, 1e4 / 1e5 / 1e6 points (seeded);
+* D1 — uniform random points in the unit square, 1e4 / 1e5 / 1e6 / 1e7 points (seeded;
+  1e7: Triangle and cdt_plugin only, one round, for time and peak memory at scale);
 * D2 — the 1000 x 1000 integer grid (1e6 points, massively cocircular);
 * D3 — 1e5 points with a large coordinate offset: ``round(5e5 + U(0, 1000), 3)``
   (UTM-like coordinates at millimetre resolution).
@@ -79,6 +80,8 @@ WORKLOADS = [
     Workload("d1-1e4", "D1 uniform 1e4", uniform(10_000, 101), subset, 10_000),
     Workload("d1-1e5", "D1 uniform 1e5", uniform(100_000, 102), subset, 100_000),
     Workload("d1-1e6", "D1 uniform 1e6", uniform(1_000_000, 103), subset, 1_000_000, large=True),
+    Workload("d1-1e7", "D1 uniform 1e7", uniform(10_000_000, 105), subset, 10_000_000, large=True,
+             impls=("triangle", "ours", "ours_threads"), rounds=1),
     Workload("d2-grid", "D2 grid 1000x1000", grid(1000), subset, 1_000_000, large=True),
     Workload("d3-offset", "D3 offset 5e5, 1e5 pts", offset(100_000, 104), subset, 100_000),
 ]

@@ -88,6 +88,8 @@ class Workload:
     description: str = ""
     number: int = 1                             # calls per timed sample (mean per call reported)
     memory: bool = True                         # measure peak memory (skip for tiny inputs)
+    impls: tuple[str, ...] = ()                 # only these implementations run here (default: all)
+    rounds: int = 0                             # rounds here (default: the suite's)
 
 
 @dataclass
@@ -621,6 +623,12 @@ def render_markdown(suite: Suite, results: dict, info: dict, args_line: str) -> 
         + ("Peak MB = extra resident memory of one call in a fresh process (peak minus the "
            "baseline after imports, input and warm-up; MiB; method: " + ", ".join(methods) + ")."
            if methods else "Peak memory not measured.") + (f" Timed spans: {spans}." if spans else ""))
+    for wl in suite.workloads:
+        if wl.name in results["workloads"] and (wl.impls or wl.rounds):
+            shown = [suite.impl(n).label for n in wl.impls if n in results["workloads"][wl.name]]
+            lines[-1] += (f" {wl.label}: " + (", ".join(shown) + " only" if wl.impls else "")
+                          + (", " if wl.impls and wl.rounds else "")
+                          + (f"{min(results['repeat'], wl.rounds)} round(s)" if wl.rounds else "") + ".")
     if any(not wl.memory for wl in suite.workloads if wl.name in results["workloads"]) and methods:
         lines[-1] += " Peak MB \"-\": not measured (tiny input)."
     if notes:
@@ -731,15 +739,17 @@ def main(suite: Suite, argv: list[str] | None = None) -> int:
 
     for wl in workloads:
         _log(f"{wl.label}:")
-        active = [i for i in impls if not (args.skip_slow_peers and wl.large and i.slow)]
-        repeats = {i.name: (min(repeat, max(args.slow_repeat, 1)) if wl.large and i.slow else repeat)
+        runs_here = [i for i in impls if not wl.impls or i.name in wl.impls]
+        active = [i for i in runs_here if not (args.skip_slow_peers and wl.large and i.slow)]
+        rounds = min(repeat, wl.rounds) if wl.rounds else repeat
+        repeats = {i.name: (min(rounds, max(args.slow_repeat, 1)) if wl.large and i.slow else rounds)
                    for i in active}
         cells = measure_times(suite, wl, active, repeats, args.timeout, args.setup_timeout)
         if not args.no_memory and wl.memory:
             for impl in active:
                 if cells[impl.name].error is None:
                     measure_memory(suite, wl, impl, cells[impl.name], args.timeout, args.setup_timeout)
-        for impl in impls:
+        for impl in runs_here:
             if impl not in active:
                 cells[impl.name] = Cell(error="skipped (--skip-slow-peers)")
         results["workloads"][wl.name] = {

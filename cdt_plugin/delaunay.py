@@ -19,19 +19,21 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._core.construct import build, gather_coords, seed_first, seed_triangle, to_input_ids
-from ._core.divide import build_divide_sorted, build_half, join_halves, split_halves
+from ._core.divide import (build_divide, build_half, join_halves, quad_store, right_base,
+                           split_halves)
 from ._core.flips import flip_to_delaunay
 from ._core.insertion import redundant_vertices
 from ._core.ordering import brio_order, lexicographic_order
 from ._core.status import OK
 from .errors import CDTError
 from .interrupts import deferred_interrupt
-from .parallel import check_workers, map_ordered, resolve_workers
+from .parallel import check_workers, map_ordered, release_freed_memory, resolve_workers
 from .triangulation import Triangulation
 from .validate import as_points, as_weights, exact_range
 
 ALGORITHMS = ("auto", "divide", "incremental", "flip")
 _NO_IDS = np.empty(0, np.int64)
+_NO_WEIGHTS = np.empty(0)         # divide and conquer is unweighted: it never reads them
 MAX_WEIGHTED_PASSES = 50
 PARALLEL_POINTS = 50_000    # from this many points, divide and conquer splits over two threads
 
@@ -118,14 +120,7 @@ def delaunay(points: ArrayLike, weights: ArrayLike | None = None, *, algorithm: 
     weighted = w_in is not None
     algorithm = resolve_algorithm(algorithm, weighted)
     threads = resolve_workers(check_workers(workers), 2)
-    sx, sy, sw, _ = exact_range(pts[:, 0], pts[:, 1], w_in)   # exact: a power of two
-    x = np.zeros(n + 1)
-    y = np.zeros(n + 1)
-    x[:n] = sx
-    y[:n] = sy
-    w = np.zeros(n + 1)
-    if weighted:
-        w[:n] = sw
+    x, y, w = _scaled_coordinates(pts, w_in)
     dup_of = np.full(n, -1, np.int64)
     submerged = np.zeros(n, np.int8)
     active = _merge_weighted_duplicates(pts, w_in, dup_of, submerged) if weighted else None
@@ -168,55 +163,86 @@ def delaunay(points: ArrayLike, weights: ArrayLike | None = None, *, algorithm: 
             return Triangulation.from_collinear(pts, order, w_in, dup_of, submerged, stats, t0)
         order = seed_first(order, k1, k2)
     stats["flips"] = int(counts[0])
+    del x, y, w     # (scaled and sorted coordinates: the output of a large input needs their room)
     return Triangulation.from_mesh(pts, w_in, tri, twin, cons, ntri, order, dup_of, submerged, stats, t0)
+
+
+def _scaled_coordinates(pts, w_in):
+    """The coordinates (and weights) scaled by a power of two (exact), each with
+    one more slot for the infinite vertex; zero weights when unweighted."""
+    n = len(pts)
+    sx, sy, sw, _ = exact_range(pts[:, 0], pts[:, 1], w_in)
+    x = np.zeros(n + 1)
+    y = np.zeros(n + 1)
+    w = np.zeros(n + 1)
+    x[:n] = sx
+    y[:n] = sy
+    if w_in is not None:
+        w[:n] = sw
+    return x, y, w
 
 
 def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, threads=1):
     """Triangulate the points ``order`` (seed triangle first) and record
     duplicates and submerged points in ``dup_of`` / ``submerged`` (input ids).
+    Divide and conquer sorts ``x`` and ``y`` in place.
     Returns ``(tri, twin, cons, ntri, counts)`` over the mesh vertices of
     :mod:`cdt_plugin._core.construct` (``counts[0]``: flips). Only the
     construction asked for is called, so only it is compiled on first use."""
     m = len(order)
-    xi, yi, wi = gather_coords(x, y, w, order, 0)
     counts = np.zeros(2, np.int64)
+    if algorithm == "divide":
+        # The largest inputs take this route (unweighted, every point in
+        # order), so it holds as little as it can: the coordinates are sorted in
+        # place, and dup_of (all -1 so far) first takes the repeats in mesh ids.
+        x[:m] = x[order]
+        y[:m] = y[order]
+        tri, twin, cons, ntri = _build_divide(x, y, _NO_WEIGHTS, m, dup_of, 0, threads)
+        repeats = np.flatnonzero(dup_of >= 0)
+        firsts = order[dup_of[repeats]]
+        dup_of[repeats] = -1
+        dup_of[order[repeats]] = firsts
+        return tri, twin, cons, ntri, counts
     dup = np.full(m, -1, np.int64)
     sub = np.zeros(m, np.int8)
-    cap = max(4, 2 * m + 2)
-    if algorithm == "divide":
-        tri, twin, cons, ntri = _build_divide(xi, yi, wi, m, dup, cap, threads)
-    else:
-        status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, m, np.arange(m),
-                                              algorithm == "flip", dup, sub, counts, 0, False)
-        if status != OK:  # pragma: no cover - a located point always exists
-            raise CDTError(f"internal error: point location failed (status {status})")
-        if algorithm == "flip":
-            counts[0] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, m, ntri)
+    xi, yi, wi = gather_coords(x, y, w, order, 0)
+    status, tri, twin, cons, ntri = build(xi, yi, wi, weighted, m, np.arange(m),
+                                          algorithm == "flip", dup, sub, counts, 0, False)
+    if status != OK:  # pragma: no cover - a located point always exists
+        raise CDTError(f"internal error: point location failed (status {status})")
+    if algorithm == "flip":
+        counts[0] = flip_to_delaunay(tri, twin, cons, xi, yi, wi, False, m, ntri)
     to_input_ids(order, dup, sub, dup_of, submerged)
     return tri, twin, cons, ntri, counts
 
 
 def _build_divide(xi, yi, wi, m, dup, cap, threads, inf=None, with_cons=False):
     """Divide and conquer over the sorted points ``0..m-1``; with two threads
-    and enough points, the halves of the first cut are built side by side
-    (the kernels release the GIL) and joined into the arrays one thread makes.
-    ``inf``: the infinite vertex's id (default ``m``: no room for more
-    vertices); ``with_cons``: allocate the per-half-edge segment ids (a store
+    and enough points, the halves of the first cut are built side by side in
+    one set of quad-edge arrays (the kernels release the GIL) and joined into
+    the arrays one thread makes. ``inf``: the infinite vertex's id (default
+    ``m``: no room for more vertices); ``cap``: room for at least this many
+    triangles; ``with_cons``: allocate the per-half-edge segment ids (a store
     that segments will be inserted into)."""
     inf = m if inf is None else inf
     with_cons = np.bool_(with_cons)
     if threads < 2 or m < PARALLEL_POINTS:
-        horizontal = lexicographic_order(yi[:m], -xi[:m])
-        return build_divide_sorted(xi, yi, wi, m, inf, dup, cap, with_cons, horizontal)
+        return build_divide(xi, yi, wi, m, inf, dup, cap, with_cons)
     u, mid = split_halves(xi, yi, m, dup)
     nu = len(u)
-    ranks = np.empty(nu, np.int64)
+    ranks = np.empty(nu, u.dtype)
+    onext, org, free = quad_store(nu)
+    base = right_base(mid)
+    halves = [(0, mid, free[:base], 0), (mid, nu, free[base:], base)]
 
-    def half(bounds):
-        lo, hi = bounds
+    def half(part):
+        lo, hi, own_free, first = part
         ids = u[lo:hi]          # ranks in the order of horizontal cuts, within the half
         ranks[lo + lexicographic_order(yi[ids], -xi[ids])] = np.arange(hi - lo)
-        return build_half(xi, yi, wi, u, ranks, lo, hi, nu if lo == 0 else hi - lo)
+        release_freed_memory()    # the sort's temporaries, kept in this thread's arena
+        return build_half(xi, yi, wi, u, ranks, lo, hi, onext, org, own_free, np.int64(first))
 
-    left, right = map_ordered(half, [(0, mid), (mid, nu)], 2)
-    return join_halves(xi, yi, wi, *left, *right, inf, cap, with_cons)
+    left, right = map_ordered(half, halves, 2)
+    store = join_halves(xi, yi, wi, onext, org, free, base, *left, *right, inf, cap, with_cons)
+    release_freed_memory()        # what the threads and the join freed, before the output is made
+    return store

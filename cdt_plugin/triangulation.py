@@ -11,7 +11,8 @@ from numpy.typing import ArrayLike, NDArray
 from ._core.certify import edge_lifted_values, submerged_ok
 from ._core.flips import flip_to_delaunay
 from ._core.mesh import DEAD
-from ._core.output import first_defect, rotate_min_first, solid_triangles
+from ._core.output import (first_defect, relabel_store, rotate_min_first,
+                           store_neighbors, store_triangles)
 from ._core.pipeline import PACK_ARRAYS, PACK_HEADER
 from ._core.predicates import incircle_weighted, orient2d
 from .errors import CDTError, InvertedTriangleError
@@ -143,23 +144,32 @@ class Triangulation:
         """Compact a finished half-edge store into output arrays. Mesh vertex ``i``
         is input point ``ids[i]``; ``len(ids)`` is the infinite vertex."""
         n = len(pts)
-        vertex_map, kept = _vertex_map(n, dup_of, submerged)
-        # negative entries index from the end: -2 (DEAD) and -1 map to themselves
+        vertex_map, kept, duplicates = _vertex_map(n, dup_of, submerged)
+        nv = n if kept is None else len(kept)
+        # in place (the store is ours): negative entries index from the end,
+        # -2 (DEAD) and -1 map to themselves
         remap = np.empty(len(ids) + 3, tri.dtype)
-        remap[: len(ids)] = vertex_map[ids]
-        remap[len(ids)] = len(kept)  # the infinite vertex
+        remap[: len(ids)] = ids if kept is None else vertex_map[ids]   # (no copy of a large map)
+        remap[len(ids)] = nv  # the infinite vertex
         remap[-2] = DEAD
         remap[-1] = -1
-        tri_out = remap[tri[: 3 * ntri]]
-        twin_out = twin[: 3 * ntri]
-        triangles, neighbors, _ = solid_triangles(tri_out, twin_out, ntri, len(kept))
-        rotate_min_first(triangles, neighbors)
+        relabel_store(tri, ntri, remap)
+        mesh = (tri[: 3 * ntri], twin[: 3 * ntri], cons[: 3 * ntri], ntri, nv)
+        out = cls.__new__(cls)
+        out.vertices = _kept_rows(pts, kept)
+        out.triangles = store_triangles(tri, ntri, nv)
+        out.vertex_map = vertex_map
+        out.weights = None if w_in is None else _kept_rows(w_in, kept)
         # the counts are made on first access: most callers never look
-        counts = functools.partial(_finished_stats, stats, n, vertex_map, dup_of, len(triangles),
-                                   time.perf_counter() - t0)
-        weights = None if w_in is None else w_in[kept]
-        out = cls(pts[kept], triangles, neighbors, vertex_map, counts, weights,
-                  mesh=(tri_out, twin_out, cons[: 3 * ntri], ntri, len(kept)))
+        out._stats = functools.partial(_finished_stats, stats, n, vertex_map, duplicates,
+                                       len(out.triangles), time.perf_counter() - t0)
+        out.segments, out.segment_ids, out.steiner = _NO_SEGMENTS, _NO_IDS, _NO_IDS
+        out.below_min_angle, out.region_attributes = _NO_IDS, None
+        out._edges = None
+        out._mesh = mesh
+        # neighbours, flags and regions on first access: at a million points they
+        # would be as large as the triangles, and many callers never look
+        out._lazy = functools.partial(_mesh_attributes, mesh)
         out._input_points, out._input_weights = pts, w_in
         return out
 
@@ -174,13 +184,13 @@ class Triangulation:
         line = line[np.lexsort((pts[line, 1], pts[line, 0]))]
         if w_in is not None:
             line = _lower_chain(pts, w_in, line, submerged)
-        vertex_map, kept = _vertex_map(n, dup_of, submerged)
+        vertex_map, kept, duplicates = _vertex_map(n, dup_of, submerged)
         edges = np.column_stack([vertex_map[line[:-1]], vertex_map[line[1:]]]).astype(np.int64)
         empty = np.empty((0, 3), np.int64)
-        _finished_stats(stats, n, vertex_map, dup_of, 0, time.perf_counter() - t0)
+        _finished_stats(stats, n, vertex_map, duplicates, 0, time.perf_counter() - t0)
         stats["collinear"] = True
-        weights = None if w_in is None else w_in[kept]
-        return cls(pts[kept], empty, empty.copy(), vertex_map, stats, weights,
+        weights = None if w_in is None else _kept_rows(w_in, kept)
+        return cls(_kept_rows(pts, kept), empty, empty.copy(), vertex_map, stats, weights,
                    edges=edges.reshape(-1, 2))
 
     @classmethod
@@ -526,8 +536,9 @@ class Triangulation:
         self.__dict__.pop("_blocked", None)
         if flips >= 0 and defect < 0:
             self._mesh = (tri, twin, cons, ntri, inf)
-            self.triangles, self.neighbors, _ = solid_triangles(tri, twin, ntri, inf)
-            rotate_min_first(self.triangles, self.neighbors)
+            self.__dict__.pop("_lazy", None)     # every array is made here
+            self.triangles = store_triangles(tri, ntri, inf)
+            self.neighbors = store_neighbors(tri, twin, ntri, inf)
             # hull flips can change the number of triangles: the per-triangle arrays follow
             self.constrained = np.zeros(self.triangles.shape, bool)
             self.regions = np.full(len(self.triangles), -1, np.int64)
@@ -543,6 +554,8 @@ class Triangulation:
             from .delaunay import delaunay
             fresh = delaunay(new, self.weights)
             old_map = self.vertex_map
+            for name in _LAZY_ATTRIBUTES:        # the fresh result's are made on first access
+                self.__dict__.pop(name, None)
             self.__dict__.update(fresh.__dict__)
             self.vertex_map = np.where(old_map >= 0, fresh.vertex_map[np.maximum(old_map, 0)], -1)
             self.stats.update(move_flips=0, rebuilt=True)
@@ -558,11 +571,12 @@ def _triangle_name(tri, t, xy) -> str:
 
 
 def _vertex_map(n, dup_of, submerged):
-    """Output index of every input point and the input index kept for each output
-    vertex: the first appearance of each distinct point, in input order."""
+    """Output index of every input point, the input index kept for each output
+    vertex (the first appearance of each distinct point, in input order; None
+    when every point is kept, in order) and the number of repeated points."""
     dups = np.flatnonzero(dup_of >= 0)
     if dups.size == 0 and not submerged.any():  # the common case: nothing merged
-        return np.arange(n), np.arange(n)
+        return np.arange(n), None, 0
     root = np.where(dup_of >= 0, dup_of, np.arange(n))
     in_mesh = (dup_of < 0) & (submerged == 0)
     rep = np.arange(n)
@@ -573,17 +587,33 @@ def _vertex_map(n, dup_of, submerged):
     out_of_root = np.full(n, -1, np.int64)
     out_of_root[roots[perm]] = np.arange(len(roots))
     vertex_map = np.where(in_mesh[root], out_of_root[root], -1)
-    return vertex_map, rep[roots[perm]]
+    return vertex_map, rep[roots[perm]], dups.size
 
 
-def _finished_stats(stats, n, vertex_map, dup_of, ntriangles, seconds) -> dict:
+def _kept_rows(a, kept):
+    """A copy of the rows ``kept`` of ``a`` (all of them when None)."""
+    return a.copy() if kept is None else a[kept]
+
+
+def _finished_stats(stats, n, vertex_map, duplicates, ntriangles, seconds) -> dict:
     """``stats`` with the counts of a finished triangulation added."""
-    stats["duplicates"] = int((dup_of >= 0).sum())
+    stats["duplicates"] = int(duplicates)
     stats["submerged"] = int((vertex_map < 0).sum())
     stats["vertices"] = int(vertex_map.max() + 1) if n else 0
     stats["triangles"] = int(ntriangles)
     stats["seconds"] = seconds
     return stats
+
+
+def _mesh_attributes(mesh) -> dict:
+    """The arrays of a Delaunay result that are made on first access
+    (:meth:`Triangulation.from_mesh`): neighbours from the store, no
+    constrained edges, no regions."""
+    tri, twin, _, ntri, inf = mesh
+    neighbors = store_neighbors(tri, twin, ntri, inf)
+    k = len(neighbors)
+    return {"neighbors": neighbors, "constrained": np.zeros((k, 3), bool),
+            "regions": np.full(k, -1, np.int64)}
 
 
 def _mark_collinear_duplicates(pts, order, dup_of):

@@ -27,6 +27,8 @@ from .kernel import lifted_test, orient
 from .mesh import IDX
 from .ordering import lexicographic_order
 
+QUAD_SLACK = 8   # quad-edges beyond 3 per point that a subdivision may take
+
 
 @kernel(inline='always')
 def rot(e):
@@ -189,18 +191,18 @@ def hull_ends(onext, org, x, y, e, axis):
 
 
 @kernel(_nrt=False)
-def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi, axis):
+def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi, axis, base):
     """Delaunay triangulation of the distinct vertices ``u[lo:hi]`` (at least
     two; ids in lexicographic order of their points) by divide and conquer with
     cuts alternately vertical and horizontal (Dwyer's variant, which keeps the
     subproblems square), the first cut along ``axis`` (0: vertical). ``r[k]``
     ranks vertex ``u[k]`` in the order of the horizontal cuts (only their order
     within ``lo:hi`` matters), reordered along with ``u``. Quad-edges are taken
-    from 0 up, freed ones recycled through the stack ``free``. Returns ``(e,
-    number of quad-edges taken, number left on the free stack)``, ``e`` the
-    counter-clockwise hull edge out of the leftmost vertex."""
+    from ``base`` up, freed ones recycled through the stack ``free``. Returns
+    ``(e, the quad-edge after the last one taken, number left on the free
+    stack)``, ``e`` the counter-clockwise hull edge out of the leftmost vertex."""
     nfree = np.int64(0)
-    top = np.int64(0)
+    top = np.int64(base)
     rp = 0
     stack[0] = lo
     stack[1] = hi
@@ -328,17 +330,16 @@ def merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo):
 
 
 @kernel(_nrt=False)
-def to_triangles(onext, org, nquad, ldo, inf, tri, twin, half):
-    """Write the subdivision as triangles and ghost triangles (``mesh`` layout);
-    returns the number of triangles written. ``half`` (all -1, one slot per
-    primal directed edge ``e``, at ``e >> 1``) receives its half-edge."""
-    # the outer face, clockwise: it lies left of the reversed hull edges
-    outer = ldo ^ 2
-    ghosts = 0
+def number_faces(onext, org, nquad, ldo):
+    """First pass of the conversion to the half-edge store: the half-edge of
+    every primal directed edge ``e`` goes to ``org[e + 1]``, the slot of its
+    dual, which divide and conquer leaves at -1. Triangles are numbered in the
+    order of their first quad-edge, then one ghost per hull edge along the hull.
+    Returns ``(triangles and ghosts, the first ghost)``."""
+    outer = ldo ^ 2                 # the outer face lies left of the reversed hull edges
     e = outer
     while True:
-        half[e >> 1] = -2
-        ghosts += 1
+        org[e + 1] = -2
         e = lnext(onext, e)
         if e == outer:
             break
@@ -347,50 +348,53 @@ def to_triangles(onext, org, nquad, ldo, inf, tri, twin, half):
         if org[4 * q] < 0:
             continue
         for e in (4 * q, 4 * q + 2):
-            if half[e >> 1] != -1:
+            if org[e + 1] != -1:
                 continue
             f = lnext(onext, e)
             g = lnext(onext, f)
-            tri[3 * ntri] = org[e]
-            tri[3 * ntri + 1] = org[f]
-            tri[3 * ntri + 2] = org[g]
-            half[e >> 1] = 3 * ntri
-            half[f >> 1] = 3 * ntri + 1
-            half[g >> 1] = 3 * ntri + 2
+            org[e + 1] = 3 * ntri
+            org[f + 1] = 3 * ntri + 1
+            org[g + 1] = 3 * ntri + 2
             ntri += 1
-    # ghost (v, u, inf) on the outer edge v -> u
     first = ntri
     e = outer
     while True:
-        tri[3 * ntri] = org[e]
-        tri[3 * ntri + 1] = org[e ^ 2]
-        tri[3 * ntri + 2] = inf
-        half[e >> 1] = 3 * ntri
+        org[e + 1] = 3 * ntri
         ntri += 1
         e = lnext(onext, e)
         if e == outer:
             break
+    return ntri, first
+
+
+@kernel(_nrt=False)
+def write_store(org, nquad, ntri, first, inf, tri, twin):
+    """Second pass: the triangles and their twins from the half-edges that
+    :func:`number_faces` put in ``org`` (``onext`` is not read, so ``tri`` and
+    ``twin`` may take its memory)."""
     for q in range(nquad):
         if org[4 * q] < 0:
             continue
-        a = half[2 * q]
-        b = half[2 * q + 1]
-        twin[a] = b
-        twin[b] = a
-    # u -> inf of a ghost pairs with inf -> u of the next ghost along the hull
+        for e in (4 * q, 4 * q + 2):
+            h = org[e + 1]
+            tri[h] = org[e]
+            twin[h] = org[(e ^ 2) + 1]
+    # ghost g = (v, u, inf) on hull edge v -> u; u begins the next hull edge
+    ghosts = ntri - first
     for k in range(ghosts):
         g = first + k
         h = first + (k + 1) % ghosts
+        tri[3 * g + 1] = tri[3 * h]
+        tri[3 * g + 2] = inf
         twin[3 * g + 1] = 3 * h + 2
         twin[3 * h + 2] = 3 * g + 1
-    return ntri
 
 
 @kernel
 def mark_duplicates(x, y, m, dup):
     """Distinct vertices of lexicographically sorted ``0..m-1``; ``dup[k]`` is set to
     the first vertex equal to ``k`` when ``k`` repeats it."""
-    u = np.empty(m, np.int64)
+    u = np.empty(m, IDX)
     nu = 0
     for k in range(m):
         if nu > 0 and x[k] == x[u[nu - 1]] and y[k] == y[u[nu - 1]]:
@@ -404,53 +408,90 @@ def mark_duplicates(x, y, m, dup):
 def build_divide(x, y, w, m, inf, dup, cap, with_cons):
     """Delaunay triangulation of the mesh vertices ``0..m-1`` (lexicographically
     sorted, not all collinear) by divide and conquer, in the half-edge store with
-    room for ``cap`` triangles. Returns ``(tri, twin, cons, ntri)``."""
+    room for at least ``cap`` triangles. Returns ``(tri, twin, cons, ntri)``."""
     # the (y, -x) order of the horizontal cuts (numpy's sort is the fastest here)
     horizontal = lexicographic_order(y[:m], -x[:m])
-    return build_divide_sorted(x, y, w, m, inf, dup, cap, with_cons, horizontal)
+    u, r = cut_ranks(x, y, m, dup, horizontal)
+    del horizontal               # (its memory is free before the subdivision's is taken)
+    return build_subdivision(x, y, w, u, r, inf, cap, with_cons)
 
 
 @kernel
 def build_divide_sorted(x, y, w, m, inf, dup, cap, with_cons, horizontal):
-    """:func:`build_divide` after the sort: duplicates marked, the work arrays
-    made, the subdivision built and converted."""
+    """:func:`build_divide` after the sort."""
+    u, r = cut_ranks(x, y, m, dup, horizontal)
+    return build_subdivision(x, y, w, u, r, inf, cap, with_cons)
+
+
+@kernel
+def cut_ranks(x, y, m, dup, horizontal):
+    """Duplicates marked, and the vertices and ranks :func:`guibas_stolfi` cuts:
+    ``(u, r)``, the distinct vertices and each one's rank in the order of
+    horizontal cuts (a repeated point is adjacent to its first copy there too, so
+    skipping it keeps the ranks)."""
     u = mark_duplicates(x, y, m, dup)
     nu = u.shape[0]
-    # rank of each distinct vertex in the order of horizontal cuts (a repeated
-    # point is adjacent to its first copy there too, so skipping it keeps the ranks)
-    slot = np.empty(m, np.int64)
+    slot = np.empty(m, IDX)
     for k in range(nu):
         slot[u[k]] = k
-    r = np.empty(nu, np.int64)
+    r = np.empty(nu, IDX)
     rank = 0
     for k in horizontal:
         if dup[k] < 0:
             r[slot[k]] = rank
             rank += 1
-    onext, org, free, stack, results = quad_store(nu)
+    return u, r
+
+
+@kernel
+def build_subdivision(x, y, w, u, r, inf, cap, with_cons):
+    """The subdivision of the distinct vertices ``u`` (ranks ``r``, see
+    :func:`cut_ranks`) in the half-edge store (:func:`store_subdivision`)."""
+    nu = u.shape[0]
+    onext, org, free = quad_store(nu)
+    stack, results = work_stacks(nu)
     first = np.int64(0)         # (typed, not literal: see jit.py)
-    ldo, used, _ = guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, first, nu, first)
+    ldo, used, _ = guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, first, nu,
+                                 first, first)
     return store_subdivision(onext, org, used, ldo, inf, cap, with_cons)
 
 
 @kernel
 def quad_store(n):
-    """Empty quad-edge arrays for the subdivision of ``n`` points (a free
-    quad-edge has ``org`` -1), and the work stacks of :func:`guibas_stolfi`."""
-    nquad = 3 * n + 8
+    """Empty quad-edge arrays ``(onext, org, free)`` for the subdivision of
+    ``n`` points, or of two halves of them side by side (:func:`right_base`);
+    a free quad-edge has ``org`` -1, and so has every dual edge."""
+    nquad = 3 * n + 2 * QUAD_SLACK
+    return np.empty(4 * nquad, IDX), np.full(4 * nquad, -1, IDX), np.empty(nquad, IDX)
+
+
+@kernel
+def work_stacks(n):
+    """The work stacks of :func:`guibas_stolfi` for ``n`` points."""
     depth = 8 + 2 * int(np.log2(n + 1))
-    return (np.empty(4 * nquad, IDX), np.full(4 * nquad, -1, IDX), np.empty(nquad, IDX),
-            np.empty(4 * 3 * depth, np.int64), np.empty(2 * depth, np.int64))
+    return np.empty(4 * 3 * depth, np.int64), np.empty(2 * depth, np.int64)
 
 
 @kernel
 def store_subdivision(onext, org, used, ldo, inf, cap, with_cons):
-    """The subdivision in the half-edge store with room for ``cap`` triangles:
-    ``(tri, twin, cons, ntri)``."""
-    tri = np.full(3 * cap, -1, IDX)
-    twin = np.full(3 * cap, -1, IDX)
-    cons = np.zeros(3 * cap if with_cons else 0, IDX)
-    ntri = to_triangles(onext, org, used, ldo, inf, tri, twin, np.full(2 * used, -1, IDX))
+    """The subdivision in the half-edge store with room for at least ``cap``
+    triangles: ``(tri, twin, cons, ntri)``. Where they fit, ``tri`` and
+    ``twin`` take over the memory of ``onext``, which the second pass no longer
+    reads: converting then needs no memory of its own (a point set with few
+    repeated points and no room asked for beyond its triangles)."""
+    ntri, first = number_faces(onext, org, used, ldo)
+    room = max(cap, ntri)
+    if 6 * room <= onext.shape[0]:
+        tri = onext[:3 * room]
+        twin = onext[3 * room:6 * room]
+    else:
+        tri = np.empty(3 * room, IDX)
+        twin = np.empty(3 * room, IDX)
+    write_store(org, used, ntri, first, inf, tri, twin)
+    for e in range(3 * ntri, 3 * room):
+        tri[e] = -1
+        twin[e] = -1
+    cons = np.zeros(3 * room if with_cons else 0, IDX)
     return tri, twin, cons, ntri
 
 
@@ -466,46 +507,57 @@ def split_halves(x, y, m, dup):
     ``u[:mid]`` and ``u[mid:]`` (their ranks are set by the caller)."""
     u = mark_duplicates(x, y, m, dup)
     mid = u.shape[0] // 2
-    select(u, np.empty(u.shape[0], np.int64), 0, u.shape[0], mid)
+    select(u, np.empty(u.shape[0], IDX), 0, u.shape[0], mid)
     return u, mid
 
 
 @kernel
-def build_half(x, y, w, u, r, lo, hi, n):
-    """One half ``u[lo:hi]`` of the first cut, triangulated in its own quad-edge
-    arrays (sized for ``n`` points: the whole set for the left half, whose
-    arrays become the joined subdivision's). Returns ``(onext, org, free, nfree,
-    top, e)`` (see :func:`guibas_stolfi`)."""
-    onext, org, free, stack, results = quad_store(n)
-    e, top, nfree = guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi,
-                                  np.int64(1))
-    return onext, org, free, nfree, top, e
+def right_base(mid):
+    """The first quad-edge of the right half when the left one has ``mid``
+    points: the left half takes fewer."""
+    return 3 * mid + QUAD_SLACK
 
 
 @kernel
-def join_halves(x, y, w, onext, org, free, nfree, top, e_left, r_onext, r_org, r_free, r_nfree,
-                r_top, e_right, inf, cap, with_cons):
-    """Move the right half into the left half's arrays, numbered as one thread
-    numbers it (after the left half, one thread's right half takes the left
-    half's freed quad-edges, last freed first, then new ones; its own freed ones
-    stack on top), merge the halves and store the result (see
-    :func:`store_subdivision`)."""
-    taken = min(nfree, r_top)
-    new = np.empty(r_top, np.int64)
-    for i in range(r_top):
+def build_half(x, y, w, u, r, lo, hi, onext, org, free, base):
+    """One half ``u[lo:hi]`` of the first cut, triangulated in the shared
+    quad-edge arrays from quad-edge ``base`` on (0 for the left half,
+    :func:`right_base` for the right one), with its own free stack ``free``.
+    Returns ``(nfree, top, e)`` (see :func:`guibas_stolfi`)."""
+    stack, results = work_stacks(hi - lo)
+    e, top, nfree = guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi,
+                                  np.int64(1), base)
+    return nfree, top, e
+
+
+@kernel
+def join_halves(x, y, w, onext, org, free, base, nfree, top, e_left, r_nfree, r_top, e_right,
+                inf, cap, with_cons):
+    """Move the right half down to the quad-edges one thread gives it (after the
+    left half, one thread's right half takes the left half's freed quad-edges,
+    last freed first, then new ones; its own freed ones stack on top), merge
+    the halves and store the result (see :func:`store_subdivision`). The free
+    stacks are ``free[:base]`` and ``free[base:]``."""
+    count = r_top - base
+    taken = min(nfree, count)
+    new = np.empty(count, IDX)
+    for i in range(count):
         new[i] = free[nfree - 1 - i] if i < nfree else top + i - nfree
-    for i in range(r_top):
-        q = new[i]
+    # in place, in order: quad-edge base + i goes to new[i] <= base + i, never
+    # onto one still to move
+    for i in range(count):
+        q = base + i
+        t = new[i]
         for j in range(4):
-            e = r_onext[4 * i + j]
-            onext[4 * q + j] = 4 * new[e >> 2] + (e & 3)
-            org[4 * q + j] = r_org[4 * i + j]
+            e = onext[4 * q + j]
+            onext[4 * t + j] = 4 * new[(e >> 2) - base] + (e & 3)
+            org[4 * t + j] = org[4 * q + j]
     nfree -= taken
     for i in range(r_nfree):
-        free[nfree + i] = new[r_free[i]]
+        free[nfree + i] = new[free[base + i] - base]
     nfree += r_nfree
-    top += r_top - taken
-    e_right = 4 * new[e_right >> 2] + (e_right & 3)
+    top += count - taken
+    e_right = 4 * new[(e_right >> 2) - base] + (e_right & 3)
     ldo, ldi = hull_ends(onext, org, x, y, e_left, np.int64(0))
     rdi, rdo = hull_ends(onext, org, x, y, e_right, np.int64(0))
     ldo, rdo, nfree, top = merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo)

@@ -43,6 +43,57 @@ def solid_triangles(tri, twin, ntri, inf):
 
 
 @kernel
+def relabel_store(tri, ntri, remap):
+    """In place: every vertex ``v`` of the first ``ntri`` triangles becomes
+    ``remap[v]`` (negative entries, DEAD and -1, index ``remap`` from its end)."""
+    for e in range(3 * ntri):
+        tri[e] = remap[tri[e]]
+
+
+@kernel
+def store_triangles(tri, ntri, inf):
+    """The real (non-ghost, live) triangles of the store, each listed from its
+    smallest vertex id: :func:`solid_triangles` turned by
+    :func:`rotate_min_first`, without the neighbours (:func:`store_neighbors`
+    makes those when they are asked for)."""
+    k = 0
+    for t in range(ntri):
+        if tri[3 * t] != DEAD and not is_ghost(tri, t, inf):
+            k += 1
+    triangles = np.empty((k, 3), np.int64)
+    i = 0
+    for t in range(ntri):
+        if tri[3 * t] == DEAD or is_ghost(tri, t, inf):
+            continue
+        r = min_first(tri[3 * t], tri[3 * t + 1], tri[3 * t + 2])
+        for j in range(3):
+            triangles[i, j] = tri[3 * t + (j + r) % 3]
+        i += 1
+    return triangles
+
+
+@kernel
+def store_neighbors(tri, twin, ntri, inf):
+    """The neighbours of :func:`store_triangles`' rows: neighbour ``j`` is
+    opposite vertex ``j`` (-1: hull)."""
+    tid = np.full(ntri, -1, np.int64)
+    k = 0
+    for t in range(ntri):
+        if tri[3 * t] != DEAD and not is_ghost(tri, t, inf):
+            tid[t] = k
+            k += 1
+    neighbors = np.empty((k, 3), np.int64)
+    for t in range(ntri):
+        i = tid[t]
+        if i < 0:
+            continue
+        r = min_first(tri[3 * t], tri[3 * t + 1], tri[3 * t + 2])
+        for j in range(3):
+            neighbors[i, j] = tid[twin[3 * t + (j + r + 1) % 3] // 3]
+    return neighbors
+
+
+@kernel
 def rotate_min_first(triangles, neighbors):
     """List every triangle from its smallest vertex id (neighbours alike), in place."""
     for i in range(triangles.shape[0]):

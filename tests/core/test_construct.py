@@ -154,3 +154,28 @@ def test_divide_without_cons_and_with_small_cap():
     assert cons.shape[0] == 0
     c = check_store(tri, twin, cons, ntri, m, x, y)
     assert c["solid"] == 2 * m - c["ghosts"] - 2
+
+
+@pytest.mark.parametrize("name", ["random", "grid", "cocircular"])
+def test_divide_store_takes_over_the_quad_edge_memory_when_it_fits(name):
+    """With no room asked beyond its triangles, the store is written into the
+    quad-edges' ``onext`` (``tri`` and ``twin`` share one buffer); with room
+    asked for (more than onext holds), into arrays of its own. Both stores are sane and equal, and the
+    room past the triangles is -1."""
+    P = INPUTS[name]
+    order = lexicographic_order_compiled(P[:, 0].copy(), P[:, 1].copy())
+    x, y, w = gather_coords(P[:, 0].copy(), P[:, 1].copy(), np.zeros(len(P)), order, 0)
+    m = len(P)
+    hor = lexicographic_order_compiled(y[:m], -x[:m])
+    stores = {}
+    for cap in (0, 4 * m):
+        dup = np.full(m, -1, np.int64)
+        tri, twin, cons, ntri = build_divide_sorted(x, y, w, m, m, dup, cap, False, hor)
+        assert len(tri) == len(twin) == 3 * max(cap, ntri)
+        one_buffer = tri.ctypes.data + tri.nbytes == twin.ctypes.data   # twin right after tri
+        assert one_buffer == (cap == 0)
+        assert (tri[3 * ntri:] == -1).all() and (twin[3 * ntri:] == -1).all()
+        c = check_store(tri, twin, cons, ntri, m, x, y)
+        assert c["solid"] == 2 * m - c["ghosts"] - 2
+        stores[cap] = (tri[:3 * ntri].copy(), twin[:3 * ntri].copy())
+    assert all(np.array_equal(a, b) for a, b in zip(stores[0], stores[4 * m]))

@@ -433,3 +433,22 @@ def test_move_vertices_that_change_the_hull_keeps_per_triangle_arrays_in_step():
     assert tri.constrained.shape == tri.triangles.shape and len(tri.regions) == 3
     assert tri.is_delaunay()
     verify(new, tri)
+
+
+def test_neighbours_flags_and_regions_are_made_on_first_access():
+    """A Delaunay result holds its triangles; the neighbours (as large again at
+    a million points), constrained flags and regions are made from the kept
+    store when first asked for, and a rebuild by move_vertices replaces any
+    made before it."""
+    p = rng.random((300, 2))
+    tri = cdt_plugin.delaunay(p)
+    assert not {"neighbors", "constrained", "regions"} & set(vars(tri))
+    verify(p, tri)                                   # checks the neighbours
+    assert tri.constrained.shape == tri.triangles.shape and not tri.constrained.any()
+    assert (tri.regions == -1).all() and len(tri.regions) == len(tri.triangles)
+    moved = tri.vertices.copy()
+    moved[:150] = moved[:150][::-1]                  # inverts triangles: a rebuild
+    tri.move_vertices(moved)
+    assert tri.stats["rebuilt"]
+    verify(moved, tri)
+    assert len(tri.regions) == len(tri.constrained) == len(tri.triangles)
