@@ -13,14 +13,15 @@ perturbation of Sec. 2.9), built in :mod:`cdt_plugin._core.construct`:
 """
 from __future__ import annotations
 
+import functools
 import time
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ._core.construct import build, gather_coords, seed_first, seed_triangle, to_input_ids
-from ._core.divide import (build_divide, build_half, join_halves, quad_store, right_base,
-                           split_halves)
+from ._core.divide import (build_half, build_subdivision, cut_ranks, join_halves, quad_store,
+                           right_base, split_halves)
 from ._core.flips import flip_to_delaunay
 from ._core.insertion import redundant_vertices
 from ._core.ordering import brio_order, lexicographic_order
@@ -227,22 +228,37 @@ def _build_divide(xi, yi, wi, m, dup, cap, threads, inf=None, with_cons=False):
     inf = m if inf is None else inf
     with_cons = np.bool_(with_cons)
     if threads < 2 or m < PARALLEL_POINTS:
-        return build_divide(xi, yi, wi, m, inf, dup, cap, with_cons)
+        horizontal = lexicographic_order(yi[:m], -xi[:m])   # (numpy's sort: the fastest here)
+        u, r = cut_ranks(xi, yi, m, dup, horizontal)
+        del horizontal
+        if m >= PARALLEL_POINTS:
+            release_freed_memory()    # the sorts' temporaries, before the quad-edges are taken
+        return build_subdivision(xi, yi, wi, u, r, inf, cap, with_cons)
+    return _build_divide_two_threads(xi, yi, wi, m, dup, cap, inf, with_cons)
+
+
+def _build_divide_two_threads(xi, yi, wi, m, dup, cap, inf, with_cons):
+    """:func:`_build_divide` with the halves of the first cut on two threads."""
     u, mid = split_halves(xi, yi, m, dup)
     nu = len(u)
     ranks = np.empty(nu, u.dtype)
+    release_freed_memory()        # the sorts' and the scaling's temporaries, before the quad-edges
     onext, org, free = quad_store(nu)
     base = right_base(mid)
-    halves = [(0, mid, free[:base], 0), (mid, nu, free[base:], base)]
-
-    def half(part):
-        lo, hi, own_free, first = part
-        ids = u[lo:hi]          # ranks in the order of horizontal cuts, within the half
-        ranks[lo + lexicographic_order(yi[ids], -xi[ids])] = np.arange(hi - lo)
-        release_freed_memory()    # the sort's temporaries, kept in this thread's arena
-        return build_half(xi, yi, wi, u, ranks, lo, hi, onext, org, own_free, np.int64(first))
-
-    left, right = map_ordered(half, halves, 2)
+    task = functools.partial(_build_half, xi, yi, wi, u, ranks, onext, org)
+    left, right = map_ordered(task, [(0, mid, free[:base], 0), (mid, nu, free[base:], base)], 2)
+    del task, u, ranks            # (not needed by the join: their memory is free for it)
     store = join_halves(xi, yi, wi, onext, org, free, base, *left, *right, inf, cap, with_cons)
     release_freed_memory()        # what the threads and the join freed, before the output is made
     return store
+
+
+def _build_half(xi, yi, wi, u, ranks, onext, org, part):
+    """One half ``u[lo:hi]`` of the first cut, on its thread: its ranks in the
+    order of horizontal cuts, then its triangulation in the shared quad-edge
+    arrays from quad-edge ``first`` on, with its own free stack."""
+    lo, hi, own_free, first = part
+    ids = u[lo:hi]
+    ranks[lo + lexicographic_order(yi[ids], -xi[ids])] = np.arange(hi - lo)
+    release_freed_memory()        # the sort's temporaries, kept in this thread's arena
+    return build_half(xi, yi, wi, u, ranks, lo, hi, onext, org, own_free, np.int64(first))

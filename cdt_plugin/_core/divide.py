@@ -25,7 +25,6 @@ import numpy as np
 from .jit import kernel
 from .kernel import lifted_test, orient
 from .mesh import IDX
-from .ordering import lexicographic_order
 
 QUAD_SLACK = 8   # quad-edges beyond 3 per point that a subdivision may take
 
@@ -405,20 +404,12 @@ def mark_duplicates(x, y, m, dup):
     return u[:nu]
 
 
-def build_divide(x, y, w, m, inf, dup, cap, with_cons):
-    """Delaunay triangulation of the mesh vertices ``0..m-1`` (lexicographically
-    sorted, not all collinear) by divide and conquer, in the half-edge store with
-    room for at least ``cap`` triangles. Returns ``(tri, twin, cons, ntri)``."""
-    # the (y, -x) order of the horizontal cuts (numpy's sort is the fastest here)
-    horizontal = lexicographic_order(y[:m], -x[:m])
-    u, r = cut_ranks(x, y, m, dup, horizontal)
-    del horizontal               # (its memory is free before the subdivision's is taken)
-    return build_subdivision(x, y, w, u, r, inf, cap, with_cons)
-
-
 @kernel
 def build_divide_sorted(x, y, w, m, inf, dup, cap, with_cons, horizontal):
-    """:func:`build_divide` after the sort."""
+    """Delaunay triangulation of the mesh vertices ``0..m-1`` (lexicographically
+    sorted, not all collinear) by divide and conquer, in the half-edge store with
+    room for at least ``cap`` triangles: ``(tri, twin, cons, ntri)``.
+    ``horizontal``: the vertices in the order of horizontal cuts, by (y, -x)."""
     u, r = cut_ranks(x, y, m, dup, horizontal)
     return build_subdivision(x, y, w, u, r, inf, cap, with_cons)
 
@@ -530,6 +521,13 @@ def build_half(x, y, w, u, r, lo, hi, onext, org, free, base):
     return nfree, top, e
 
 
+@kernel(inline='always')
+def moved_quad(free, nfree, top, i):
+    """The quad-edge that one thread gives the right half's ``i``-th: the left
+    half's freed ones first, last freed first, then new ones after ``top``."""
+    return free[nfree - 1 - i] if i < nfree else top + i - nfree
+
+
 @kernel
 def join_halves(x, y, w, onext, org, free, base, nfree, top, e_left, r_nfree, r_top, e_right,
                 inf, cap, with_cons):
@@ -540,24 +538,24 @@ def join_halves(x, y, w, onext, org, free, base, nfree, top, e_left, r_nfree, r_
     stacks are ``free[:base]`` and ``free[base:]``."""
     count = r_top - base
     taken = min(nfree, count)
-    new = np.empty(count, IDX)
-    for i in range(count):
-        new[i] = free[nfree - 1 - i] if i < nfree else top + i - nfree
-    # in place, in order: quad-edge base + i goes to new[i] <= base + i, never
-    # onto one still to move
+    # in place, in order: quad-edge base + i goes to moved(i) <= base + i, never
+    # onto one still to move (the left half's free stack is read, not changed)
     for i in range(count):
         q = base + i
-        t = new[i]
+        t = moved_quad(free, nfree, top, i)
         for j in range(4):
             e = onext[4 * q + j]
-            onext[4 * t + j] = 4 * new[(e >> 2) - base] + (e & 3)
+            onext[4 * t + j] = 4 * moved_quad(free, nfree, top, (e >> 2) - base) + (e & 3)
             org[4 * t + j] = org[4 * q + j]
+    e_right = 4 * moved_quad(free, nfree, top, (e_right >> 2) - base) + (e_right & 3)
+    # the right half's free stack, renumbered, then moved onto what is left of the left's
+    for i in range(r_nfree):
+        free[base + i] = moved_quad(free, nfree, top, free[base + i] - base)
     nfree -= taken
     for i in range(r_nfree):
-        free[nfree + i] = new[free[base + i] - base]
+        free[nfree + i] = free[base + i]
     nfree += r_nfree
     top += count - taken
-    e_right = 4 * new[(e_right >> 2) - base] + (e_right & 3)
     ldo, ldi = hull_ends(onext, org, x, y, e_left, np.int64(0))
     rdi, rdo = hull_ends(onext, org, x, y, e_right, np.int64(0))
     ldo, rdo, nfree, top = merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo)
