@@ -47,7 +47,9 @@ except ImportError as exc:
 
 import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, TooFewPointsError
-from cdt_plugin.batch import MeshBatch, check_batch_options, geometry_plc, triangulate_rings
+from cdt_plugin.batch import (CHUNK, MeshBatch, check_batch_options, geometry_plc,
+                              triangulate_rings)
+from cdt_plugin.parallel import map_ordered, resolve_workers
 from cdt_plugin.validate import as_points
 
 if TYPE_CHECKING:
@@ -200,7 +202,7 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
     >>> len(b), b.geometry.tolist(), b.offsets.tolist()
     (3, [0, 0, 2], [0, 2, 2, 3])
     """
-    check_batch_options(errors=errors, **options)
+    workers = check_batch_options(errors=errors, **options)[2]
     method = _repair_method(repair)
     arr = np.array(geometries, dtype=object).ravel() if _is_array_input(geometries) else \
         np.array([geometries], dtype=object)
@@ -215,7 +217,7 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
     types = shapely.get_type_id(arr)
     arr[(types != _POLYGON) & (types != _MULTIPOLYGON)] = shapely.Polygon()
     failed: dict[int, CDTError] = {}
-    invalid = np.flatnonzero(~shapely.is_valid(arr))
+    invalid = np.flatnonzero(~_is_valid(arr, workers))
     for i in map(int, invalid):
         try:
             arr[i] = _repair_or_raise(arr[i], int(types[i]), method, i, True)
@@ -224,7 +226,8 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
                 raise
             failed[i] = e
             arr[i] = shapely.Polygon()
-    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, _ = _polygon_rings(arr)
+    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, _ = \
+        _polygon_rings_on_threads(arr, workers)
     for i in map(int, np.flatnonzero(bad_geom)):   # not reachable from GEOS-valid polygons
         err = _fail(InvalidGeometryError, "a ring has fewer than three distinct points or zero area",
                     i, True)
@@ -235,7 +238,8 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
         drop = np.zeros(len(arr), bool)
         drop[list(failed)] = True
         arr[drop] = shapely.Polygon()
-        xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, _, _ = _polygon_rings(arr)
+        xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, _, _ = \
+            _polygon_rings_on_threads(arr, workers)
     bar = None
     if progress:
         from tqdm.auto import tqdm
@@ -249,6 +253,40 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
     batch.errors.update(failed)
     batch.stats["failed"] = len(batch.errors)
     return batch
+
+
+def _in_slices(fn: Any, arr: NDArray[np.object_], workers: int | None) -> list[Any]:
+    """``[fn(slice) for slice of arr]``: one slice, or for a large batch one
+    slice per thread of the batch's, run on those threads (GEOS runs without
+    the GIL), as the meshing is."""
+    threads = resolve_workers(workers, len(arr) // CHUNK)
+    bounds = np.linspace(0, len(arr), threads + 1).astype(np.int64)
+    return map_ordered(lambda k: fn(arr[bounds[k]:bounds[k + 1]]), range(threads), threads)
+
+
+def _is_valid(arr: NDArray[np.object_], workers: int | None) -> NDArray[np.bool_]:
+    """``shapely.is_valid`` of every geometry (on the batch's threads)."""
+    return np.concatenate(_in_slices(shapely.is_valid, arr, workers))
+
+
+def _polygon_rings_on_threads(arr: NDArray[np.object_], workers: int | None) -> tuple[Any, ...]:
+    """:func:`_polygon_rings` of the batch in slices on its threads, joined:
+    the arrays one call gives."""
+    pieces = _in_slices(_polygon_rings, arr, workers)
+    if len(pieces) == 1:
+        return pieces[0]
+    xys, zs, ring_starts, geom_ring_starts, ring_polys, ring_holes, bads, has_zs = zip(*pieces)
+    vertex0 = np.cumsum([0] + [len(xy) for xy in xys])
+    ring0 = np.cumsum([0] + [len(r) - 1 for r in ring_starts])
+    has_z = np.concatenate(has_zs)
+    z = None
+    if has_z.any():        # (NaN for a slice without Z, as get_coordinates gives a 2D geometry)
+        z = np.concatenate([np.full(len(xy), np.nan) if zk is None else zk for xy, zk in zip(xys, zs)])
+    return (np.concatenate(xys),
+            z,
+            np.concatenate([r[:-1] + v for r, v in zip(ring_starts, vertex0)] + [vertex0[-1:]]),
+            np.concatenate([g[:-1] + r for g, r in zip(geom_ring_starts, ring0)] + [ring0[-1:]]),
+            np.concatenate(ring_polys), np.concatenate(ring_holes), np.concatenate(bads), has_z)
 
 
 def _repair_method(repair: Repair | None) -> str | None:

@@ -275,10 +275,11 @@ def _assemble(xy, z, parts, steiner_xy, steiner_z, ng, failed, t0):
     """One MeshBatch from the parts (kernel chunks and single geometries), with
     the triangles grouped by geometry."""
     if parts:
-        geometry = np.concatenate([G for G, _, _ in parts]).astype(np.int64)
-        triangles = np.concatenate([T.reshape(-1, 3) for _, T, _ in parts]).astype(np.int64)
-        region = np.concatenate([R for _, _, R in parts]).astype(np.int64)
-        if len(parts) > 1:
+        geometry = np.concatenate([G for G, _, _ in parts], dtype=np.int64)
+        triangles = np.concatenate([T.reshape(-1, 3) for _, T, _ in parts], dtype=np.int64)
+        region = np.concatenate([R for _, _, R in parts], dtype=np.int64)
+        # the chunks come in geometry order; geometries meshed one by one after them do not
+        if len(parts) > 1 and (geometry[1:] < geometry[:-1]).any():
             by = np.argsort(geometry, kind="stable")
             geometry, triangles, region = geometry[by], triangles[by], region[by]
     else:

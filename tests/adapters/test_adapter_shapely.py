@@ -597,3 +597,57 @@ def test_constrained_dropin_repair_option_is_checked_first():
     gc = shapely.GeometryCollection([bowtie, shapely.Point(9, 9)])
     res = sa.constrained_delaunay_triangles(gc, repair=True)
     _assert_cdt_of(res, shapely.make_valid(bowtie))
+
+
+def _mixed_layer(n=40, seed=0):
+    """Polygons with holes, with Z and without, MultiPolygons and empties."""
+    rng = np.random.default_rng(seed)
+    geoms = []
+    for i in range(n):
+        p = shapely.buffer(shapely.Point(rng.random(2) * 10), 0.5 + rng.random(),
+                           quad_segs=int(rng.integers(1, 6)))
+        if i % 5 == 0:
+            p = p.difference(shapely.buffer(p.centroid, 0.2))
+        if i % 7 == 0:
+            p = shapely.force_3d(p, 1.5)
+        if i % 11 == 0:
+            p = shapely.MultiPolygon([p, shapely.box(20 + i, 0, 21 + i, 1)])
+        if i % 13 == 0:
+            p = shapely.Polygon()
+        geoms.append(p)
+    return np.array(geoms, dtype=object)
+
+
+def test_batch_reads_and_checks_the_geometries_on_its_threads(monkeypatch):
+    """A large batch reads its rings and checks validity in slices on its
+    threads; the joined arrays and the meshes equal one thread's."""
+    monkeypatch.setattr(sa, "CHUNK", 3)          # (slices on small inputs too)
+    arr = _mixed_layer()
+    one = sa._polygon_rings(arr)
+    for workers in (2, 3, 5):
+        many = sa._polygon_rings_on_threads(arr, workers)
+        for a, b in zip(one, many):
+            assert (a is None and b is None) or np.array_equal(a, b, equal_nan=True), workers
+        assert np.array_equal(sa._is_valid(arr, workers), shapely.is_valid(arr))
+    arr[3] = shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])          # a bow tie
+    ref = sa.triangulate_batch(arr, workers=1, errors="skip")
+    assert list(ref.errors) == [3]
+    for workers in (2, 3):
+        b = sa.triangulate_batch(arr, workers=workers, errors="skip")
+        assert list(b.errors) == [3]
+        for name in ("vertices", "triangles", "geometry", "offsets"):
+            assert np.array_equal(getattr(ref, name), getattr(b, name)), (workers, name)
+    arr[3] = shapely.Polygon()                  # as the batch left it
+    xy, _, ring_start, geom_ring_start, *_ = sa._polygon_rings(arr)
+    for g in range(len(arr)):           # every mesh, exactly, against its geometry's rings
+        rings = range(geom_ring_start[g], geom_ring_start[g + 1])
+        if not len(rings):
+            continue
+        segs = np.concatenate([np.column_stack([np.arange(ring_start[r], ring_start[r + 1]),
+                                                np.roll(np.arange(ring_start[r], ring_start[r + 1]), -1)])
+                               for r in rings])
+        ids, local = np.unique(np.concatenate([segs.ravel(), ref.triangles[ref.offsets[g]:ref.offsets[g + 1]]
+                                              .ravel()]), return_inverse=True)
+        assert np.array_equal(ref.vertices[ids[ids < len(xy)]], xy[ids[ids < len(xy)]])
+        assert_valid(ref.vertices[ids], local[segs.size:].reshape(-1, 3),
+                     segments=local[:segs.size].reshape(-1, 2), domain="segments")
