@@ -23,8 +23,8 @@ from typing import TYPE_CHECKING, Any, Iterator
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._core.dual import (cell_rings, cell_sizes, clip_cells, face_centres, fuse_ties, mark_close,
-                         redo_centres, ring_offsets, subdivision_faces, vertex_rings)
+from ._core.dual import (cell_rings, clip_cells, face_centres, fuse_ties, mark_close, pack_cells,
+                         redo_centres, ring_offsets, subdivision_faces, unfused_cells, vertex_rings)
 from .errors import ClipRegionError, CollinearPointsError, NotDelaunayError
 from .optional import require
 from .parallel import check_workers, map_ordered, resolve_workers
@@ -294,12 +294,22 @@ def voronoi(tri: Triangulation, clip: Any = None, *, workers: int | None = None)
         T, tri.neighbors, sub.face_of_triangle, centres, err, redo, lo, hi))
     _in_ranges(threads, len(sub), lambda lo, hi: redo_centres(
         ux, uy, uw, sub.offsets, sub.indices, centres, redo, lo, hi))
-    sizes = np.empty(nv, np.int64)
-    _in_ranges(threads, nv, lambda lo, hi: cell_sizes(T, offsets, ring, hull, sub.face_of_triangle, sizes, lo, hi))
-    region_offsets = np.concatenate([[0], np.cumsum(sizes)])
-    region_indices = np.empty(region_offsets[-1], np.int64)
-    _in_ranges(threads, nv, lambda lo, hi: cell_rings(
-        T, offsets, ring, hull, sub.face_of_triangle, region_offsets, region_indices, lo, hi))
+    # each cell in one pass into room for its ring (and a hull cell's -1): the
+    # cells themselves unless cocircular triangles were fused, then packed
+    slots = offsets + np.concatenate([[0], np.cumsum(hull)])
+    cells = np.empty(slots[-1], np.int64)
+    region_offsets, region_indices = slots, cells
+    if not fused.any():
+        _in_ranges(threads, nv, lambda lo, hi: unfused_cells(
+            offsets, ring, hull, sub.face_of_triangle, slots, cells, lo, hi))
+    else:
+        sizes = np.empty(nv, np.int64)
+        _in_ranges(threads, nv, lambda lo, hi: cell_rings(
+            T, offsets, ring, hull, sub.face_of_triangle, slots, cells, sizes, lo, hi))
+        region_offsets = np.concatenate([[0], np.cumsum(sizes)])
+        region_indices = np.empty(region_offsets[-1], np.int64)
+        _in_ranges(threads, nv, lambda lo, hi: pack_cells(
+            slots, cells, sizes, region_offsets, region_indices, lo, hi))
     vor = Voronoi(tri, fused, sub, np.ldexp(centres, e) if e else centres, region_offsets,
                   region_indices, hull, (offsets, ring), threads)
     return vor if clip is None else vor.clipped(clip)

@@ -240,8 +240,9 @@ def cell_ring(triangles, offsets, ring, hull, face_of, v, faces, across):
     counter-clockwise, consecutive repeats (triangles of one face) merged; a
     hull vertex's cell ends with -1, where it is open to infinity (scipy's
     form). ``across[i]``: the vertex across the side from face ``i`` to the
-    next (the ridge it lies on). An interior vertex's cell starts where a face
-    starts, so its last face is not the first again. Returns ``m``."""
+    next (the ridge it lies on; not made when ``across`` is empty). An interior
+    vertex's cell starts where a face starts, so its last face is not the
+    first again. Returns ``m``."""
     lo = offsets[v]
     d = offsets[v + 1] - lo
     s0 = 0
@@ -257,30 +258,49 @@ def cell_ring(triangles, offsets, ring, hull, face_of, v, faces, across):
         if n == 0 or faces[n - 1] != f:
             faces[n] = f
             n += 1
-        across[n - 1] = triangles[t, (corner_of(triangles, t, v) + 2) % 3]
+        if across.shape[0] > 0:
+            across[n - 1] = triangles[t, (corner_of(triangles, t, v) + 2) % 3]
     if hull[v]:
         faces[n] = -1
-        across[n] = -1
+        if across.shape[0] > 0:
+            across[n] = -1
         n += 1
     return n
 
 
 @kernel
-def cell_sizes(triangles, offsets, ring, hull, face_of, sizes, lo, hi):
-    """The length of the cell of each vertex in ``lo:hi``, into ``sizes``."""
-    faces, across = cell_scratch(offsets, lo, hi)
+def cell_rings(triangles, offsets, ring, hull, face_of, slots, cells, sizes, lo, hi):
+    """The cell of each vertex ``v`` in ``lo:hi`` (:func:`cell_ring`) into
+    ``cells`` from ``slots[v]`` (room for its ring of triangles and a hull
+    cell's -1: exactly its length where no triangles around it were fused),
+    and its length into ``sizes``."""
+    no_ridges = np.empty(0, np.int64)
     for v in range(lo, hi):
-        sizes[v] = cell_ring(triangles, offsets, ring, hull, face_of, v, faces, across)
+        sizes[v] = cell_ring(triangles, offsets, ring, hull, face_of, v, cells[slots[v]:],
+                             no_ridges)
 
 
 @kernel
-def cell_rings(triangles, offsets, ring, hull, face_of, out_offsets, out, lo, hi):
-    """The cells of the vertices in ``lo:hi`` into ``out`` at ``out_offsets``."""
-    faces, across = cell_scratch(offsets, lo, hi)
+def unfused_cells(offsets, ring, hull, face_of, slots, cells, lo, hi):
+    """:func:`cell_rings` where no triangles were fused (every face one
+    triangle): each cell is the faces of its ring of triangles, in order, and a
+    hull cell's -1."""
     for v in range(lo, hi):
-        m = cell_ring(triangles, offsets, ring, hull, face_of, v, faces, across)
-        for i in range(m):
-            out[out_offsets[v] + i] = faces[i]
+        n = slots[v]
+        for k in range(offsets[v], offsets[v + 1]):
+            cells[n] = face_of[ring[k]]
+            n += 1
+        if hull[v]:
+            cells[n] = -1
+
+
+@kernel
+def pack_cells(slots, cells, sizes, out_offsets, out, lo, hi):
+    """The cells of the vertices in ``lo:hi`` moved from their room in
+    ``cells`` (:func:`cell_rings`) to ``out`` at ``out_offsets``."""
+    for v in range(lo, hi):
+        for i in range(sizes[v]):
+            out[out_offsets[v] + i] = cells[slots[v] + i]
 
 
 @kernel

@@ -419,3 +419,32 @@ def test_threads_give_the_arrays_of_one(kind, monkeypatch):
                  "ridge_points", "ridge_vertices", "ridge_directions"):
         assert np.array_equal(getattr(one, name), getattr(two, name)), name
     assert np.array_equal(one.subdivision.indices, two.subdivision.indices)
+
+
+@pytest.mark.parametrize("kind", ["uniform", "grid"])
+def test_unfused_cells_equal_the_general_walk(kind):
+    """Where no triangles are fused, the cells are read straight off each
+    vertex's ring of triangles; they equal what the general walk round each
+    vertex (which merges fused faces) gives. On the grid every square is fused,
+    so the walk is taken there, and its cells are packed to their lengths."""
+    from cdt_plugin._core.dual import cell_rings, unfused_cells
+    rng = np.random.default_rng(5)
+    P = (rng.random((2000, 2)) if kind == "uniform"
+         else np.array([(x, y) for y in range(30) for x in range(40)], float))
+    tri = _delaunay(P)
+    vor = tri.voronoi()
+    offsets, ring = vor._rings                   # each vertex's triangles, counter-clockwise
+    face_of, hull = vor.subdivision.face_of_triangle, vor.unbounded
+    nv = len(tri.vertices)
+    slots = offsets + np.concatenate([[0], np.cumsum(hull)])
+    walked, sizes = np.empty(slots[-1], np.int64), np.empty(nv, np.int64)
+    cell_rings(tri.triangles, offsets, ring, hull, face_of, slots, walked, sizes, np.int64(0), np.int64(nv))
+    for v in range(nv):
+        assert np.array_equal(vor.region_indices[vor.region_offsets[v]:vor.region_offsets[v + 1]],
+                              walked[slots[v]:slots[v] + sizes[v]]), v
+    if kind == "uniform":
+        read = np.empty(slots[-1], np.int64)
+        unfused_cells(offsets, ring, hull, face_of, slots, read, np.int64(0), np.int64(nv))
+        assert np.array_equal(read, walked) and np.array_equal(sizes, np.diff(slots))
+    else:
+        assert (sizes < np.diff(slots)).any()
