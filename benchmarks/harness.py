@@ -626,9 +626,9 @@ def render_markdown(suite: Suite, results: dict, info: dict, args_line: str) -> 
     for wl in suite.workloads:
         if wl.name in results["workloads"] and (wl.impls or wl.rounds):
             shown = [suite.impl(n).label for n in wl.impls if n in results["workloads"][wl.name]]
-            lines[-1] += (f" {wl.label}: " + (", ".join(shown) + " only" if wl.impls else "")
-                          + (", " if wl.impls and wl.rounds else "")
-                          + (f"{min(results['repeat'], wl.rounds)} round(s)" if wl.rounds else "") + ".")
+            said = ([f"only {'; '.join(shown)}"] if wl.impls else []) + (
+                [f"{min(results['repeat'], wl.rounds)} round(s)"] if wl.rounds else [])
+            lines[-1] += f" {wl.label}: {' / '.join(said)}."
     if any(not wl.memory for wl in suite.workloads if wl.name in results["workloads"]) and methods:
         lines[-1] += " Peak MB \"-\": not measured (tiny input)."
     if notes:

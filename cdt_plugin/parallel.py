@@ -8,7 +8,6 @@ back in input order, so any number of workers gives the result of one.
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 import functools
 import operator
 import os
@@ -32,23 +31,27 @@ def available_cores() -> int:
 
 @functools.cache
 def _malloc_trim() -> Callable[[int], int] | None:
-    """glibc's ``malloc_trim``, or None where the C library has none."""
+    """glibc's ``malloc_trim`` (the process's own C library), or None where
+    there is none."""
     if not sys.platform.startswith("linux"):
         return None
     try:
-        return ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6").malloc_trim
+        return ctypes.CDLL(None).malloc_trim
     except (OSError, AttributeError):         # musl and other C libraries
         return None
 
 
 def release_freed_memory() -> None:
-    """Give the memory that threads freed back to the operating system.
+    """Give memory that was freed back to the operating system.
 
-    glibc keeps what a thread frees in that thread's arena (up to twice its
-    adaptive mmap threshold, often tens of MB) for the next allocation; after
-    the halves of a large triangulation are built on threads, that would stay
-    resident through the rest of the call. ``malloc_trim`` returns it (as
-    Dask's workers do); elsewhere this does nothing."""
+    glibc keeps what is freed below its adaptive mmap threshold (NumPy's
+    temporaries of a large call: often tens of MB), in the arena of the thread
+    that freed it, for the next allocation; it would stay resident through the
+    rest of a large triangulation. ``malloc_trim`` returns it (as Dask's
+    workers do); off glibc this does nothing.
+
+    >>> release_freed_memory()
+    """
     trim = _malloc_trim()
     if trim is not None:
         trim(0)
