@@ -22,7 +22,8 @@ from ._core.dynamic import insert_points, insert_segments, snapshot, start_grid
 from ._core.mesh import grow_store
 from ._core.ordering import HILBERT_BITS, hilbert_keys, lexicographic_order
 from ._core.output import rotate_min_first
-from ._core.status import ALL_DONE, OK, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP
+from ._core.snap import snap_route
+from ._core.status import ALL_DONE, OK, ROUTE_OK, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP
 from .delaunay import _build_divide
 from .errors import CDTError, CoordinateRangeError, SegmentIndexError, UnknownIdError
 from .parallel import resolve_workers
@@ -48,17 +49,23 @@ class DynamicCDT:
     intersections : {"raise", "split"}
         What a segment crossing another does: raise
         :class:`cdt_plugin.SegmentIntersectionError` (the edit is undone), or
-        insert the crossing point as a new vertex (as :func:`cdt_plugin.triangulate`).
+        snap-round the crossings as :func:`cdt_plugin.triangulate` does: the
+        crossing points become Steiner vertices and each segment the chain of
+        its pieces through them.
 
     Notes
     -----
     After any sequence of edits, :meth:`triangulation` equals
     ``cdt_plugin.triangulate(dyn.vertices, dyn.segments, keep_hull=True)``: the
     constrained Delaunay triangulation is unique under the engine's symbolic
-    perturbation, however it was reached. (With ``intersections="split"`` a
-    crossing point is rounded to doubles, so a segment through it is a chain of
-    pieces up to rounding; a triangulation from scratch may then see the
-    rounded point just off the segment.)
+    perturbation, however it was reached. With ``intersections="split"`` the
+    crossing points are derived from the other vertices and the segments: it
+    equals ``triangulate(V, S, intersections="split", keep_hull=True)`` for the
+    live vertices less the crossing points (``triangulation().steiner``) and the
+    segments. Once segments cross, each edit rounds every crossing again (a
+    rebuild: the crossing points get new ids, and one that no longer is a
+    crossing goes); a crossing point that a segment ends at, that is moved or
+    that is inserted again as a point becomes an ordinary vertex.
 
     Examples
     --------
@@ -181,12 +188,34 @@ class DynamicCDT:
     # ------------------------------------------------------------------ edits
     def insert_points(self, points: ArrayLike) -> NDArray[np.int64]:
         """Insert points; returns their vertex ids. A point equal to a vertex
-        (bit for bit) returns that vertex's id and adds nothing. A point on a
-        segment splits it."""
+        (bit for bit) returns that vertex's id and adds nothing (a crossing
+        point so named is kept from then on). A point on a segment splits it.
+        With ``"split"`` and segments that cross, the crossings are rounded
+        again with the new points (a rebuild)."""
         pts = _as_points(points)
         if len(pts) == 0:
             return np.empty(0, np.int64)
         self._edits += 1
+        if not (self._split and (self._steiner & self._alive).any()):
+            ids = self._insert_points(pts)
+            self._steiner[ids] = False
+            return ids
+        # (a new point can lie in the pixel of a segment: snap rounding decides)
+        n, steiner = self._n, self._steiner.copy()
+        ids = self._insert_without_store(pts) if self._store is None else self._insert_points(pts)
+        try:
+            self._steiner[ids] = False
+            self._rebuild()
+        except CDTError:
+            self._alive_buf[n:self._n] = False
+            self._steiner_buf[:n] = steiner
+            self._n = n
+            self._rebuild()
+            raise
+        return ids
+
+    def _insert_points(self, pts: NDArray[np.float64]) -> NDArray[np.int64]:
+        """:meth:`insert_points` into the store as it is (Lawson flips)."""
         if self._store is None:
             return self._insert_without_store(pts)
         m = len(pts)
@@ -265,14 +294,16 @@ class DynamicCDT:
         if not fresh:
             return out
         self._edits += 1
-        old = self._segs, self._seg_alive
+        old = self._segs, self._seg_alive, self._steiner.copy()
         self._segs = np.concatenate([self._segs, np.array(fresh, np.int64)])
         self._seg_alive = np.concatenate([self._seg_alive, np.ones(len(fresh), bool)])
+        self._steiner[np.array(fresh).ravel()] = False     # a crossing point a segment ends at is kept
         try:
             if self._store is not None:
                 self._insert_segment_tasks(np.arange(len(old[0]), len(self._segs)))
         except CDTError:
-            self._segs, self._seg_alive = old
+            self._segs, self._seg_alive = old[:2]
+            self._steiner_buf[: len(old[2])] = old[2]
             raise
         self._seg_key.update(pending)
         return out
@@ -311,13 +342,15 @@ class DynamicCDT:
             raise CDTError(f"move_vertices: vertices {j} and {i} would both be at "
                            f"({float(moved[i, 0])!r}, {float(moved[i, 1])!r})")
         self._edits += 1
-        self._change(lambda: self._xy.__setitem__(slice(None), moved))
+        self._change(lambda: (self._xy.__setitem__(slice(None), moved),
+                              self._steiner.__setitem__(idx, False)))    # (a moved crossing point is kept)
 
     def _change(self, edit) -> None:
         """Apply ``edit`` to the vertex or segment tables and rebuild; undo both
         if the rebuild fails (segments that cross after a move)."""
         saved = (self._xy.copy(), self._alive.copy(), self._seg_alive.copy(), self._store,
                  self._id_of, self._slot_of.copy(), self._last, self._adopted)
+        steiner = self._steiner.copy()
         edit()
         ends = self._segs
         self._seg_alive &= self._alive[ends[:, 0]] & self._alive[ends[:, 1]]
@@ -326,6 +359,7 @@ class DynamicCDT:
         except CDTError:
             (self._xy, self._alive, self._seg_alive, self._store, self._id_of, self._slot_of,
              self._last, self._adopted) = saved
+            self._steiner_buf[: len(steiner)] = steiner
             self._grid_vertices = 0           # (the start grid is made again for this store)
             raise
         self._seg_key = {(min(a, b), max(a, b)): k for k, (a, b) in enumerate(self._segs.tolist())
@@ -334,6 +368,14 @@ class DynamicCDT:
     # -------------------------------------------------------------- the store
     def _rebuild(self) -> None:
         """A new store from the live vertices (Delaunay), then every live segment."""
+        self._build_store()
+        todo = np.flatnonzero(self._seg_alive)
+        if self._store is not None and len(todo):
+            self._insert_segment_tasks(todo)
+
+    def _build_store(self) -> None:
+        """A new store from the live vertices (Delaunay), without segments; none
+        while they are fewer than three or all collinear."""
         live = np.flatnonzero(self._alive)
         self._store = None
         self._slot_buf[: self._n] = -1
@@ -351,22 +393,79 @@ class DynamicCDT:
         self._id_of[: len(live)] = live[order]
         self._slot_of[live[order]] = np.arange(len(live))
         self._adopted = len(live)
-        todo = np.flatnonzero(self._seg_alive)
-        if len(todo):
-            self._insert_segment_tasks(todo)
 
     def _insert_segment_tasks(self, sids: NDArray[np.int64]) -> None:
-        """Insert segments ``sids`` into the store (all or nothing)."""
+        """Insert segments ``sids`` into the store (all or nothing). With
+        ``"split"``, the first crossing stops the insertion (no room for a
+        crossing point) and every live segment is snap-rounded at once instead
+        (:meth:`_snap_round`), as :func:`cdt_plugin.triangulate` does; once
+        segments cross, every later set of segments is rounded again, whole."""
         assert self._store is not None
+        if self._split and (self._steiner & self._alive).any():
+            self._snap_round()
+            return
         store = self._store
         backup = tuple(a.copy() if isinstance(a, np.ndarray) else a for a in store)
         ends = np.where(self._seg_alive[:, None], self._slot_of[self._segs], 0)
         tasks = np.column_stack([ends[sids], sids + 1])[::-1].copy()      # first segment on top
         status, info, store = insert_segments(store, tasks, np.ascontiguousarray(ends),
-                                              np.bool_(self._split))
+                                              np.bool_(self._split), np.int64(0))
+        if status == STOP_LIMIT:          # (split) segments cross
+            self._store = backup
+            self._snap_round()
+            return
         if status != ALL_DONE:
             self._store = backup
             self._raise_segment_stop(int(status), info)
+        self._store = store
+        self._adopt_new_slots(new_steiner=True)
+
+    def _snap_round(self) -> None:
+        """Snap-round every live segment over the live vertices that are not
+        crossing points, as :func:`cdt_plugin.triangulate` does with them (hot
+        pixels: the result depends on those vertices and the segments only,
+        not on the order of the edits). The crossing points are derived: the
+        last rounding's are dropped and the new ones made Steiner vertices
+        (new ids); the store is built again and each segment goes in as its
+        chain of pieces. All or nothing."""
+        inputs = np.flatnonzero(self._alive & ~self._steiner)
+        row = np.full(self._n, -1, np.int64)
+        row[inputs] = np.arange(len(inputs))
+        sids = np.flatnonzero(self._seg_alive)
+        segs = np.ascontiguousarray(row[self._segs[sids]])    # (no segment ends at a crossing point)
+        status, info, new_x, new_y, chains = snap_route(
+            self._xy[inputs, 0].copy(), self._xy[inputs, 1].copy(), segs, np.int64(-1))
+        if status != ROUTE_OK:   # pragma: no cover - no cap on the crossing points
+            raise CDTError(f"internal error (snap rounding status {status}); please report this input")
+        saved = (self._n, self._alive.copy(), self._store, self._id_of, self._slot_of.copy(),
+                 self._last, self._adopted)
+        self._alive[self._steiner] = False
+        ids = np.concatenate([inputs, self._append_vertices(np.column_stack([new_x, new_y]),
+                                                            steiner=True)])
+        try:
+            self._build_store()
+            if self._store is None:         # all collinear: nothing crosses, no triangle yet
+                return
+            ends = np.where(self._seg_alive[:, None], self._slot_of[self._segs], 0)
+            slots = self._slot_of[ids]
+            if len(chains):
+                tasks = np.column_stack([slots[chains[:, 0]], slots[chains[:, 1]], sids[chains[:, 2]] + 1])
+            else:
+                tasks = np.column_stack([ends[sids], sids + 1])
+            # (pieces that still cross are split, as the route does)
+            status, info, store = insert_segments(self._store, tasks[::-1].copy(), np.ascontiguousarray(ends),
+                                                  np.bool_(True), np.int64(10 * len(ends) + 1000))
+            if status != ALL_DONE:
+                self._raise_segment_stop(int(status), info)
+        except CDTError:
+            n = saved[0]
+            self._steiner_buf[n:self._n] = False
+            self._slot_buf[n:self._n] = -1
+            self._alive_buf[n:self._n] = False
+            self._n = n
+            self._alive, self._store, self._id_of, self._slot_of, self._last, self._adopted = saved[1:]
+            self._grid_vertices = 0           # (the start grid is made again for this store)
+            raise
         self._store = store
         self._adopt_new_slots(new_steiner=True)
 

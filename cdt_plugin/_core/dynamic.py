@@ -101,16 +101,16 @@ def insert_points(tri, twin, cons, x, y, w, inf, meta, px, py, stack, grid, fram
 
 
 @kernel
-def insert_segments(store, tasks, seg_ends, split):
+def insert_segments(store, tasks, seg_ends, split, limit):
     """Insert the segment tasks (rows: slot a, slot b, segment id from 1;
-    ``seg_ends`` the end slots of every segment id, for crossings). Returns
-    ``(status, info, store)`` with the status of
+    ``seg_ends`` the end slots of every segment id, for crossings), with
+    ``split`` at most ``limit`` crossing points (STOP_LIMIT at the next one).
+    Returns ``(status, info, store)`` with the status of
     :func:`.pipeline.insert_all_segments` (``ALL_DONE`` or why it stopped; on
     a stop the store is left half edited: the caller keeps a copy)."""
     tri, twin, cons, x, y, w, inf, ntri, nv = store
     info = np.zeros(4, np.int64)
     seg_counts = np.zeros(3, np.int64)
-    limit = 10 * seg_ends.shape[0] + 1000
     status, out = insert_all_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks,
                                       np.int64(tasks.shape[0]), seg_ends, split, limit,
                                       seg_counts, info)

@@ -95,6 +95,77 @@ def test_crossing_split():
     assert len(tri.segments) == 4 and sorted(tri.segment_ids.tolist()) == [0, 0, 1, 1]
 
 
+def _verify_split(dyn: DynamicCDT) -> cdt_plugin.Triangulation:
+    """The snapshot of a live triangulation with ``"split"``, checked exactly
+    with its segment pieces (a segment that crosses others is the chain of its
+    pieces up to rounding), and against triangulate (:func:`_split_reference`)."""
+    tri = dyn.triangulation()
+    rep = check_triangulation(tri.vertices, tri.triangles,
+                              segments=tri.segments if len(tri.segments) else None, domain="hull")
+    assert rep.ok, rep.problems[:3]
+    assert tri.is_delaunay()
+    assert _split_reference(dyn) == canonical_triangles(tri.vertices, tri.triangles)
+    return tri
+
+
+def _split_reference(dyn: DynamicCDT) -> set:
+    """What triangulate gives for the live vertices that are not crossing
+    points and the live segments, snap-rounded: the snapshot must equal it."""
+    tri = dyn.triangulation()
+    keep = np.ones(len(tri.vertices), bool)
+    keep[tri.steiner] = False
+    rows = np.cumsum(keep) - 1
+    assert keep[dyn.segments].all(), "a segment ends at a crossing point"
+    ref = cdt_plugin.triangulate(tri.vertices[keep], rows[dyn.segments], intersections="split",
+                                 keep_hull=True)
+    return canonical_triangles(ref.vertices, ref.triangles)
+
+
+@pytest.mark.parametrize("case", ["THREE_THROUGH_ONE_POINT", "FOLD", "FOLD_B", "BRANCH"])
+def test_split_crossings_within_rounding_in_any_order_of_edits(case):
+    """Segments that cross within rounding of each other (the reproducers of
+    the snap rounding in triangulate): inserted one per edit, in every order,
+    the live triangulation is snap-rounded as triangulate rounds them, the
+    same mesh whatever the order (it raised UnresolvedCrossingError when it
+    rounded one crossing at a time)."""
+    import itertools
+
+    from tests.engine import test_split_rounding as reproducers
+    V, S = getattr(reproducers, case)
+    want = cdt_plugin.triangulate(V, S, intersections="split", keep_hull=True)
+    for perm in itertools.permutations(range(len(S))):
+        dyn = DynamicCDT(V, intersections="split")
+        for k in perm:
+            dyn.insert_segments(S[k:k + 1])
+        tri = _verify_split(dyn)
+        assert canonical_triangles(tri.vertices, tri.triangles) == \
+            canonical_triangles(want.vertices, want.triangles), perm
+
+
+def test_split_crossing_points_are_derived():
+    """A crossing point lives while its segments cross: removing one of them
+    drops it; a point inserted on it, or a segment that ends at it, keeps it as
+    an ordinary vertex; every state equals triangulate's."""
+    dyn = DynamicCDT([[0, 0], [4, 0], [4, 4], [0, 4], [1, 3]], [[0, 2]], intersections="split")
+    (s1,) = dyn.insert_segments([[1, 3]])
+    assert dyn.triangulation().steiner.tolist() == [5] and len(dyn) == 6
+    dyn.remove_segments([s1])
+    assert len(dyn) == 5 and len(dyn.triangulation().steiner) == 0
+    (s1,) = dyn.insert_segments([[1, 3]])
+    crossing = int(dyn.vertex_ids[-1])
+    assert dyn.vertices[-1].tolist() == [2.0, 2.0]
+    dyn.insert_segments([[4, crossing]])          # ends at the crossing point: kept
+    dyn.remove_segments([s1])
+    tri = _verify_split(dyn)
+    assert len(dyn) == 6 and len(tri.steiner) == 0
+    (p,) = dyn.insert_points([[3, 0.5]])
+    dyn.insert_segments([[1, 3], [4, p]])          # through the kept vertex; a crossing at 1.88..
+    assert len(_verify_split(dyn).steiner) == 1
+    dyn.insert_points([[0.5, 0.5], [3, 3.5]])      # on a segment, and off: the crossings rounded again
+    tri = _verify_split(dyn)
+    assert len(tri.steiner) == 1 and len(dyn) == 10
+
+
 def test_bad_input_named_and_state_unchanged():
     dyn = DynamicCDT([[0, 0], [1, 0], [0, 1]])
     before = dyn.triangulation().triangles.copy()
