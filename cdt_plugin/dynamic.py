@@ -196,7 +196,9 @@ class DynamicCDT:
         if len(pts) == 0:
             return np.empty(0, np.int64)
         self._edits += 1
-        if not (self._split and (self._steiner & self._alive).any()):
+        if not self._split:
+            return self._insert_points(pts)
+        if not (self._steiner & self._alive).any():
             ids = self._insert_points(pts)
             self._steiner[ids] = False
             return ids
