@@ -20,9 +20,9 @@ from .mesh import DEAD, is_ghost, nxt, prv
 
 
 @kernel
-def solid_triangles(tri, twin, ntri, inf):
-    """The real (non-ghost, live) triangles and their neighbours, from the
-    half-edge store: neighbour ``j`` is opposite vertex ``j`` (-1: hull)."""
+def solid_ids(tri, ntri, inf):
+    """``(tid, k)``: the row of each real (non-ghost, live) triangle of the
+    store among them, -1 for the others, and how many there are."""
     tid = np.full(ntri, -1, np.int64)
     k = 0
     for t in range(ntri):
@@ -30,6 +30,14 @@ def solid_triangles(tri, twin, ntri, inf):
             continue
         tid[t] = k
         k += 1
+    return tid, k
+
+
+@kernel
+def solid_triangles(tri, twin, ntri, inf):
+    """The real (non-ghost, live) triangles and their neighbours, from the
+    half-edge store: neighbour ``j`` is opposite vertex ``j`` (-1: hull)."""
+    tid, k = solid_ids(tri, ntri, inf)
     triangles = np.empty((k, 3), np.int64)
     neighbors = np.empty((k, 3), np.int64)
     for t in range(ntri):
@@ -55,7 +63,8 @@ def store_triangles(tri, ntri, inf):
     """The real (non-ghost, live) triangles of the store, each listed from its
     smallest vertex id: :func:`solid_triangles` turned by
     :func:`rotate_min_first`, without the neighbours (:func:`store_neighbors`
-    makes those when they are asked for)."""
+    makes those when they are asked for; no row map either, 16 MB at a
+    million points)."""
     k = 0
     for t in range(ntri):
         if tri[3 * t] != DEAD and not is_ghost(tri, t, inf):
@@ -76,12 +85,7 @@ def store_triangles(tri, ntri, inf):
 def store_neighbors(tri, twin, ntri, inf):
     """The neighbours of :func:`store_triangles`' rows: neighbour ``j`` is
     opposite vertex ``j`` (-1: hull)."""
-    tid = np.full(ntri, -1, np.int64)
-    k = 0
-    for t in range(ntri):
-        if tri[3 * t] != DEAD and not is_ghost(tri, t, inf):
-            tid[t] = k
-            k += 1
+    tid, k = solid_ids(tri, ntri, inf)
     neighbors = np.empty((k, 3), np.int64)
     for t in range(ntri):
         i = tid[t]
