@@ -204,7 +204,7 @@ class DynamicCDT:
             return ids
         # (a new point can lie in the pixel of a segment: snap rounding decides)
         n, steiner = self._n, self._steiner.copy()
-        ids = self._insert_without_store(pts) if self._store is None else self._insert_points(pts)
+        ids = self._insert_points(pts)
         try:
             self._steiner[ids] = False
             self._rebuild()
@@ -370,6 +370,9 @@ class DynamicCDT:
     # -------------------------------------------------------------- the store
     def _rebuild(self) -> None:
         """A new store from the live vertices (Delaunay), then every live segment."""
+        if self._split and (self._steiner & self._alive).any():
+            self._snap_round()          # (crossing points are derived: made again, or dropped)
+            return
         self._build_store()
         todo = np.flatnonzero(self._seg_alive)
         if self._store is not None and len(todo):
@@ -408,11 +411,10 @@ class DynamicCDT:
             return
         store = self._store
         backup = tuple(a.copy() if isinstance(a, np.ndarray) else a for a in store)
-        ends = np.where(self._seg_alive[:, None], self._slot_of[self._segs], 0)
+        ends = self._segment_ends()
         tasks = np.column_stack([ends[sids], sids + 1])[::-1].copy()      # first segment on top
-        status, info, store = insert_segments(store, tasks, np.ascontiguousarray(ends),
-                                              np.bool_(self._split), np.int64(0))
-        if status == STOP_LIMIT:          # (split) segments cross
+        status, info, store = insert_segments(store, tasks, ends, np.bool_(self._split), np.int64(0))
+        if self._split and status == STOP_LIMIT:          # segments cross
             self._store = backup
             self._snap_round()
             return
@@ -421,6 +423,10 @@ class DynamicCDT:
             self._raise_segment_stop(int(status), info)
         self._store = store
         self._adopt_new_slots(new_steiner=True)
+
+    def _segment_ends(self) -> NDArray[np.int64]:
+        """The store slots of every segment's ends (0 for a removed segment)."""
+        return np.ascontiguousarray(np.where(self._seg_alive[:, None], self._slot_of[self._segs], 0))
 
     def _snap_round(self) -> None:
         """Snap-round every live segment over the live vertices that are not
@@ -435,8 +441,10 @@ class DynamicCDT:
         row[inputs] = np.arange(len(inputs))
         sids = np.flatnonzero(self._seg_alive)
         segs = np.ascontiguousarray(row[self._segs[sids]])    # (no segment ends at a crossing point)
-        status, info, new_x, new_y, chains = snap_route(
-            self._xy[inputs, 0].copy(), self._xy[inputs, 1].copy(), segs, np.int64(-1))
+        status, new_x, new_y, chains = ROUTE_OK, np.empty(0), np.empty(0), np.empty((0, 3), np.int64)
+        if len(sids):
+            status, _, new_x, new_y, chains = snap_route(
+                self._xy[inputs, 0].copy(), self._xy[inputs, 1].copy(), segs, np.int64(-1))
         if status != ROUTE_OK:   # pragma: no cover - no cap on the crossing points
             raise CDTError(f"internal error (snap rounding status {status}); please report this input")
         saved = (self._n, self._alive.copy(), self._store, self._id_of, self._slot_of.copy(),
@@ -446,16 +454,16 @@ class DynamicCDT:
                                                             steiner=True)])
         try:
             self._build_store()
-            if self._store is None:         # all collinear: nothing crosses, no triangle yet
+            if self._store is None or len(sids) == 0:   # (all collinear, or no segment left)
                 return
-            ends = np.where(self._seg_alive[:, None], self._slot_of[self._segs], 0)
+            ends = self._segment_ends()
             slots = self._slot_of[ids]
             if len(chains):
                 tasks = np.column_stack([slots[chains[:, 0]], slots[chains[:, 1]], sids[chains[:, 2]] + 1])
             else:
                 tasks = np.column_stack([ends[sids], sids + 1])
             # (pieces that still cross are split, as the route does)
-            status, info, store = insert_segments(self._store, tasks[::-1].copy(), np.ascontiguousarray(ends),
+            status, info, store = insert_segments(self._store, tasks[::-1].copy(), ends,
                                                   np.bool_(True), np.int64(10 * len(ends) + 1000))
             if status != ALL_DONE:
                 self._raise_segment_stop(int(status), info)

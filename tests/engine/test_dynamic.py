@@ -166,6 +166,17 @@ def test_split_crossing_points_are_derived():
     assert len(tri.steiner) == 1 and len(dyn) == 10
 
 
+def test_split_crossing_point_goes_with_the_last_segment():
+    """Regression (fuzz): removing the vertices that end both crossing segments
+    leaves no segment; their crossing point goes too."""
+    dyn = DynamicCDT([[2, 3], [3, 1], [4, 3], [0, 3], [3, 5], [5, 3], [0, 6]], intersections="split")
+    dyn.insert_segments([[3, 5], [4, 1]])
+    assert len(dyn) == 8
+    dyn.remove_vertices([1, 5])
+    tri = _verify_split(dyn)
+    assert len(dyn) == 5 and len(tri.steiner) == 0
+
+
 def test_bad_input_named_and_state_unchanged():
     dyn = DynamicCDT([[0, 0], [1, 0], [0, 1]])
     before = dyn.triangulation().triangles.copy()
