@@ -24,10 +24,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core.dual import (cell_rings, clip_cells, face_centres, fuse_ties, mark_close, pack_cells,
-                         redo_centres, ring_offsets, subdivision_faces, unfused_cells, vertex_rings)
+                         redo_centres, ring_offsets, subdivision_faces, triangle_faces, unfused_cells,
+                         vertex_rings)
 from .errors import ClipRegionError, CollinearPointsError, NotDelaunayError
 from .optional import require
-from .parallel import check_workers, map_ordered, resolve_workers
+from .parallel import check_workers, map_ordered, mapped_empty, resolve_workers
 from .validate import exact_range
 
 if TYPE_CHECKING:
@@ -276,8 +277,8 @@ def voronoi(tri: Triangulation, clip: Any = None, *, workers: int | None = None)
     if len(lonely):
         raise NotDelaunayError(f"vertex {lonely[0]} {pts[lonely[0]].tolist()} is in no triangle: "
                                "not the Delaunay triangulation of its vertices")
-    ring = np.empty(3 * len(T), np.int64)
-    hull = np.zeros(nv, bool)
+    ring = mapped_empty(3 * len(T), np.int64)
+    hull = mapped_empty(nv, bool, fill=False)
     reflex = min(_in_ranges(threads, len(T), lambda lo, hi: vertex_rings(
         x, y, T, tri.neighbors, offsets, first, ring, hull, lo, hi)))
     if reflex < nv:
@@ -285,9 +286,9 @@ def voronoi(tri: Triangulation, clip: Any = None, *, workers: int | None = None)
                                f"{pts[reflex].tolist()}: not the Delaunay triangulation of its vertices "
                                "(its domain is not their convex hull)")
     ux, uy, uw, e = _near_unit(pts, tri.weights)
-    centres = np.empty((len(sub), 2))
-    err = np.empty(len(sub))
-    redo = np.zeros(len(sub), bool)
+    centres = mapped_empty((len(sub), 2))
+    err = mapped_empty(len(sub))
+    redo = mapped_empty(len(sub), bool, fill=False)
     _in_ranges(threads, len(sub), lambda lo, hi: face_centres(
         ux, uy, uw, sub.offsets, sub.indices, centres, err, lo, hi))
     _in_ranges(threads, len(T), lambda lo, hi: mark_close(
@@ -297,17 +298,17 @@ def voronoi(tri: Triangulation, clip: Any = None, *, workers: int | None = None)
     # each cell in one pass into room for its ring (and a hull cell's -1): the
     # cells themselves unless cocircular triangles were fused, then packed
     slots = offsets + np.concatenate([[0], np.cumsum(hull)])
-    cells = np.empty(slots[-1], np.int64)
+    cells = mapped_empty(slots[-1], np.int64)
     region_offsets, region_indices = slots, cells
     if not fused.any():
         _in_ranges(threads, nv, lambda lo, hi: unfused_cells(
             offsets, ring, hull, sub.face_of_triangle, slots, cells, lo, hi))
     else:
-        sizes = np.empty(nv, np.int64)
+        sizes = mapped_empty(nv, np.int64)
         _in_ranges(threads, nv, lambda lo, hi: cell_rings(
             T, offsets, ring, hull, sub.face_of_triangle, slots, cells, sizes, lo, hi))
         region_offsets = np.concatenate([[0], np.cumsum(sizes)])
-        region_indices = np.empty(region_offsets[-1], np.int64)
+        region_indices = mapped_empty(region_offsets[-1], np.int64)
         _in_ranges(threads, nv, lambda lo, hi: pack_cells(
             slots, cells, sizes, region_offsets, region_indices, lo, hi))
     vor = Voronoi(tri, fused, sub, np.ldexp(centres, e) if e else centres, region_offsets,
@@ -343,7 +344,7 @@ def _dual(tri: Triangulation, threads: int = 1) -> tuple[NDArray[np.bool_], Subd
     pts = tri.vertices
     x, y, w, _ = exact_range(pts[:, 0], pts[:, 1], tri.weights, "vertices")
     weighted = w is not None
-    fused = np.zeros(tri.triangles.shape, bool)
+    fused = mapped_empty(tri.triangles.shape, bool, fill=False)
     found = [b for b in _in_ranges(threads, len(tri.triangles), lambda lo, hi: fuse_ties(
         x, y, w if weighted else x, weighted, tri.triangles, tri.neighbors, fused, lo, hi)) if b >= 0]
     if found:
@@ -352,7 +353,13 @@ def _dual(tri: Triangulation, threads: int = 1) -> tuple[NDArray[np.bool_], Subd
         raise NotDelaunayError(f"edge {edge} of triangle {t} is not locally "
                                f"{'regular' if weighted else 'Delaunay'}: not a "
                                f"{'weighted ' if weighted else ''}Delaunay triangulation")
-    face_of, offsets, ring = subdivision_faces(tri.triangles, tri.neighbors, fused)
+    T = tri.triangles
+    if fused.any():
+        face_of, offsets, ring = subdivision_faces(T, tri.neighbors, fused)
+    else:                                # face t is triangle t
+        face_of, offsets = np.arange(len(T)), np.arange(0, 3 * len(T) + 1, 3)
+        ring = mapped_empty(3 * len(T), np.int64)
+        _in_ranges(threads, len(T), lambda lo, hi: triangle_faces(T, ring, lo, hi))
     return fused, Subdivision(offsets, ring, face_of), x, y
 
 

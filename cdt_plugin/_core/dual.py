@@ -70,6 +70,22 @@ def fuse_ties(vx, vy, vw, weighted, triangles, neighbors, fused, lo, hi):
 
 
 @kernel
+def triangle_faces(triangles, ring, lo, hi):
+    """The faces of triangles ``lo:hi`` where none is fused (face ``t`` is
+    triangle ``t``): each its vertices from the smallest, into ``ring[3 t:]``."""
+    for t in range(lo, hi):
+        put_triangle(triangles, t, ring, 3 * t)
+
+
+@kernel
+def put_triangle(triangles, t, ring, at):
+    """Triangle ``t``'s vertices, counter-clockwise from its smallest, into ``ring[at:at + 3]``."""
+    for j in range(3):
+        ring[at + j] = triangles[t, j]
+    rotate_to_min(ring, at, at + 3)
+
+
+@kernel
 def subdivision_faces(triangles, neighbors, fused):
     """The faces of the Delaunay subdivision: the triangles joined across
     ``fused`` edges (both sides flagged). Returns ``(face_of, offsets, ring)``:
@@ -89,9 +105,7 @@ def subdivision_faces(triangles, neighbors, fused):
             continue
         face_of[t0] = nf
         if not (fused[t0, 0] or fused[t0, 1] or fused[t0, 2]):
-            for j in range(3):           # a face of its own (the common case)
-                ring[nr + j] = triangles[t0, j]
-            rotate_to_min(ring, nr, nr + 3)
+            put_triangle(triangles, t0, ring, nr)    # a face of its own (the common case)
             nr += 3
             nf += 1
             offsets[nf] = nr

@@ -448,3 +448,18 @@ def test_unfused_cells_equal_the_general_walk(kind):
         assert np.array_equal(read, walked) and np.array_equal(sizes, np.diff(slots))
     else:
         assert (sizes < np.diff(slots)).any()
+
+
+def test_unfused_faces_equal_the_general_walk():
+    """Where no triangles are fused, each face is its triangle, written in
+    ranges (on threads for large inputs); that is what the general face walk
+    gives when no edge is fused."""
+    from cdt_plugin._core.dual import subdivision_faces
+    tri = _delaunay(np.random.default_rng(9).random((3000, 2)))
+    sub = tri.delaunay_subdivision()
+    T = tri.triangles
+    face_of, offsets, ring = subdivision_faces(T, tri.neighbors, np.zeros(T.shape, bool))
+    assert len(sub) == len(T)
+    assert np.array_equal(sub.face_of_triangle, face_of) and np.array_equal(sub.offsets, offsets)
+    assert np.array_equal(sub.indices, ring)
+    assert (ring.reshape(-1, 3)[:, 0] == T.min(axis=1)).all()
