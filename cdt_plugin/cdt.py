@@ -18,21 +18,23 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._core.construct import ALGORITHM_CODES
+from ._core.mesh import IDX
 from ._core.ordering import SMALL_SORT, brio_order, lexicographic_order
 from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUPLICATES, K_FLIPS,
                              K_FROZEN, K_INTERSECTIONS, K_MERGED_OVERLAPS, K_ON_SEGMENTS,
                              K_REF_COMPLETE, K_REF_FLIPS, K_REF_LIMIT, K_REF_SPLITS, K_REF_STEINER,
                              K_ZERO_SEGMENTS, PACK_ARRAYS, PACK_HEADER, cdt_route_packed,
-                             refinement_arg)
+                             refinement_arg, route_points_for_threads)
 from ._core.segments import intersection_point
 from ._core.snap import snap_route
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
                            ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT,
                            ROUTE_NEEDS_SNAP, ROUTE_STEINER_LIMIT, ROUTE_UNRESOLVED)
-from .delaunay import resolve_algorithm
+from .delaunay import PARALLEL_POINTS, build_divide_two_threads, resolve_algorithm
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError, UnresolvedCrossingError)
 from .interrupts import deferred_interrupt
+from .parallel import check_workers, resolve_workers
 from .plc import PLC, GeometryLike, as_plc
 from .triangulation import Triangulation
 from .validate import range_error
@@ -43,6 +45,9 @@ _NO_RINGS = np.empty(0, np.bool_)
 _NO_SEEDS = np.empty((0, 2))
 _NOT_SNAPPED = (np.empty(0), np.empty(0), np.empty((0, 3), np.int64))   # crossings not snapped yet
 _NO_REGIONS = np.empty((0, 4))
+_NO_WEIGHTS = np.empty(0)
+_NO_STORE = (np.empty(0, IDX), np.empty(0, IDX), np.empty(0, IDX), np.empty(0, np.int64),
+             np.int64(0))     # (pipeline.no_store: the route builds its Delaunay triangulation itself)
 
 #: The refinement options as the compiled route takes them: min_angle, max_area,
 #: conforming_delaunay, split_boundary, max_steiner (-1: the default cap).
@@ -65,7 +70,7 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 keep_hull: bool = False, algorithm: str = "auto",
                 min_angle: float | None = None, max_area: float | None = None,
                 conforming_delaunay: bool = False, split_boundary: bool = True,
-                max_steiner: int | None = None) -> Triangulation:
+                max_steiner: int | None = None, workers: int | None = None) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
     Parameters
@@ -139,6 +144,10 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         100 per input vertex plus 100,000, and with ``max_area`` 8 per
         ``max_area`` of the domain's area, at most 1,000,000 more (pass a
         larger ``max_steiner`` for finer meshes).
+    workers : int, optional
+        Threads for the Delaunay triangulation of the vertices (divide and
+        conquer, from 50,000 vertices: the first cut's halves side by side);
+        default every core. The result is the same with any number.
 
     Notes
     -----
@@ -160,8 +169,9 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     options = check_options(intersections=intersections, algorithm=algorithm, min_angle=min_angle,
                             max_area=max_area, conforming_delaunay=conforming_delaunay,
                             split_boundary=split_boundary, max_steiner=max_steiner)
+    workers = check_workers(workers)
     plc = as_plc(vertices, segments, holes, regions)
-    return triangulate_plc(plc, keep_hull=keep_hull, t0=t0, **options)
+    return triangulate_plc(plc, keep_hull=keep_hull, t0=t0, workers=workers, **options)
 
 
 def check_options(*, intersections: str = "raise", algorithm: str = "auto",
@@ -202,9 +212,12 @@ def _real(value: object, name: str) -> float:
 def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
                     algorithm: str = "divide", refinement: RefinementOptions | None = None,
                     refinement_options: RefinementOptions | None = None, max_steiner: int = -1,
-                    t0: float | None = None) -> Triangulation:
+                    t0: float | None = None, workers: int | None = 1) -> Triangulation:
     """:func:`triangulate` of a checked PLC with checked options: one call of
-    the compiled route, then the result wrapped (or the route's stop raised)."""
+    the compiled route, then the result wrapped (or the route's stop raised).
+    With many vertices and ``workers`` (checked) not 1, the Delaunay
+    triangulation of divide and conquer is built on two threads first
+    (:func:`_threaded_store`)."""
     t0 = time.perf_counter() if t0 is None else t0
     if refinement is None and plc.regions is not None and (plc.regions[:, 3] > 0).any():
         refinement = refinement_options   # a region seed's max_area refines on its own (Triangle's -a)
@@ -218,11 +231,12 @@ def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
     n = len(pts)
     x, y = pts[:, 0].copy(), pts[:, 1].copy()
     order = horizontal = _NO_IDS
+    on_threads = algorithm == "divide" and n >= PARALLEL_POINTS and resolve_workers(workers, 2) >= 2
     if algorithm == "incremental":
         order = brio_order(x, y)
     elif n >= SMALL_SORT:        # numpy's sorts beat the compiled one on many points
         order = lexicographic_order(x, y)
-        if algorithm == "divide":
+        if algorithm == "divide" and not on_threads:
             horizontal = lexicographic_order(y, -x)
     rings = plc.has_rings
     use_seeds = plc.holes is not None or plc.regions is not None
@@ -230,11 +244,15 @@ def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
     regions = plc.regions if plc.regions is not None and len(plc.regions) else _NO_REGIONS
     def route(snapped):
         with deferred_interrupt(n):
+            prebuilt, order_in = _NO_STORE, order
+            if on_threads:
+                prebuilt, order_in = _threaded_store(x, y, order, len(plc.segments), split, snapped,
+                                                     refinement is not None)
             return cdt_route_packed(
                 x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
                 plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
-                holes, regions, use_seeds, ALGORITHM_CODES[algorithm], order, horizontal, split,
-                bool(keep_hull), max_steiner, snapped, refinement_arg(refinement))
+                holes, regions, use_seeds, ALGORITHM_CODES[algorithm], order_in, horizontal, split,
+                bool(keep_hull), max_steiner, snapped, refinement_arg(refinement), prebuilt)
 
     status, ints, vertices = route(_NOT_SNAPPED)
     if status == ROUTE_NEEDS_SNAP:
@@ -258,6 +276,25 @@ def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
             "triangles still breaking the bounds; raise max_steiner (or relax min_angle/max_area); "
             "the partial mesh is in this error's .triangulation", triangulation=tri)
     return tri
+
+
+def _threaded_store(x, y, order, n_segments, split, snapped, refine):
+    """``(prebuilt, order)`` for the route: the Delaunay triangulation of its
+    vertices built by divide and conquer with the first cut's halves on two
+    threads (:func:`cdt_plugin.delaunay.build_divide_two_threads`: the same
+    store one thread makes), on the very coordinates and room the route
+    (:func:`~cdt_plugin._core.pipeline.route_points`) gives them. Where the
+    route stops before its triangulation (coordinates out of range, all points
+    on a line), it builds nothing and the route reports the stop."""
+    status, order, xi, yi, inf, cap = route_points_for_threads(
+        x, y, order, n_segments, split, len(snapped[0]), refine)
+    if status != ROUTE_OK:
+        return _NO_STORE, order
+    n = len(x)
+    dup = np.full(n, -1, np.int64)
+    tri, twin, cons, ntri = build_divide_two_threads(xi, yi, _NO_WEIGHTS, n, dup, cap, inf,
+                                                     np.bool_(True))
+    return (tri, twin, cons, dup, np.int64(ntri)), order
 
 
 def _stats(plc, algorithm, counts, refinement, seconds, tri) -> dict:

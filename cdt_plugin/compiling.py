@@ -28,6 +28,7 @@ logger = logging.getLogger("cdt_plugin")
 _ENTRY_NAMES = {
     "cdt_route": "the constrained Delaunay route (triangulate)",
     "cdt_route_packed": "the constrained Delaunay route (triangulate)",
+    "route_points_for_threads": "the constrained Delaunay route on two threads (triangulate)",
     "mesh_geometries": "the batch route (triangulate_rings)",
     "build_mesh": "the Delaunay route (delaunay)",
     "snap_route": "snap rounding of crossing segments (intersections='split')",
@@ -177,9 +178,16 @@ def _square():
 
 
 def _triangulate():
+    import importlib
+
     from . import triangulate
     tri = triangulate(*_square())
     tri.is_delaunay()
+    n = importlib.import_module(".cdt", __package__).PARALLEL_POINTS
+    t = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    ring = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])
+    r = 1.0 + 0.1 * np.sin(7 * t)
+    triangulate(np.column_stack([r * np.cos(t), r * np.sin(t)]), ring, workers=2)    # Delaunay stage on two threads
 
 
 def _refine():

@@ -15,9 +15,10 @@ from __future__ import annotations
 
 import functools
 import time
+from typing import Tuple
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from ._core.construct import build, gather_coords, seed_first, seed_triangle, to_input_ids
 from ._core.divide import (build_half, build_subdivision, cut_ranks, join_halves, quad_store,
@@ -34,6 +35,8 @@ from .validate import as_points, as_weights, exact_range
 
 ALGORITHMS = ("auto", "divide", "incremental", "flip")
 _NO_IDS = np.empty(0, np.int64)
+#: A half-edge store: (tri, twin, cons, ntri)
+Store = Tuple[NDArray[np.int32], NDArray[np.int32], NDArray[np.int32], int]
 _NO_WEIGHTS = np.empty(0)         # divide and conquer is unweighted: it never reads them
 MAX_WEIGHTED_PASSES = 50
 PARALLEL_POINTS = 50_000    # from this many points, divide and conquer splits over two threads
@@ -198,7 +201,7 @@ def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, thre
         # place, and dup_of (all -1 so far) first takes the repeats in mesh ids.
         x[:m] = x[order]
         y[:m] = y[order]
-        tri, twin, cons, ntri = _build_divide(x, y, _NO_WEIGHTS, m, dup_of, 0, threads)
+        tri, twin, cons, ntri = build_divide(x, y, _NO_WEIGHTS, m, dup_of, 0, threads)
         repeats = np.flatnonzero(dup_of >= 0)
         firsts = order[dup_of[repeats]]
         dup_of[repeats] = -1
@@ -217,7 +220,9 @@ def _build_in_order(x, y, w, weighted, order, algorithm, dup_of, submerged, thre
     return tri, twin, cons, ntri, counts
 
 
-def _build_divide(xi, yi, wi, m, dup, cap, threads, inf=None, with_cons=False):
+def build_divide(xi: NDArray[np.float64], yi: NDArray[np.float64], wi: NDArray[np.float64], m: int,
+                 dup: NDArray[np.int64], cap: int, threads: int, inf: int | None = None,
+                 with_cons: bool | np.bool_ = False) -> Store:
     """Divide and conquer over the sorted points ``0..m-1``; with two threads
     and enough points, the halves of the first cut are built side by side in
     one set of quad-edge arrays (the kernels release the GIL) and joined into
@@ -226,19 +231,21 @@ def _build_divide(xi, yi, wi, m, dup, cap, threads, inf=None, with_cons=False):
     triangles; ``with_cons``: allocate the per-half-edge segment ids (a store
     that segments will be inserted into)."""
     inf = m if inf is None else inf
-    with_cons = np.bool_(with_cons)
+    cons = np.bool_(with_cons)
     if threads < 2 or m < PARALLEL_POINTS:
         horizontal = lexicographic_order(yi[:m], -xi[:m])   # (numpy's sort: the fastest here)
         u, r = cut_ranks(xi, yi, m, dup, horizontal)
         del horizontal
         if m >= PARALLEL_POINTS:
             release_freed_memory()    # the sorts' temporaries, before the quad-edges are taken
-        return build_subdivision(xi, yi, wi, u, r, inf, cap, with_cons)
-    return _build_divide_two_threads(xi, yi, wi, m, dup, cap, inf, with_cons)
+        return build_subdivision(xi, yi, wi, u, r, inf, cap, cons)
+    return build_divide_two_threads(xi, yi, wi, m, dup, cap, inf, cons)
 
 
-def _build_divide_two_threads(xi, yi, wi, m, dup, cap, inf, with_cons):
-    """:func:`_build_divide` with the halves of the first cut on two threads."""
+def build_divide_two_threads(xi: NDArray[np.float64], yi: NDArray[np.float64], wi: NDArray[np.float64],
+                             m: int, dup: NDArray[np.int64], cap: int, inf: int,
+                             with_cons: bool | np.bool_) -> Store:
+    """:func:`build_divide` with the halves of the first cut on two threads."""
     u, mid = split_halves(xi, yi, m, dup)
     nu = len(u)
     ranks = np.empty(nu, u.dtype)

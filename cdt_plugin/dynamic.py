@@ -24,7 +24,7 @@ from ._core.ordering import HILBERT_BITS, hilbert_keys, lexicographic_order
 from ._core.output import rotate_min_first
 from ._core.snap import snap_route
 from ._core.status import ALL_DONE, OK, ROUTE_OK, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP
-from .delaunay import _build_divide
+from .delaunay import build_divide
 from .errors import CDTError, CoordinateRangeError, SegmentIndexError, UnknownIdError
 from .parallel import resolve_workers
 from .queries import as_queries
@@ -639,7 +639,7 @@ def _new_store(px: NDArray[np.float64], py: NDArray[np.float64]) -> tuple[Store 
     room = max(16, n // 4)
     xi, yi, wi = gather_coords(px, py, np.zeros(n), order, np.int64(room))
     inf = n + room
-    tri, twin, cons, ntri = _build_divide(xi, yi, wi, n, np.full(n, -1, np.int64), max(4, 2 * inf + 2),
+    tri, twin, cons, ntri = build_divide(xi, yi, wi, n, np.full(n, -1, np.int64), max(4, 2 * inf + 2),
                                           resolve_workers(None, 2), inf, True)
     return (tri, twin, cons, xi, yi, wi, inf, np.int64(ntri), np.int64(n)), order
 

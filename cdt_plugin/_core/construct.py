@@ -112,6 +112,12 @@ def horizontal_order(xi, yi, m, horizontal_in, mesh_of):
     return out
 
 
+@kernel
+def store_room(m, extra):
+    """The triangles the store of ``m`` vertices and room for ``extra`` more has room for."""
+    return max(4, 2 * (m + extra) + 2)
+
+
 @kernel(inline="always")   # (one caller: the route)
 def build_mesh(xi, yi, wi, weighted, m, inf, algorithm, horizontal, extra, with_cons, counts):
     """The Delaunay triangulation of mesh vertices ``0..m-1`` (seed triangle
@@ -121,7 +127,7 @@ def build_mesh(xi, yi, wi, weighted, m, inf, algorithm, horizontal, extra, with_
     ``sub[i]`` whether it is submerged (weighted)."""
     dup = np.full(m, -1, np.int64)
     sub = np.zeros(m, np.int8)
-    cap = max(4, 2 * (m + extra) + 2)
+    cap = store_room(m, extra)
     if algorithm == DIVIDE:
         tri, twin, cons, ntri = build_divide_sorted(xi, yi, wi, m, inf, dup, cap, with_cons, horizontal)
         status = OK

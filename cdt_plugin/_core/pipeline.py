@@ -22,11 +22,12 @@ import math
 import numpy as np
 
 from .arrays import copy_rows
-from .construct import DIVIDE, FLIP, build_mesh, gather_coords, horizontal_order, seed_first, seed_triangle, to_input_ids
+from .construct import (DIVIDE, FLIP, build_mesh, gather_coords, horizontal_order, seed_first, seed_triangle,
+                        store_room, to_input_ids)
 from .flips import flip_to_delaunay
 from .insertion import insert_vertex
 from .jit import kernel
-from .mesh import DEAD, grow_store, nxt
+from .mesh import DEAD, IDX, grow_store, nxt
 from .ordering import HILBERT_BITS, hilbert_keys, lexicographic_order_compiled
 from .output import cdt_arrays, cdt_vertices, solid_triangles
 from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, OUT,
@@ -434,10 +435,61 @@ def no_mesh():
             e1.copy(), e1.copy(), e1.copy())
 
 
+@kernel(inline="always")
+def route_points(px, py, algorithm, order_in, ms, split, nsnap, refine):
+    """The route's vertices before the Delaunay triangulation: ``(status,
+    info0, info1, shift, px, py, order, xi, yi, wi, inf, extra)``. The input
+    scaled into the exact predicates' range by ``2**shift`` (:mod:`.scaling`;
+    ROUTE_RANGE and the offending values where it cannot be), the insertion
+    ``order`` (ROUTE_COLLINEAR where all points are on a line), and the mesh
+    coordinates in that order with room for ``extra`` more vertices and the
+    infinite one, ``inf``: room for the ``ms`` segments' crossings (``nsnap``
+    snapped already) when ``split``, for refinement when ``refine``."""
+    n = px.shape[0]
+    no = np.empty(0)
+    order = order_in
+    shift, i0, i1 = fit_shift(px, py, no)
+    if shift == NO_FIT:
+        return ROUTE_RANGE, i0, i1, shift, px, py, order, no, no, no, np.int64(0), np.int64(0)
+    if shift != 0:
+        px = scaled(px, shift)
+        py = scaled(py, shift)
+    if order.shape[0] == 0:
+        order = lexicographic_order_compiled(px, py)
+    k1, k2 = seed_triangle(px, py, order)
+    if k2 < 0:
+        return ROUTE_COLLINEAR, i0, i1, shift, px, py, order, no, no, no, np.int64(0), np.int64(0)
+    if algorithm != DIVIDE:
+        order = seed_first(order, k1, k2)
+    extra = np.int64(16 + ms // 2 + nsnap if split else 0)
+    if refine:   # the room refinement starts with, made now rather than by a copy
+        extra = max(extra, STEINER_ROOM * n + 64 - n)
+    xi, yi, wi = gather_coords(px, py, np.zeros(n), order, extra)
+    return ROUTE_OK, i0, i1, shift, px, py, order, xi, yi, wi, n + extra, extra
+
+
+@kernel
+def route_points_for_threads(px, py, order_in, ms, split, nsnap, refine):
+    """:func:`route_points` of the divide-and-conquer route, for a caller that
+    builds the Delaunay triangulation on threads: ``(status, order, xi, yi,
+    inf, cap)``, ``cap`` the triangles its store needs room for."""
+    status, _, _, _, _, _, order, xi, yi, _, inf, extra = route_points(
+        px, py, DIVIDE, order_in, ms, split, nsnap, refine)
+    return status, order, xi, yi, inf, store_room(px.shape[0], extra)
+
+
+@kernel
+def no_store():
+    """The ``prebuilt`` argument of :func:`cdt_route` that asks it to build the
+    Delaunay triangulation itself."""
+    e = np.empty(0, IDX)
+    return e, e.copy(), e.copy(), np.empty(0, np.int64), np.int64(0)
+
+
 @kernel
 def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
               algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, snapped,
-              refinement):
+              refinement, prebuilt):
     """Constrained Delaunay triangulation of one PLC, every step in one call.
 
     Parameters: the vertices ``px, py`` (n,); ``segs`` (m, 2) vertex pairs;
@@ -452,7 +504,10 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     crossings ``(new points x, y, chains)`` of :func:`.snap.snap_route`
     (empty: none yet; splitting segments that cross then stops with
     ROUTE_NEEDS_SNAP, so that only inputs with crossings compile and run the
-    snap rounding); ``refinement`` the refinement options (:func:`refinement_arg`).
+    snap rounding); ``refinement`` the refinement options (:func:`refinement_arg`);
+    ``prebuilt`` the Delaunay triangulation of the vertices ``(tri, twin, cons,
+    dup, ntri)`` when the caller built it (on threads, from :func:`route_points`
+    with the same arguments), else :func:`no_store`.
 
     Returns ``(status, info, counts, out)`` with ``out = (vertices, triangles,
     neighbors, constrained, segments, segment_ids, regions, vertex_map, kept,
@@ -461,40 +516,30 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     n = px.shape[0]
     info = np.zeros(4, np.int64)
     counts = np.zeros(NCOUNTS, np.int64)
-    # into the exact predicates' range by a power of two (.scaling); undone on output
-    shift, info[0], info[1] = fit_shift(px, py, np.empty(0))
-    if shift == NO_FIT:
-        return ROUTE_RANGE, info, counts, no_mesh()
-    if shift != 0:
-        px = scaled(px, shift)
-        py = scaled(py, shift)
-    holes = scaled_seeds(holes, shift)
-    regions = scaled_seeds(regions, shift)
-    order = order_in if order_in.shape[0] > 0 else lexicographic_order_compiled(px, py)
-    k1, k2 = seed_triangle(px, py, order)
-    if k2 < 0:
-        return ROUTE_COLLINEAR, info, counts, no_mesh()
-    if algorithm != DIVIDE:
-        order = seed_first(order, k1, k2)
     ms = segs.shape[0]
     snap_x, snap_y, chains = snapped
-    extra = 16 + ms // 2 + snap_x.shape[0] if split else 0
     refine = refinement[0]
-    if refine:   # the room refinement starts with, made now rather than by a copy
-        extra = max(extra, STEINER_ROOM * n + 64 - n)
-    xi, yi, wi = gather_coords(px, py, np.zeros(n), order, extra)
-    inf = n + extra
+    status, info[0], info[1], shift, px, py, order, xi, yi, wi, inf, extra = route_points(
+        px, py, algorithm, order_in, ms, split, snap_x.shape[0], refine)
+    if status != ROUTE_OK:
+        return status, info, counts, no_mesh()
+    holes = scaled_seeds(holes, shift)
+    regions = scaled_seeds(regions, shift)
     mesh_of = np.empty(n, np.int64)
     for i in range(n):
         mesh_of[order[i]] = i
-    horizontal = np.empty(0, np.int64)
-    if algorithm == DIVIDE:
-        horizontal = horizontal_order(xi, yi, n, horizontal_in, mesh_of)
     build_counts = np.zeros(2, np.int64)
-    # (np.bool_: literal constants would compile the whole construction a second time)
-    status, tri, twin, cons, ntri, dup, sub = build_mesh(xi, yi, wi, np.bool_(False), n, inf,
-                                                         algorithm, horizontal, extra,
-                                                         np.bool_(True), build_counts)
+    tri, twin, cons, dup, ntri = prebuilt
+    sub = np.zeros(n, np.int8)
+    status = OK
+    if tri.shape[0] == 0:     # (else the caller built it on threads: :func:`route_points`)
+        horizontal = np.empty(0, np.int64)
+        if algorithm == DIVIDE:
+            horizontal = horizontal_order(xi, yi, n, horizontal_in, mesh_of)
+        # (np.bool_: literal constants would compile the whole construction a second time)
+        status, tri, twin, cons, ntri, dup, sub = build_mesh(xi, yi, wi, np.bool_(False), n, inf,
+                                                             algorithm, horizontal, extra,
+                                                             np.bool_(True), build_counts)
     if status != OK:  # (a located point always exists)
         info[0] = 1
         info[1] = status
@@ -640,7 +685,7 @@ PACK_ARRAYS = PACK_HEADER + 4 + NCOUNTS      # then info and counts, then the ar
 @kernel
 def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
                      algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, snapped,
-                     refinement):
+                     refinement, prebuilt):
     """:func:`cdt_route` for a call from Python: ``(status, ints, vertices)``,
     every integer output in the one array ``ints`` (read by ``Triangulation.from_route``).
     numba hands each returned array to Python on its own, about a microsecond
@@ -649,7 +694,7 @@ def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, 
     status, info, counts, out = cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole,
                                           holes, regions, use_seeds, algorithm, order_in,
                                           horizontal_in, split, keep_hull, max_steiner, snapped,
-                                          refinement)
+                                          refinement, prebuilt)
     vertices, triangles, neighbors, constrained, pieces, piece_ids, out_regions, vertex_map, kept, \
         below = out
     k = triangles.shape[0]
@@ -716,6 +761,7 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     not_snapped = (np.empty(0), np.empty(0), np.empty((0, 3), np.int64))
     no = np.bool_(False)    # (a literal False would compile the route once more)
     keep_all = np.ones(geom_ring_start[g1] - geom_ring_start[g0] + 1, np.bool_)
+    build_here = no_store()
     for g in range(g0, g1):
         r0 = geom_ring_start[g]
         r1 = geom_ring_start[g + 1]
@@ -733,7 +779,7 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
         status, _, _, out = cdt_route(x[v0:v1], y[v0:v1], segs, ring_of, ring_polygon[r0:r1],
                                       ring_is_hole[r0:r1], no_seeds, no_regions, no, algorithm,
                                       no_order, no_order, split, no, max_steiner, not_snapped,
-                                      refinement)
+                                      refinement, build_here)
         if status != ROUTE_OK:
             failed[g - g0] = True
             continue

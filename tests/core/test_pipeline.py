@@ -13,7 +13,7 @@ from cdt_plugin._core.construct import DIVIDE, FLIP, INCREMENTAL
 from cdt_plugin._core.pipeline import (K_DUPLICATE_SEGMENTS, K_DUPLICATES, K_FLIPS,
                                        K_INTERSECTIONS, K_MERGED_OVERLAPS, K_REF_COMPLETE,
                                        K_ZERO_SEGMENTS, NO_REFINEMENT, cdt_route,
-                                       mesh_geometries, refinement_arg)
+                                       mesh_geometries, no_store, refinement_arg)
 from cdt_plugin._core.snap import snap_route
 from cdt_plugin._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE,
                                      ROUTE_NEEDS_SNAP, ROUTE_OK, ROUTE_OVERLAP, ROUTE_REFINE_LIMIT,
@@ -26,6 +26,7 @@ NO_RINGS = np.empty(0, np.bool_)
 NO_SEEDS = np.empty((0, 2))
 NO_REGIONS = np.empty((0, 4))
 NOT_SNAPPED = (np.empty(0), np.empty(0), np.empty((0, 3), np.int64))
+BUILD_HERE = no_store()       # the route builds its Delaunay triangulation itself
 
 
 def route(points, segs=(), rings=None, algorithm=DIVIDE, split=False, keep_hull=False,
@@ -45,7 +46,7 @@ def route(points, segs=(), rings=None, algorithm=DIVIDE, split=False, keep_hull=
         status, info, counts, out = cdt_route(
             x, y, S, seg_ring, ring_polygon, ring_is_hole, holes, NO_REGIONS, len(holes) > 0,
             algorithm, NO_IDS, NO_IDS, split, keep_hull, max_steiner, snapped,
-            refinement_arg(refinement))
+            refinement_arg(refinement), BUILD_HERE)
         if status != ROUTE_NEEDS_SNAP:
             break
         status, info, *plan = snap_route(x, y, S, max_steiner)   # segments cross: snap them
@@ -293,7 +294,7 @@ def test_crossings_stop_the_route_until_they_are_snap_rounded():
     S = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
     x, y = bowtie[:, 0].copy(), bowtie[:, 1].copy()
     status, *_ = cdt_route(x, y, S, NO_IDS, NO_IDS, NO_RINGS, NO_SEEDS, NO_REGIONS, False, DIVIDE,
-                           NO_IDS, NO_IDS, True, False, -1, NOT_SNAPPED, NO_REFINEMENT)
+                           NO_IDS, NO_IDS, True, False, -1, NOT_SNAPPED, NO_REFINEMENT, BUILD_HERE)
     assert status == ROUTE_NEEDS_SNAP
     status, info, new_x, new_y, chains = snap_route(x, y, S, -1)
     assert status == ROUTE_OK and new_x.tolist() == [1.0] and new_y.tolist() == [1.0]

@@ -20,7 +20,7 @@ from cdt_plugin.adapters.shapely import _polygon_rings, triangulate_batch
 from cdt_plugin.batch import MIN_CHUNK, geometry_chunks, geometry_plc, triangulate_rings
 from cdt_plugin.parallel import check_workers, map_ordered, resolve_workers
 
-from checker import assert_valid, canonical_triangles
+from checker import assert_valid, canonical_triangles, check_triangulation
 
 
 def _kernels():
@@ -222,3 +222,71 @@ def test_delaunay_above_the_threshold_on_two_threads():
 def _delaunay_module():
     import importlib
     return importlib.import_module("cdt_plugin.delaunay")     # (the package exports the function)
+
+
+def _plcs():
+    """Inputs for triangulate: (vertices, segments, options)."""
+    rng = np.random.default_rng(17)
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    outer = np.column_stack([(1 + 0.3 * np.sin(5 * t)) * np.cos(t), (1 + 0.3 * np.sin(5 * t)) * np.sin(t)])
+    hole = 0.2 * np.column_stack([np.cos(-t[::8]), np.sin(-t[::8])])
+    V = np.concatenate([outer, hole + [0.3, 0.1], hole + [-0.3, -0.1]])
+    S = np.concatenate([_ring(0, 400), _ring(400, 50), _ring(450, 50)])
+    yield V, S, {"holes": [[0.3, 0.1], [-0.3, -0.1]]}
+    yield V, S, {"holes": [[0.3, 0.1], [-0.3, -0.1]], "min_angle": 25.0}
+    yield V, S, {"keep_hull": True}
+    inner = rng.random((300, 2)) - 0.5
+    yield np.concatenate([V, inner, inner[:40]]), S, {}                 # free points, repeated
+    P = rng.random((200, 2))
+    yield P, rng.integers(0, 200, (60, 2)), {"intersections": "split"}   # crossing segments
+    grid = np.array([[i, j] for i in range(25) for j in range(25)], float)
+    yield grid, np.array([[0, 624], [24, 600]]), {"intersections": "split"}
+    yield np.column_stack([np.arange(50.0), np.zeros(50)]), np.array([[0, 49]]), {}   # collinear
+
+
+def _ring(start, k):
+    return np.column_stack([start + np.arange(k), start + (np.arange(k) + 1) % k])
+
+
+def _domain_segments(tri):
+    """The segment pieces that are edges of the triangles (dangling ones outside
+    the domain are not)."""
+    T = tri.triangles
+    edges = {frozenset(e) for t in T.tolist() for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
+    return np.array([p for p in tri.segments.tolist() if frozenset(p) in edges], np.int64).reshape(-1, 2)
+
+
+def test_triangulate_on_two_threads_gives_the_arrays_of_one(monkeypatch):
+    """The Delaunay stage of triangulate is built with the first cut's halves
+    on two threads (above a size: lowered here), then the route goes on from
+    it: every output array equals one thread's, with holes, refinement, the
+    hull kept, repeated points, crossings split and snap-rounded, and all
+    points on a line."""
+    import importlib
+    monkeypatch.setattr(importlib.import_module("cdt_plugin.cdt"), "PARALLEL_POINTS", 8)
+    names = ("vertices", "triangles", "neighbors", "constrained", "segments", "segment_ids",
+             "vertex_map", "regions")
+    for V, S, options in _plcs():
+        one = cdt_plugin.triangulate(V, S, workers=1, **options)
+        two = cdt_plugin.triangulate(V, S, workers=2, **options)
+        for name in names:
+            assert np.array_equal(getattr(one, name), getattr(two, name)), (len(V), options, name)
+        if len(two.triangles):
+            domain = "hull" if options.get("keep_hull") else "segments"
+            rep = check_triangulation(two.vertices, two.triangles, segments=_domain_segments(two),
+                                      domain=domain, require_all_vertices=domain == "hull")
+            assert rep.ok, str(rep)
+    with pytest.raises(CDTError, match="workers must be"):
+        cdt_plugin.triangulate(V, S, workers=0)
+
+
+def test_triangulate_above_the_threshold_on_two_threads():
+    import importlib
+    n = importlib.import_module("cdt_plugin.cdt").PARALLEL_POINTS + 2000
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    V = np.column_stack([(1 + 0.2 * np.sin(9 * t)) * np.cos(t), (1 + 0.2 * np.sin(9 * t)) * np.sin(t)])
+    one = cdt_plugin.triangulate(V, _ring(0, n), workers=1)
+    two = cdt_plugin.triangulate(V, _ring(0, n))
+    assert np.array_equal(one.triangles, two.triangles) and np.array_equal(one.neighbors, two.neighbors)
+    rep = check_triangulation(two.vertices, two.triangles, segments=two.segments, domain="segments")
+    assert rep.ok, str(rep)
