@@ -42,7 +42,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness import Impl, Suite, Workload, main  # noqa: E402
+from harness import Impl, Suite, Workload, all_threads_label, main  # noqa: E402
 
 # ----------------------------------------------------------------------------- workloads
 
@@ -142,19 +142,13 @@ def setup_ours(workers=None):
     return setup
 
 
-def _all_threads() -> str:
-    from cdt_plugin.parallel import available_cores
-    n = min(2, available_cores())      # divide and conquer uses two threads at most today
-    return f"{n} thread{'s' if n > 1 else ''}"
-
-
 IMPLS = [
     Impl("triangle", "Triangle", setup_triangle, lambda r: len(r["triangles"]),
          timed="dict in, dict of arrays out", dist="triangle"),
     Impl("ours", "cdt_plugin, 1 thread", setup_ours(1), lambda t: len(t.triangles),
          timed="delaunay(P, workers=1), array in, Triangulation out", dist="cdt-plugin",
          numba_cold_start=True, package="cdt_plugin"),
-    Impl("ours_threads", f"cdt_plugin, {_all_threads()}", setup_ours(None), lambda t: len(t.triangles),
+    Impl("ours_threads", f"cdt_plugin, {all_threads_label()}", setup_ours(None), lambda t: len(t.triangles),
          timed="delaunay(P) (workers: every core), array in, Triangulation out"),
     Impl("pythoncdt", "CDT (pythoncdt)", setup_pythoncdt, len,
          timed="insert + erase super-triangle + triangle array", dist="pythoncdt"),

@@ -131,6 +131,14 @@ class Suite:
         return next(i for i in self.impls if i.name == name)
 
 
+def all_threads_label() -> str:
+    """"N threads": the threads a divide-and-conquer call uses by default (two at
+    most today, one on a single core). Counted here, not by importing
+    cdt_plugin: the suites' modules must not import numba (cold-start figures)."""
+    n = min(2, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1)
+    return f"{n} thread{'s' if n > 1 else ''}"
+
+
 def select_by_name(spec: str | None, items: list, what: str) -> list:
     """The ``items`` named in a comma-separated ``spec`` (all of them for none),
     in their own order; SystemExit naming any unknown name (``--only``,
