@@ -30,7 +30,7 @@ from ._core.snap import snap_route
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
                            ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT,
                            ROUTE_NEEDS_SNAP, ROUTE_STEINER_LIMIT, ROUTE_UNRESOLVED)
-from .delaunay import PARALLEL_POINTS, build_divide_two_threads, resolve_algorithm
+from .delaunay import build_divide_two_threads, resolve_algorithm
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError, UnresolvedCrossingError)
 from .interrupts import deferred_interrupt
@@ -46,6 +46,11 @@ _NO_SEEDS = np.empty((0, 2))
 _NOT_SNAPPED = (np.empty(0), np.empty(0), np.empty((0, 3), np.int64))   # crossings not snapped yet
 _NO_REGIONS = np.empty((0, 4))
 _NO_WEIGHTS = np.empty(0)
+#: From this many vertices the Delaunay stage of the route is built on two threads. Below
+#: it the threads' set-up (the halves' own sorts, the join) costs what they save: on the
+#: C1 polygons (benchmarks/bench_cdt.py) two threads took 1.0x one thread's time at 63,000
+#: and 113,000 vertices, 0.87x at 250,000, 0.77x at 500,000.
+PARALLEL_VERTICES = 200_000
 _NO_STORE = (np.empty(0, IDX), np.empty(0, IDX), np.empty(0, IDX), np.empty(0, np.int64),
              np.int64(0))     # (pipeline.no_store: the route builds its Delaunay triangulation itself)
 
@@ -146,7 +151,7 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         larger ``max_steiner`` for finer meshes).
     workers : int, optional
         Threads for the Delaunay triangulation of the vertices (divide and
-        conquer, from 50,000 vertices: the first cut's halves side by side);
+        conquer, from 200,000 vertices: the first cut's halves side by side);
         default every core. The result is the same with any number.
 
     Notes
@@ -231,7 +236,7 @@ def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
     n = len(pts)
     x, y = pts[:, 0].copy(), pts[:, 1].copy()
     order = horizontal = _NO_IDS
-    on_threads = algorithm == "divide" and n >= PARALLEL_POINTS and resolve_workers(workers, 2) >= 2
+    on_threads = algorithm == "divide" and n >= PARALLEL_VERTICES and resolve_workers(workers, 2) >= 2
     if algorithm == "incremental":
         order = brio_order(x, y)
     elif n >= SMALL_SORT:        # numpy's sorts beat the compiled one on many points

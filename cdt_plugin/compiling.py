@@ -183,7 +183,7 @@ def _triangulate():
     from . import triangulate
     tri = triangulate(*_square())
     tri.is_delaunay()
-    n = importlib.import_module(".cdt", __package__).PARALLEL_POINTS
+    n = importlib.import_module(".cdt", __package__).PARALLEL_VERTICES
     t = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
     ring = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])
     r = 1.0 + 0.1 * np.sin(7 * t)

@@ -263,7 +263,7 @@ def test_triangulate_on_two_threads_gives_the_arrays_of_one(monkeypatch):
     hull kept, repeated points, crossings split and snap-rounded, and all
     points on a line."""
     import importlib
-    monkeypatch.setattr(importlib.import_module("cdt_plugin.cdt"), "PARALLEL_POINTS", 8)
+    monkeypatch.setattr(importlib.import_module("cdt_plugin.cdt"), "PARALLEL_VERTICES", 8)
     names = ("vertices", "triangles", "neighbors", "constrained", "segments", "segment_ids",
              "vertex_map", "regions")
     for V, S, options in _plcs():
@@ -282,7 +282,7 @@ def test_triangulate_on_two_threads_gives_the_arrays_of_one(monkeypatch):
 
 def test_triangulate_above_the_threshold_on_two_threads():
     import importlib
-    n = importlib.import_module("cdt_plugin.cdt").PARALLEL_POINTS + 2000
+    n = importlib.import_module("cdt_plugin.cdt").PARALLEL_VERTICES + 2000
     t = np.linspace(0, 2 * np.pi, n, endpoint=False)
     V = np.column_stack([(1 + 0.2 * np.sin(9 * t)) * np.cos(t), (1 + 0.2 * np.sin(9 * t)) * np.sin(t)])
     one = cdt_plugin.triangulate(V, _ring(0, n), workers=1)
