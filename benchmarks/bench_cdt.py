@@ -421,7 +421,7 @@ IMPLS = [
          numba_cold_start=True, package="cdt_plugin"),
     Impl("ours_threads", f"cdt_plugin, {all_threads_label()}", setup_ours(False), count_ours,
          extras=extras_ours, timed="triangulate(V, S, holes=H) (workers: every core; the Delaunay "
-         "stage on two threads from 50,000 vertices)"),
+         "stage on two threads from 200,000 vertices)"),
     Impl("ours_eo", "cdt_plugin (even-odd)", setup_ours(True), count_ours, extras=extras_ours,
          timed="triangulate(V, S) without hole points (workers: every core)"),
     Impl("pythoncdt", "CDT (pythoncdt)", setup_pythoncdt, count_pythoncdt, extras=extras_pythoncdt,

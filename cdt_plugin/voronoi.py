@@ -300,7 +300,7 @@ def voronoi(tri: Triangulation, clip: Any = None, *, workers: int | None = None)
     slots = offsets + np.concatenate([[0], np.cumsum(hull)])
     cells = mapped_empty(slots[-1], np.int64)
     region_offsets, region_indices = slots, cells
-    if not fused.any():
+    if len(sub) == len(T):               # nothing fused: face t is triangle t
         _in_ranges(threads, nv, lambda lo, hi: unfused_cells(
             offsets, ring, hull, sub.face_of_triangle, slots, cells, lo, hi))
     else:

@@ -15,6 +15,7 @@ from cdt_plugin import (CDTError, InvalidGeometryError, OverlappingSegmentsError
                         SegmentIntersectionError)
 from checker import canonical_triangles, check_triangulation
 from fuzz import check_vertices_split_segments
+from helpers import domain_segments
 
 rng = np.random.default_rng(7)
 
@@ -25,9 +26,7 @@ def verify_cdt(vertices, segments, tri, *, domain="segments", split=False):
     if domain == "segments":
         # the domain's own segment pieces (dangling ones outside it are checked
         # on the whole-hull triangulation below)
-        T = tri.triangles
-        edges = {frozenset(e) for t in T.tolist() for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
-        segs = np.array([p for p in tri.segments.tolist() if frozenset(p) in edges], np.int64).reshape(-1, 2)
+        segs = domain_segments(tri)
     elif split:
         segs = tri.segments
     else:

@@ -21,6 +21,7 @@ from cdt_plugin.batch import MIN_CHUNK, geometry_chunks, geometry_plc, triangula
 from cdt_plugin.parallel import check_workers, map_ordered, resolve_workers
 
 from checker import assert_valid, canonical_triangles, check_triangulation
+from helpers import domain_segments
 
 
 def _kernels():
@@ -248,14 +249,6 @@ def _ring(start, k):
     return np.column_stack([start + np.arange(k), start + (np.arange(k) + 1) % k])
 
 
-def _domain_segments(tri):
-    """The segment pieces that are edges of the triangles (dangling ones outside
-    the domain are not)."""
-    T = tri.triangles
-    edges = {frozenset(e) for t in T.tolist() for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
-    return np.array([p for p in tri.segments.tolist() if frozenset(p) in edges], np.int64).reshape(-1, 2)
-
-
 def test_triangulate_on_two_threads_gives_the_arrays_of_one(monkeypatch):
     """The Delaunay stage of triangulate is built with the first cut's halves
     on two threads (above a size: lowered here), then the route goes on from
@@ -273,7 +266,7 @@ def test_triangulate_on_two_threads_gives_the_arrays_of_one(monkeypatch):
             assert np.array_equal(getattr(one, name), getattr(two, name)), (len(V), options, name)
         if len(two.triangles):
             domain = "hull" if options.get("keep_hull") else "segments"
-            rep = check_triangulation(two.vertices, two.triangles, segments=_domain_segments(two),
+            rep = check_triangulation(two.vertices, two.triangles, segments=domain_segments(two),
                                       domain=domain, require_all_vertices=domain == "hull")
             assert rep.ok, str(rep)
     with pytest.raises(CDTError, match="workers must be"):

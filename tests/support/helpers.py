@@ -73,3 +73,11 @@ def check_neighbors(tri):
             u, v = T[t, (j + 1) % 3], T[t, (j + 2) % 3]
             assert {u, v} <= set(T[m].tolist()), f"neighbor {m} of triangle {t} lacks edge {u}-{v}"
             assert t in N[m], f"neighbors not symmetric between {t} and {m}"
+
+
+def domain_segments(tri):
+    """The segment pieces of ``tri`` that are edges of its triangles (dangling
+    pieces outside the domain are not)."""
+    T = tri.triangles
+    edges = {frozenset(e) for t in T.tolist() for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
+    return np.array([p for p in tri.segments.tolist() if frozenset(p) in edges], np.int64).reshape(-1, 2)
