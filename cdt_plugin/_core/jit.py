@@ -16,7 +16,9 @@ code-generated again. So, in the kernels:
 * the intermediate stages with a single caller (``build_mesh``, ``build``,
   ``insert_vertices``, ``insert_all_segments``, ``insert_one``, ``refine_store``,
   ``refine_run``) are ``inline="always"``, so that the kernels below them are
-  not code-generated once more for them. Nothing else is: numba copies and
+  not code-generated once more for them; so is the route itself
+  (``pipeline.cdt_route``), which its two entries (one call from Python, the
+  batch loop) would otherwise both link whole. Nothing else is: numba copies and
   re-types an inlined function's IR at each call site, which costs more than
   compiling it once (inlining every kernel with a single caller made first use
   50% slower), and LLVM inlines small helpers anyway;
