@@ -439,9 +439,9 @@ class Triangulation:
         >>> vor
         Voronoi(Voronoi diagram: 5 sites, 4 vertices, 4 unbounded cells, clipped)
         >>> vor.vertices.round(4).tolist()
-        [[0.125, 1.0], [1.0, 0.4167], [1.875, 1.0], [1.0, 2.75]]
+        [[0.125, 1.0], [1.875, 1.0], [1.0, 0.4167], [1.0, 2.75]]
         >>> vor.regions[4]                  # the centre point's cell: four Voronoi vertices
-        [0, 1, 2, 3]
+        [0, 2, 1, 3]
         >>> vor.cell(4).round(4).tolist()   # cut to the box
         [[0.125, 1.0], [1.0, 0.4167], [1.875, 1.0], [1.375, 2.0], [0.625, 2.0]]
         """

@@ -189,6 +189,13 @@ def _degenerate_sets():
     yield "snapped random, many ties", np.round(r.random((3000, 2)) * 32) / 32
     yield "offset 1e9", r.random((2000, 2)) + 1e9
     yield "clustered", np.r_[r.random((1000, 2)) * 1e-6, r.random((1000, 2)) * 1e6]
+    # subproblems with most or all of their points on their hulls, whose ends
+    # the horizontal cuts find by walking the hull (divide.hull_extreme)
+    t = 2 * np.pi * (np.arange(5000) + r.uniform(-0.4, 0.4, 5000)) / 5000
+    rad = 1 + 0.25 * np.sin(7 * t)
+    yield "along a wavy closed curve", np.c_[rad * np.cos(t), rad * np.sin(t)]
+    yield "three horizontal lines", np.c_[r.permutation(3000) % 1000, np.arange(3000) % 3].astype(float)
+    yield "three vertical lines", np.c_[np.arange(3000) % 3, r.permutation(3000) % 1000].astype(float)
 
 
 @pytest.mark.parametrize("name,points", list(_degenerate_sets()), ids=[n for n, _ in _degenerate_sets()])

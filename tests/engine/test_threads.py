@@ -195,6 +195,9 @@ def _point_sets():
     yield np.concatenate([grid, grid[:500]])
     yield np.column_stack([rng.integers(0, 4, 2000), rng.random(2000)])             # 4 lines
     yield rng.normal(size=(4000, 2)) * [1e-3, 1e3]                                   # anisotropic
+    t = np.sort(rng.random(3000)) * 2 * np.pi                                       # a curve: halves
+    yield np.column_stack([np.cos(t), np.sin(t)]) * (1 + 0.2 * np.sin(5 * t))[:, None]  # all hull
+    yield np.column_stack([rng.random(2000), rng.integers(0, 3, 2000)])             # 3 rows
     for n in (9, 10, 11, 17, 64, 257):
         yield rng.random((n, 2))
 
