@@ -86,6 +86,17 @@ def test_coordinate_reader_equals_geo_interface():
         _assert_same_plc(PLC.from_geo_interface(g), PLC.from_geo_interface(g.__geo_interface__))
 
 
+def test_flat_ring_reader_equals_geo_interface():
+    # the batch's reader takes the rings of plain Polygons from their coordinates
+    # and takes the others apart: interleaved, every PLC equals the mapping's
+    cases = [g for g in _reader_cases() if not g.is_empty]
+    layer = np.array(cases + [shapely.box(5, 5, 6, 6)] + cases[::-1], dtype=object)
+    for g, plc in zip(layer, sa._polygon_plcs(layer)):
+        ref = PLC.from_geo_interface(g.__geo_interface__)
+        assert plc is not None        # (None: a ring of fewer than three points)
+        _assert_same_plc(plc, ref)
+
+
 def test_vectorised_reader_equals_one_by_one():
     # from 16 polygons on, the adapter reads them as flat ring arrays: same PLCs, same meshes
     many = [g for g in _reader_cases() if g.is_valid] * 4
