@@ -10,6 +10,7 @@ GeoJSON-like mapping itself) without importing a geometry library.
 from __future__ import annotations
 
 import dataclasses
+import sys
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Protocol, Union, cast
 
@@ -91,6 +92,12 @@ def _read_geometry(obj, required):
             return None
         builder.add(gi)
     return builder.finish()
+
+
+def _shapely_of(geometry):
+    """The shapely module when ``geometry`` is a shapely geometry (shapely is
+    then imported already), else None: shapely is not a dependency here."""
+    return sys.modules.get("shapely") if type(geometry).__module__.startswith("shapely.") else None
 
 
 def _mapping(obj, required=True):
@@ -204,6 +211,14 @@ class _Builder:
         False for anything else."""
         kind = getattr(geometry, "geom_type", None)
         if kind == "Polygon" and hasattr(geometry, "exterior"):
+            shapely = _shapely_of(geometry)
+            if shapely is not None and shapely.get_num_interior_rings(geometry) == 0:
+                # no holes: the one ring is all of its coordinates, read in one GEOS
+                # call (the ring object and its coordinate sequence cost more)
+                coords = shapely.get_coordinates(geometry, include_z=geometry.has_z)
+                if len(coords):
+                    self._add_polygon([coords])
+                return True
             polygons = (geometry,)
         elif kind == "MultiPolygon" and hasattr(geometry, "geoms"):
             polygons = geometry.geoms

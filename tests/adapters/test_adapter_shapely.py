@@ -84,6 +84,9 @@ def test_coordinate_reader_equals_geo_interface():
     # GeoJSON mapping must give the very same PLC
     for g in _reader_cases():
         _assert_same_plc(PLC.from_geo_interface(g), PLC.from_geo_interface(g.__geo_interface__))
+    # a Polygon without holes is read in one call (its coordinates): an empty one has none
+    with pytest.raises(cdt_plugin.TooFewPointsError, match="no vertices"):
+        cdt_plugin.triangulate(shapely.Polygon())
 
 
 def test_flat_ring_reader_equals_geo_interface():
