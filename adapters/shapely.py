@@ -491,7 +491,8 @@ def _polygon_rings(geoms):
     has_z = shapely.has_z(geoms)
     coords = shapely.get_coordinates(geoms, include_z=bool(has_z.any()))
     simple = (shapely.get_type_id(geoms) == _POLYGON) & (shapely.get_num_interior_rings(geoms) == 0)
-    s_geom = np.flatnonzero(simple & (shapely.get_num_coordinates(geoms) > 0))
+    n_coords = shapely.get_num_coordinates(geoms)
+    s_geom = np.flatnonzero(simple & (n_coords > 0))
     others = np.flatnonzero(~simple)
     parts, part_geom = shapely.get_parts(geoms[others], return_index=True)
     keep = ~shapely.is_empty(parts)
@@ -503,8 +504,7 @@ def _polygon_rings(geoms):
     ring_geom = np.concatenate([s_geom, part_geom[ring_part]])
     by = np.argsort(ring_geom, kind="stable")
     ring_geom = ring_geom[by]
-    ring_len = np.concatenate([shapely.get_num_coordinates(geoms[s_geom]),
-                               shapely.get_num_coordinates(rings)])[by]
+    ring_len = np.concatenate([n_coords[s_geom], shapely.get_num_coordinates(rings)])[by]
     ring_is_hole = np.concatenate([np.zeros(len(s_geom), bool),
                                    np.r_[False, ring_part[1:] == ring_part[:-1]]])[by]   # exterior first
     ring_poly = np.concatenate([np.zeros(len(s_geom), np.int64), part_local[ring_part]])[by]
