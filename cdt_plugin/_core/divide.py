@@ -170,7 +170,7 @@ def vertex_less(x, y, a, b, axis):
     return y[a] < y[b] or (y[a] == y[b] and x[a] > x[b])
 
 
-@kernel(inline='always')
+@kernel(_nrt=False)
 def hull_extreme(onext, org, x, y, f, axis, largest):
     """The hull vertex first (``largest``: last) in the frame of ``axis``,
     found by walking the hull from ``f``'s origin: given and returned as the
@@ -192,13 +192,13 @@ def hull_extreme(onext, org, x, y, f, axis, largest):
     return f
 
 
-@kernel(inline='always')
+@kernel(_nrt=False)
 def in_frame(onext, org, x, y, ldo, rdo, axis):
     """``(ldo, rdo)`` of a triangulation (the counter-clockwise hull edge out of
     its first vertex, the clockwise one out of its last) moved to the frame of
     ``axis`` from the other frame."""
-    first = hull_extreme(onext, org, x, y, oprev(onext, ldo), axis, False)
-    return onext[first], hull_extreme(onext, org, x, y, rdo, axis, True)
+    first = hull_extreme(onext, org, x, y, oprev(onext, ldo), axis, np.bool_(False))
+    return onext[first], hull_extreme(onext, org, x, y, rdo, axis, np.bool_(True))
 
 
 @kernel(_nrt=False)
@@ -285,7 +285,7 @@ def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi, axis,
                 rdi, rdo = in_frame(onext, org, x, y, rdi, rdo, axis)
             ldo, rdo, nfree, top = merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo)
             if axis == 1:     # back to the left and right ends
-                ldo, rdo = in_frame(onext, org, x, y, ldo, rdo, 1 - axis)
+                ldo, rdo = in_frame(onext, org, x, y, ldo, rdo, np.int64(0))
             results[2 * rp] = ldo
             results[2 * rp + 1] = rdo
             rp += 1
