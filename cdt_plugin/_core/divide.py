@@ -180,15 +180,12 @@ def hull_extreme(onext, org, x, y, f, axis, largest):
     the next vertex comes first, and stops at the extreme, usually well
     before it has been round the whole hull."""
     g = lnext(onext, f)                       # the next hull vertex clockwise
-    if vertex_less(x, y, org[g], org[f], axis) != largest:
-        while vertex_less(x, y, org[g], org[f], axis) != largest:
-            f = g
-            g = lnext(onext, f)
-        return f
-    g = onext[f] ^ 2                          # the next one counter-clockwise (lprev)
+    clockwise = vertex_less(x, y, org[g], org[f], axis) != largest
+    if not clockwise:
+        g = onext[f] ^ 2                      # the next one counter-clockwise (lprev)
     while vertex_less(x, y, org[g], org[f], axis) != largest:
         f = g
-        g = onext[f] ^ 2
+        g = lnext(onext, f) if clockwise else onext[f] ^ 2
     return f
 
 
