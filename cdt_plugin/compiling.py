@@ -16,7 +16,9 @@ from __future__ import annotations
 import glob
 import logging
 import os
+import sys
 import time
+import types
 from typing import Callable, Iterable
 
 import numpy as np
@@ -49,15 +51,18 @@ def cache_dir() -> str:
 
 
 class _CompileNotice(event.Listener):
-    """Says once per process and per route (or module) that it is compiling,
-    when the outermost compilation of a cdt_plugin function starts, and how long
-    it took (at INFO level)."""
+    """Says that it is compiling, once per call of a cdt_plugin function that
+    compiles (``delaunay``, ``triangulate``, an adapter, the CLI: the outermost
+    cdt_plugin frame, whatever the number of kernels it compiles), or once per
+    route or module for a kernel called directly; and, at INFO level, how long
+    each compilation took."""
 
     def __init__(self) -> None:
         self.depth = 0
         self.start = 0.0
         self.what = ""
         self.said: set[str] = set()
+        self.call: tuple | None = None      # the public call said last: (frame id, code)
 
     def on_start(self, ev: event.Event) -> None:
         dispatcher = ev.data.get("dispatcher") if isinstance(ev.data, dict) else None
@@ -70,11 +75,21 @@ class _CompileNotice(event.Listener):
             name = getattr(py_func, "__name__", "")
             self.what = _ENTRY_NAMES.get(name) or _MODULE_NAMES.get(module) or f"{module}.{name}"
             self.start = time.perf_counter()
-            if self.what not in self.said:
+            frame = _public_call()
+            if frame is not None:
+                call = (id(frame), frame.f_code)
+                if call == self.call:
+                    return
+                self.call = call
+                what = f"the engine for {_call_name(frame)}"
+            elif self.what in self.said:
+                return
+            else:
                 self.said.add(self.what)
-                logger.warning("cdt_plugin: compiling %s with numba (once: it is cached in %s; "
-                               "`cdt-plugin compile` does every route ahead of time)",
-                               self.what, cache_dir())
+                what = self.what
+            logger.warning("cdt_plugin: compiling %s with numba (once: it is cached in %s; "
+                           "`cdt-plugin compile` does every route ahead of time)",
+                           what, cache_dir())
 
     def on_end(self, ev: event.Event) -> None:
         if self.depth == 0:
@@ -83,6 +98,29 @@ class _CompileNotice(event.Listener):
         if self.depth == 0:
             logger.info("cdt_plugin: compiled %s in %.1f s", self.what,
                         time.perf_counter() - self.start)
+
+
+def _public_call() -> types.FrameType | None:
+    """The outermost frame of a cdt_plugin function outside the compiled core on
+    the current stack (the call a user made), or None (an import, a kernel
+    called directly)."""
+    frame: types.FrameType | None = sys._getframe(1)
+    found = None
+    while frame is not None:
+        module = frame.f_globals.get("__name__", "")
+        if (module.startswith("cdt_plugin") and frame.f_code.co_name != "<module>"   # (an import)
+                and not module.startswith(("cdt_plugin._core", "cdt_plugin.compiling"))):
+            found = frame
+        frame = frame.f_back
+    return found
+
+
+def _call_name(frame: types.FrameType) -> str:
+    """How the message names a call: ``triangulate()``, ``Triangulation.voronoi()``,
+    the CLI."""
+    if frame.f_globals.get("__name__") in ("cdt_plugin.cli", "cdt_plugin.__main__"):
+        return "the cdt-plugin command"
+    return f"{getattr(frame.f_code, 'co_qualname', frame.f_code.co_name)}()"
 
 
 _notice = _CompileNotice()
