@@ -78,7 +78,7 @@ except ImportError as exc:
 from cdt_plugin import CDTError, InputShapeError, NoPolygonsError   # (NoPolygonsError: re-exported)
 from cdt_plugin.batch import MeshBatch, check_batch_options
 
-from .shapely import Repair, _triangle_polygons, triangulate_batch
+from .shapely import Repair, triangle_polygons, triangulate_batch
 
 if TYPE_CHECKING:
     import dask_geopandas
@@ -1199,13 +1199,13 @@ class GeoMesh:
         ``shapely.polygons``, which builds a LinearRing first)."""
         corners = self.triangles[:, [0, 1, 2, 0]]
         if self.z is None:
-            return _triangle_polygons(self.vertices[corners])
+            return triangle_polygons(self.vertices[corners])
         out = np.empty(len(corners), dtype=object)
         has_z = self.feature_has_z[self.position]
-        out[~has_z] = _triangle_polygons(self.vertices[corners[~has_z]])
+        out[~has_z] = triangle_polygons(self.vertices[corners[~has_z]])
         xyz = np.concatenate([self.vertices[corners[has_z]], self.z[corners[has_z]][..., None]],
                              axis=2)
-        out[has_z] = _triangle_polygons(xyz)
+        out[has_z] = triangle_polygons(xyz)
         return out
 
     def to_geodataframe(self) -> GeoDataFrame:

@@ -556,12 +556,18 @@ def to_shapely(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = None,
         zz = np.broadcast_to(np.asarray(z, dtype=np.float64), (len(V),))
         V = np.column_stack([V, zz])
     order = [0, 1, 2, 0] if ccw else [0, 2, 1, 0]
-    polys = _triangle_polygons(V[T[:, order]]) if len(T) else np.empty(0, object)
+    polys = triangle_polygons(V[T[:, order]]) if len(T) else np.empty(0, object)
     return shapely.geometrycollections(polys)
 
 
-def _triangle_polygons(rings: np.ndarray) -> np.ndarray:
-    """Polygons from closed rings of four corners, ``(k, 4, 2)`` or ``(k, 4, 3)``."""
+def triangle_polygons(rings: np.ndarray) -> np.ndarray:
+    """Polygons from closed rings of four corners, ``(k, 4, 2)`` or ``(k, 4, 3)``,
+    made in one vectorised call (``shapely.from_ragged_array``).
+
+    >>> import numpy as np
+    >>> triangle_polygons(np.array([[[0.0, 0], [1, 0], [0, 1], [0, 0]]])).tolist()
+    [<POLYGON ((0 0, 1 0, 0 1, 0 0))>]
+    """
     k = len(rings)
     return shapely.from_ragged_array(
         shapely.GeometryType.POLYGON, np.ascontiguousarray(rings.reshape(4 * k, rings.shape[2])),

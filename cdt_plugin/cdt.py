@@ -12,10 +12,10 @@ from __future__ import annotations
 import functools
 import numbers
 import time
-from typing import Optional, Tuple, TypedDict
+from typing import Any, NoReturn, Optional, Tuple, TypedDict
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from ._core.construct import ALGORITHM_CODES
 from ._core.mesh import IDX
@@ -331,7 +331,7 @@ def _stats(plc, algorithm, counts, refinement, seconds, tri) -> dict:
 def _raise_stop(status, info, plc):
     """The precise error for a route that stopped."""
     if status in (ROUTE_CROSSING, ROUTE_OVERLAP):
-        _raise_intersection(status, info, plc)
+        raise_intersection(status, info, plc)
     if status == ROUTE_RANGE:
         P = plc.vertices
         raise range_error("vertices", P[:, 0], P[:, 1], None, int(info[0]), int(info[1]))
@@ -381,7 +381,10 @@ def _raise_stop(status, info, plc):
     raise CDTError(f"internal error (status {status}, {info.tolist()}); please report this input")
 
 
-def _raise_intersection(status, info, plc):
+def raise_intersection(status: int, info: NDArray[np.int64], plc: Any) -> NoReturn:
+    """Raise the error for two segments that cross (``ROUTE_CROSSING``) or overlap
+    (``ROUTE_OVERLAP``): ``info`` holds their ids plus one, ``plc`` anything with
+    ``vertices`` and ``segments`` (a :class:`PLC`; the live triangulation's state)."""
     s, t = int(info[0]) - 1, int(info[1]) - 1
     P = plc.vertices
     a, b = plc.segments[s]

@@ -138,7 +138,7 @@ _PACKAGE = os.path.dirname(os.path.abspath(__file__))
 
 def _source_stamp() -> str:
     names = sorted(n for n in os.listdir(os.path.join(_PACKAGE, "_core")) if n.endswith(".py"))
-    files = [os.path.join("_core", n) for n in names] + ["report.py"]
+    files = [os.path.join("_core", n) for n in names]      # every kernel lives in _core
     lines = []
     for rel in files:
         st = os.stat(os.path.join(_PACKAGE, rel))
@@ -164,7 +164,6 @@ def drop_stale_cache() -> bool:
     try:
         stamp = _source_stamp()
         core = _cache_path(os.path.join(_PACKAGE, "_core", "pipeline.py"))
-        top = _cache_path(os.path.join(_PACKAGE, "report.py"))
         if core is None:
             return False
         mark = os.path.join(core, _MARK)
@@ -175,8 +174,6 @@ def drop_stale_cache() -> bool:
         except OSError:
             pass
         stale = glob.glob(os.path.join(core, "*.nb[ic]"))
-        if top is not None:
-            stale += glob.glob(os.path.join(top, "report.*.nb[ic]"))
         for path in stale:
             try:
                 os.remove(path)

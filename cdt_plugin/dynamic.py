@@ -535,9 +535,9 @@ class DynamicCDT:
     def _raise_segment_stop(self, status: int, info: NDArray[np.int64]) -> None:
         if status in (STOP_CROSSING, STOP_OVERLAP):
             from ._core.status import ROUTE_CROSSING, ROUTE_OVERLAP
-            from .cdt import _raise_intersection
+            from .cdt import raise_intersection
             plc = SimpleNamespace(vertices=self._xy, segments=self._segs)
-            _raise_intersection(ROUTE_CROSSING if status == STOP_CROSSING else ROUTE_OVERLAP, info, plc)
+            raise_intersection(ROUTE_CROSSING if status == STOP_CROSSING else ROUTE_OVERLAP, info, plc)
         if status == STOP_LIMIT:
             from .errors import UnresolvedCrossingError
             s, t = int(info[0]) - 1, int(info[1]) - 1

@@ -34,14 +34,13 @@ from typing import TYPE_CHECKING, Any, Iterator, Protocol, Tuple, Union
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._core.certify import edge_lifted_values
-from ._core.jit import kernel
+from ._core.certify import edge_lifted_values, orientation_signs
 from .errors import CDTError, InputShapeError
 from .io import as_index
 from .optional import require
 from .validate import exact_range, near_unit
-from ._core.predicates import orient2d
 from .plc import GeometryLike
+from .triangulation import mesh_neighbors
 
 if TYPE_CHECKING:
     from .triangulation import Triangulation
@@ -204,44 +203,6 @@ def _lexicographic_corners(P) -> np.ndarray:
 
 
 # ----------------------------------------------------------------- topology
-def mesh_neighbors(triangles: ArrayLike) -> tuple[NDArray[np.int64], int]:
-    """Neighbours of an indexed triangle mesh, vectorised: ``neighbors[t, j]`` is
-    the triangle sharing the edge opposite corner ``j`` of ``t`` (-1: boundary).
-    Edges in more than two triangles (non-manifold) get -1 on every side; their
-    number is returned too.
-
-    >>> nb, nonmanifold = mesh_neighbors([[0, 1, 2], [0, 2, 3]])
-    >>> nb.tolist(), nonmanifold
-    ([[-1, 1, -1], [-1, -1, 0]], 0)
-    """
-    T = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
-    k = len(T)
-    a, b = T[:, [1, 2, 0]].ravel(), T[:, [2, 0, 1]].ravel()   # half-edge 3t+j: opposite corner j
-    n = int(T.max(initial=-1)) + 1
-    key = np.minimum(a, b) * n + np.maximum(a, b)
-    order = np.argsort(key, kind="stable")
-    sk = key[order]
-    start = np.r_[True, sk[1:] != sk[:-1]] if len(sk) else np.zeros(0, bool)
-    run = np.cumsum(start) - 1
-    run_len = np.bincount(run) if len(run) else np.zeros(0, np.int64)
-    first = np.flatnonzero(start & (run_len[run] == 2))
-    h1, h2 = order[first], order[first + 1]
-    nb = np.full(3 * k, -1, np.int64)
-    nb[h1], nb[h2] = h2 // 3, h1 // 3
-    return nb.reshape(k, 3), int((run_len > 2).sum())
-
-
-@kernel
-def _orientation_signs(x, y, triangles):
-    """Exact orientation sign of every triangle (+1 counter-clockwise, 0 flat)."""
-    out = np.empty(triangles.shape[0], np.int64)
-    for k in range(triangles.shape[0]):
-        a, b, c = triangles[k, 0], triangles[k, 1], triangles[k, 2]
-        r = orient2d(x[a], y[a], x[b], y[b], x[c], y[c])
-        out[k] = 1 if r > 0 else (-1 if r < 0 else 0)
-    return out
-
-
 def _edge_keys(pairs, n) -> np.ndarray:
     pairs = np.asarray(pairs, np.int64).reshape(-1, 2)
     return np.minimum(pairs[:, 0], pairs[:, 1]) * n + np.maximum(pairs[:, 0], pairs[:, 1])
@@ -264,7 +225,7 @@ def _mesh_certificate(V, T, segments) -> tuple[int, int, bool | None, int, int |
     ``segments`` exempt. Returns (non-Delaunay, cocircular, unique, flat count,
     number of segments that are mesh edges or None)."""
     x, y, _, _ = exact_range(V[:, 0].copy(), V[:, 1].copy(), None, "mesh vertices")
-    sign = _orientation_signs(x, y, T) if len(T) else np.zeros(0, np.int64)
+    sign = orientation_signs(x, y, T) if len(T) else np.zeros(0, np.int64)
     T = np.where((sign < 0)[:, None], T[:, [0, 2, 1]], T)
     N, _ = mesh_neighbors(T)
     raw = edge_lifted_values(x, y, np.zeros(len(V)), False, T, N)

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, Tuple, Union
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._core.certify import edge_lifted_values, submerged_ok
+from ._core.certify import edge_lifted_values, orientation_signs, submerged_ok
 from ._core.flips import flip_to_delaunay
 from ._core.mesh import DEAD
 from ._core.output import (first_defect, relabel_store, rotate_min_first,
@@ -47,6 +47,33 @@ _NO_IDS = _frozen_empty(0)
 # the attributes of a route's result that are made on first access (Triangulation.from_route)
 _LAZY_ATTRIBUTES = frozenset({"neighbors", "vertex_map", "constrained", "regions", "segments",
                               "segment_ids", "steiner", "below_min_angle", "region_attributes"})
+
+
+def mesh_neighbors(triangles: ArrayLike) -> tuple[NDArray[np.int64], int]:
+    """Neighbours of an indexed triangle mesh, vectorised: ``neighbors[t, j]`` is
+    the triangle sharing the edge opposite corner ``j`` of ``t`` (-1: boundary).
+    Edges in more than two triangles (non-manifold) get -1 on every side; their
+    number is returned too.
+
+    >>> nb, nonmanifold = mesh_neighbors([[0, 1, 2], [0, 2, 3]])
+    >>> nb.tolist(), nonmanifold
+    ([[-1, 1, -1], [-1, -1, 0]], 0)
+    """
+    T = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    k = len(T)
+    a, b = T[:, [1, 2, 0]].ravel(), T[:, [2, 0, 1]].ravel()   # half-edge 3t+j: opposite corner j
+    n = int(T.max(initial=-1)) + 1
+    key = np.minimum(a, b) * n + np.maximum(a, b)
+    order = np.argsort(key, kind="stable")
+    sk = key[order]
+    start = np.r_[True, sk[1:] != sk[:-1]] if len(sk) else np.zeros(0, bool)
+    run = np.cumsum(start) - 1
+    run_len = np.bincount(run) if len(run) else np.zeros(0, np.int64)
+    first = np.flatnonzero(start & (run_len[run] == 2))
+    h1, h2 = order[first], order[first + 1]
+    nb = np.full(3 * k, -1, np.int64)
+    nb[h1], nb[h2] = h2 // 3, h1 // 3
+    return nb.reshape(k, 3), int((run_len > 2).sum())
 
 
 class Triangulation:
@@ -231,7 +258,6 @@ class Triangulation:
         >>> tri.triangles.tolist(), tri.neighbors.tolist()
         ([[0, 1, 2], [0, 2, 3]], [[-1, 1, -1], [-1, -1, 0]])
         """
-        from .report import _orientation_signs, mesh_neighbors
         from .errors import InputShapeError
         V = as_points(vertices, "vertices")
         n = len(V)
@@ -250,7 +276,7 @@ class Triangulation:
             i = int(same[0])
             raise CDTError(f"vertices {int(first[inverse.reshape(-1)[i]])} and {i} are the same point {V[i].tolist()}")
         x, y, _, _ = exact_range(V[:, 0].copy(), V[:, 1].copy(), None, "vertices")
-        signs = _orientation_signs(x, y, np.ascontiguousarray(T))
+        signs = orientation_signs(x, y, np.ascontiguousarray(T))
         flat = np.flatnonzero(signs == 0)
         if len(flat):
             t = int(flat[0])

@@ -1,13 +1,24 @@
-"""Certificates on a finished triangulation (output arrays only): the Delaunay
-Lemma (2.3) check that every interior edge is locally Delaunay, its weighted
+"""Certificates on a finished triangulation (output arrays only): every triangle's
+exact orientation, the Delaunay Lemma (2.3) check that every interior edge is locally Delaunay, its weighted
 analogue, and the uniqueness test of Theorem 2.11."""
 from __future__ import annotations
 
 import numpy as np
 
 from .jit import kernel
-from .predicates import incircle, incircle_weighted
+from .predicates import incircle, incircle_weighted, orient2d
 from .query import OUTSIDE, walk
+
+
+@kernel
+def orientation_signs(x, y, triangles):
+    """Exact orientation sign of every triangle (+1 counter-clockwise, 0 flat)."""
+    out = np.empty(triangles.shape[0], np.int64)
+    for k in range(triangles.shape[0]):
+        a, b, c = triangles[k, 0], triangles[k, 1], triangles[k, 2]
+        r = orient2d(x[a], y[a], x[b], y[b], x[c], y[c])
+        out[k] = 1 if r > 0 else (-1 if r < 0 else 0)
+    return out
 
 
 @kernel

@@ -30,7 +30,10 @@ The exact fallbacks evaluate the same determinant with expansion arithmetic
 (two_sum, two_diff, Dekker-split two_product, scale_expansion_zeroelim,
 fast_expansion_sum_zeroelim) and return the most significant component of the
 exact result.  The SIGN of every returned value is the sign of the real-number
-determinant of the input doubles; the magnitude is only an approximation.
+determinant of the input doubles; the magnitude is only an approximation.  The
+helpers that other kernels build on (snap rounding, the queries) are named
+without a leading underscore: ``two_diff``, ``two_product``, ``two_one_sum``,
+``orient_expansion``, ``double_double``.
 
 The weighted test is the lifted orientation test of the seed chapter (Sec. 2.8):
 a weighted point ``v`` has lifted companion ``v+ = (vx, vy, vx^2 + vy^2 - w_v)``;
@@ -157,7 +160,7 @@ def _two_sum(a, b):
 
 
 @kernel(_T2(_f8, _f8), inline='never')
-def _two_diff(a, b):
+def two_diff(a, b):
     """x + y == a - b exactly, x = fl(a - b) (Shewchuk 1997, Two-Diff)."""
     x = a - b
     bvirt = a - x
@@ -188,7 +191,7 @@ def _two_product_presplit(a, b, bhi, blo):
 
 
 @kernel(_T2(_f8, _f8), inline='never')
-def _two_product(a, b):
+def two_product(a, b):
     """x + y == a * b exactly, x = fl(a * b), via Dekker's split (no FMA) (Shewchuk 1997, Thm 18)."""
     bhi, blo = _split(b)
     return _two_product_presplit(a, b, bhi, blo)
@@ -202,7 +205,7 @@ def _two_product(a, b):
 # ---------------------------------------------------------------------------
 
 @kernel(_T3(_f8, _f8, _f8), inline='never')
-def _two_one_sum(a1, a0, b):
+def two_one_sum(a1, a0, b):
     """(x2, x1, x0) == (a1, a0) + b exactly (Shewchuk 1997, Two_One_Sum)."""
     i, x0 = _two_sum(a0, b)
     x2, x1 = _two_sum(a1, i)
@@ -212,23 +215,23 @@ def _two_one_sum(a1, a0, b):
 @kernel(_T4(_f8, _f8, _f8, _f8), inline='never')
 def _two_two_sum(a1, a0, b1, b0):
     """(x3, x2, x1, x0) == (a1, a0) + (b1, b0) exactly (Shewchuk 1997, Two_Two_Sum)."""
-    j, z, x0 = _two_one_sum(a1, a0, b0)
-    x3, x2, x1 = _two_one_sum(j, z, b1)
+    j, z, x0 = two_one_sum(a1, a0, b0)
+    x3, x2, x1 = two_one_sum(j, z, b1)
     return x3, x2, x1, x0
 
 
 @kernel(_T5(_f8, _f8, _f8, _f8, _f8), inline='never')
 def _four_one_sum(a3, a2, a1, a0, b):
     """(x4 .. x0) == (a3 .. a0) + b exactly (Shewchuk 1997, Four_One_Sum)."""
-    j, x1, x0 = _two_one_sum(a1, a0, b)
-    x4, x3, x2 = _two_one_sum(a3, a2, j)
+    j, x1, x0 = two_one_sum(a1, a0, b)
+    x4, x3, x2 = two_one_sum(a3, a2, j)
     return x4, x3, x2, x1, x0
 
 
 @kernel(_T3(_f8, _f8, _f8), inline='never')
 def _two_one_diff(a1, a0, b):
     """(x2, x1, x0) == (a1, a0) - b exactly (Shewchuk 1997, Two_One_Diff)."""
-    i, x0 = _two_diff(a0, b)
+    i, x0 = two_diff(a0, b)
     x2, x1 = _two_sum(a1, i)
     return x2, x1, x0
 
@@ -273,9 +276,9 @@ def _sign_of_sum_of_three_products(l1, c1, l2, c2, l3, c3):
 
     Three two_products (6 components) merged with Grow-Expansion steps; no arrays.
     """
-    p1, e1 = _two_product(l1, c1)
-    p2, e2 = _two_product(l2, c2)
-    p3, e3 = _two_product(l3, c3)
+    p1, e1 = two_product(l1, c1)
+    p2, e2 = two_product(l2, c2)
+    p3, e3 = two_product(l3, c3)
     return _sum_of_three_two_products(p1, e1, p2, e2, p3, e3)
 
 
@@ -290,7 +293,7 @@ def _sign_of_sum_of_three_products(l1, c1, l2, c2, l3, c3):
 @kernel(_i8(_W, _i8, _f8, _f8), inline='never')
 def _diff_expansion(w, h, a, b):
     """Write a - b as an exact expansion at w[h:]; return its length (1 or 2) (Shewchuk 1997)."""
-    x, y = _two_diff(a, b)
+    x, y = two_diff(a, b)
     if y != 0.0:
         w[h] = y
         w[h + 1] = x
@@ -559,8 +562,8 @@ def _incircle_exact_of_doubles(adx, ady, awd, bdx, bdy, bwd, cdx, cdy, cwd, use_
             x, y, wd, p, q, r, s = bdx, bdy, bwd, cdx, ady, adx, cdy
         else:
             x, y, wd, p, q, r, s = cdx, cdy, cwd, adx, bdy, bdx, ady
-        p1, p0 = _two_product(p, q)
-        q1, q0 = _two_product(r, s)
+        p1, p0 = two_product(p, q)
+        q1, q0 = two_product(r, s)
         m3, m2, m1, m0 = _two_two_diff(p1, p0, q1, q0)
         w[_RB_M] = m0
         w[_RB_M + 1] = m1
@@ -600,10 +603,10 @@ def orient2d_exact(ax, ay, bx, by, cx, cy):
     is exact (0.0 iff a, b, c are collinear).  Always exact, never filtered: the
     fallback of :func:`orient2d`.
     """
-    acx, acxt = _two_diff(ax, cx)
-    bcx, bcxt = _two_diff(bx, cx)
-    acy, acyt = _two_diff(ay, cy)
-    bcy, bcyt = _two_diff(by, cy)
+    acx, acxt = two_diff(ax, cx)
+    bcx, bcxt = two_diff(bx, cx)
+    acy, acyt = two_diff(ay, cy)
+    bcy, bcyt = two_diff(by, cy)
     if acxt == 0.0 and bcxt == 0.0 and acyt == 0.0 and bcyt == 0.0:
         # The differences are exact: det = acx*bcy - acy*bcx.  Rounding is
         # monotone, so fl(acx*bcy) != fl(acy*bcx) already decides the sign;
@@ -612,8 +615,8 @@ def orient2d_exact(ax, ay, bx, by, cx, cy):
         right = acy * bcx
         if left != right:
             return left - right
-        l1, l0 = _two_product(acx, bcy)
-        r1, r0 = _two_product(acy, bcx)
+        l1, l0 = two_product(acx, bcy)
+        r1, r0 = two_product(acy, bcx)
         return l0 - r0
     w = np.empty(72, np.float64)
     n_acx = _diff_expansion(w, 0, ax, cx)
@@ -640,39 +643,39 @@ def _incircle_exact_core(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw, use_w):
     (_incircle_exact_of_doubles, <= 120 components).  (3) Otherwise full
     expansion arithmetic on two_diff expansions of every difference.
     """
-    adx, adxt = _two_diff(ax, dx)
-    ady, adyt = _two_diff(ay, dy)
-    bdx, bdxt = _two_diff(bx, dx)
-    bdy, bdyt = _two_diff(by, dy)
-    cdx, cdxt = _two_diff(cx, dx)
-    cdy, cdyt = _two_diff(cy, dy)
-    awd, awdt = _two_diff(aw, dw)
-    bwd, bwdt = _two_diff(bw, dw)
-    cwd, cwdt = _two_diff(cw, dw)
+    adx, adxt = two_diff(ax, dx)
+    ady, adyt = two_diff(ay, dy)
+    bdx, bdxt = two_diff(bx, dx)
+    bdy, bdyt = two_diff(by, dy)
+    cdx, cdxt = two_diff(cx, dx)
+    cdy, cdyt = two_diff(cy, dy)
+    awd, awdt = two_diff(aw, dw)
+    bwd, bwdt = two_diff(bw, dw)
+    cwd, cwdt = two_diff(cw, dw)
     tails = (abs(adxt) + abs(adyt) + abs(bdxt) + abs(bdyt) + abs(cdxt) + abs(cdyt)
              + abs(awdt) + abs(bwdt) + abs(cwdt))
     if tails == 0.0:
-        p1, t1 = _two_product(bdx, cdy)
-        p2, t2 = _two_product(cdx, bdy)
-        ca, t3 = _two_diff(p1, p2)
-        p1, t4 = _two_product(cdx, ady)
-        p2, t5 = _two_product(adx, cdy)
-        cb, t6 = _two_diff(p1, p2)
-        p1, t7 = _two_product(adx, bdy)
-        p2, t8 = _two_product(bdx, ady)
-        cc, t9 = _two_diff(p1, p2)
-        s1, u1 = _two_product(adx, adx)
-        s2, u2 = _two_product(ady, ady)
+        p1, t1 = two_product(bdx, cdy)
+        p2, t2 = two_product(cdx, bdy)
+        ca, t3 = two_diff(p1, p2)
+        p1, t4 = two_product(cdx, ady)
+        p2, t5 = two_product(adx, cdy)
+        cb, t6 = two_diff(p1, p2)
+        p1, t7 = two_product(adx, bdy)
+        p2, t8 = two_product(bdx, ady)
+        cc, t9 = two_diff(p1, p2)
+        s1, u1 = two_product(adx, adx)
+        s2, u2 = two_product(ady, ady)
         la, u3 = _two_sum(s1, s2)
-        la, u4 = _two_diff(la, awd)
-        s1, u5 = _two_product(bdx, bdx)
-        s2, u6 = _two_product(bdy, bdy)
+        la, u4 = two_diff(la, awd)
+        s1, u5 = two_product(bdx, bdx)
+        s2, u6 = two_product(bdy, bdy)
         lb, u7 = _two_sum(s1, s2)
-        lb, u8 = _two_diff(lb, bwd)
-        s1, u9 = _two_product(cdx, cdx)
-        s2, u10 = _two_product(cdy, cdy)
+        lb, u8 = two_diff(lb, bwd)
+        s1, u9 = two_product(cdx, cdx)
+        s2, u10 = two_product(cdy, cdy)
         lc, u11 = _two_sum(s1, s2)
-        lc, u12 = _two_diff(lc, cwd)
+        lc, u12 = two_diff(lc, cwd)
         tails = (abs(t1) + abs(t2) + abs(t3) + abs(t4) + abs(t5) + abs(t6) + abs(t7)
                  + abs(t8) + abs(t9) + abs(u1) + abs(u2) + abs(u3) + abs(u4) + abs(u5)
                  + abs(u6) + abs(u7) + abs(u8) + abs(u9) + abs(u10) + abs(u11) + abs(u12))
@@ -772,17 +775,17 @@ def _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum):
     bcx = bx - cx
     acy = ay - cy
     bcy = by - cy
-    detleft, detlefttail = _two_product(acx, bcy)
-    detright, detrighttail = _two_product(acy, bcx)
+    detleft, detlefttail = two_product(acx, bcy)
+    detright, detrighttail = two_product(acy, bcx)
     b3, b2, b1, b0 = _two_two_diff(detleft, detlefttail, detright, detrighttail)
     det = ((b0 + b1) + b2) + b3  # Shewchuk's estimate()
     errbound = CCW_ERRBOUND_B * detsum
     if det >= errbound or -det >= errbound:
         return det, 2
-    acxtail = _two_diff(ax, cx)[1]
-    bcxtail = _two_diff(bx, cx)[1]
-    acytail = _two_diff(ay, cy)[1]
-    bcytail = _two_diff(by, cy)[1]
+    acxtail = two_diff(ax, cx)[1]
+    bcxtail = two_diff(bx, cx)[1]
+    acytail = two_diff(ay, cy)[1]
+    bcytail = two_diff(by, cy)[1]
     if acxtail == 0.0 and acytail == 0.0 and bcxtail == 0.0 and bcytail == 0.0:
         # B is the exact determinant: return its most significant nonzero
         # component (its sign is the expansion's sign).
@@ -814,8 +817,8 @@ def _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum):
             p, q, r, s, out = acx, bcytail, acy, bcxtail, 16
         else:
             p, q, r, s, out = acxtail, bcytail, acytail, bcxtail, 28
-        s1, s0 = _two_product(p, q)
-        t1, t0 = _two_product(r, s)
+        s1, s0 = two_product(p, q)
+        t1, t0 = two_product(r, s)
         u3, u2, u1, u0 = _two_two_diff(s1, s0, t1, t0)
         w[4] = u0
         w[5] = u1
@@ -844,15 +847,15 @@ def _lift_minor_dd(x, y, p, q, r, s):
     roundoff terms vanish, as for integer or grid coordinates): then c == 0
     and h + g == L M exactly.
     """
-    s1, s0 = _two_product(x, x)
-    t1, t0 = _two_product(y, y)
+    s1, s0 = two_product(x, x)
+    t1, t0 = two_product(y, y)
     l1, e = _two_sum(s1, t1)
     l0 = e + (s0 + t0)
-    p1, p0 = _two_product(p, q)
-    q1, q0 = _two_product(r, s)
-    m1, f = _two_diff(p1, q1)
+    p1, p0 = two_product(p, q)
+    q1, q0 = two_product(r, s)
+    m1, f = two_diff(p1, q1)
     m0 = f + (p0 - q0)
-    h, g = _two_product(l1, m1)
+    h, g = two_product(l1, m1)
     c = l1 * m0 + l0 * m1
     rough = (abs(s0) + abs(t0)) + (abs(e) + abs(p0)) + (abs(q0) + abs(f))
     return h, g, c, rough
@@ -955,12 +958,12 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     errbound = ICC_ERRBOUND_B * permanent
     if det > errbound or -det > errbound:
         return det, 2
-    adxtail = _two_diff(ax, dx)[1]
-    adytail = _two_diff(ay, dy)[1]
-    bdxtail = _two_diff(bx, dx)[1]
-    bdytail = _two_diff(by, dy)[1]
-    cdxtail = _two_diff(cx, dx)[1]
-    cdytail = _two_diff(cy, dy)[1]
+    adxtail = two_diff(ax, dx)[1]
+    adytail = two_diff(ay, dy)[1]
+    bdxtail = two_diff(bx, dx)[1]
+    bdytail = two_diff(by, dy)[1]
+    cdxtail = two_diff(cx, dx)[1]
+    cdytail = two_diff(cy, dy)[1]
     tails = ((abs(adxtail) + abs(adytail)) + (abs(bdxtail) + abs(bdytail))
              + (abs(cdxtail) + abs(cdytail)))
     if tails == 0.0 and ra + rb + rc == 0.0:
@@ -1054,7 +1057,7 @@ def _incircle_staged(ax, ay, bx, by, cx, cy, dx, dy):
 # ---------------------------------------------------------------------------
 
 @kernel(_i8(_W, _i8, _f8, _f8, _f8, _f8, _f8, _f8), inline='never')
-def _orient_expansion(w, at, ax, ay, bx, by, cx, cy):
+def orient_expansion(w, at, ax, ay, bx, by, cx, cy):
     """The exact orient2d(a, b, c) as an expansion at ``w[at + 8:]``; uses
     ``w[at:at + 72]``; returns its length (<= 16)."""
     n_acx = _diff_expansion(w, at, ax, cx)
@@ -1065,7 +1068,7 @@ def _orient_expansion(w, at, ax, ay, bx, by, cx, cy):
 
 
 @kernel(_T2(_W, _i8, _i8), inline='never')
-def _double_double(w, e, elen):
+def double_double(w, e, elen):
     """A double-double ``hi + lo`` within a few units of 2^-106 of the
     expansion ``w[e:e+elen]`` (components increasing, non-overlapping)."""
     s = 0.0
@@ -1085,8 +1088,8 @@ def _crossing_coordinate(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, axis):
     and divided with one correction step, so only a value within ~2^-100 of a
     midpoint between doubles could round the other way."""
     w = np.empty(432, np.float64)
-    n0 = _orient_expansion(w, 0, q0x, q0y, q1x, q1y, p0x, p0y)          # d0 at w[8:]
-    n1 = _orient_expansion(w, 72, q0x, q0y, q1x, q1y, p1x, p1y)         # d1 at w[80:]
+    n0 = orient_expansion(w, 0, q0x, q0y, q1x, q1y, p0x, p0y)          # d0 at w[8:]
+    n1 = orient_expansion(w, 72, q0x, q0y, q1x, q1y, p1x, p1y)         # d1 at w[80:]
     for k in range(80, 80 + n1):
         w[150 + k - 80] = -w[k]                                          # -d1 at w[150:]
     nd = _fast_expansion_sum_zeroelim(w, 8, n0, 150, n1, 170)            # d0 - d1 at w[170:]
@@ -1095,12 +1098,12 @@ def _crossing_coordinate(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, axis):
     na = _scale_expansion_zeroelim(w, 8, n0, a, 210)                     # p1 d0
     nb = _scale_expansion_zeroelim(w, 150, n1, b, 250)                   # -p0 d1
     nn = _fast_expansion_sum_zeroelim(w, 210, na, 250, nb, 300)          # numerator at w[300:]
-    dh, dl = _double_double(w, 170, nd)
-    nh, nl = _double_double(w, 300, nn)
+    dh, dl = double_double(w, 170, nd)
+    nh, nl = double_double(w, 300, nn)
     if dh == 0.0:
         return np.nan
     q = nh / dh
-    ph, pl = _two_product(q, dh)
+    ph, pl = two_product(q, dh)
     r = ((nh - ph) - pl + nl) - q * dl                                   # N - q D
     return q + r / dh
 
@@ -1110,7 +1113,7 @@ def orient_offset_exact(w, n0, ax, ay, bx, by, hx, hy):
     """The sign (+1.0, -1.0 or 0.0) of orient2d(a, b, c + (hx, hy)) for powers
     of two ``hx, hy`` (or zeros), exactly: a corner of a hot pixel (:mod:`.snap`),
     a midpoint between doubles and so not a double itself. ``w[8:8 + n0]``
-    holds orient2d(a, b, c) as an exact expansion (:func:`_orient_expansion`
+    holds orient2d(a, b, c) as an exact expansion (:func:`orient_expansion`
     at 0), computed once for the four corners; the sum adds ``(bx - ax) hy -
     (by - ay) hx``, whose terms scale exact differences by powers of two
     (exact). Uses ``w[80:160]``."""

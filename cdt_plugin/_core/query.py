@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .jit import kernel
-from .predicates import _double_double, _orient_expansion, incircle, orient2d
+from .predicates import double_double, orient_expansion, incircle, orient2d
 
 INSIDE = 0
 ON_EDGE = 1
@@ -152,8 +152,8 @@ def area2(ax, ay, bx, by, cx, cy):
     if abs(det) >= 1e-8 * (abs(left) + abs(right)):
         return det
     w = np.empty(80)
-    n = _orient_expansion(w, 0, ax, ay, bx, by, cx, cy)
-    hi, _ = _double_double(w, 8, n)
+    n = orient_expansion(w, 0, ax, ay, bx, by, cx, cy)
+    hi, _ = double_double(w, 8, n)
     return hi
 
 

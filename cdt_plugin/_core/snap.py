@@ -40,7 +40,7 @@ import numpy as np
 from .arrays import append, copy_rows
 from .jit import kernel
 from .ordering import lexicographic_order_compiled
-from .predicates import (EPSILON, _orient_expansion, _two_diff, _two_one_sum, _two_product,
+from .predicates import (EPSILON, orient_expansion, two_diff, two_one_sum, two_product,
                          orient_offset_exact)
 from .scaling import GRID, ON_GRID_ABOVE, fit_shift, on_grid, scaled
 from .segments import crosses, intersection_point
@@ -62,8 +62,8 @@ def pixel_halves(c):
 @kernel
 def sign_beyond(v, c, h):
     """The sign of ``v - (c + h)``, exactly (``c + h`` need not be a double)."""
-    d, e = _two_diff(v, c)
-    x2, x1, x0 = _two_one_sum(d, e, -h)
+    d, e = two_diff(v, c)
+    x2, x1, x0 = two_one_sum(d, e, -h)
     top = x2 if x2 != 0.0 else (x1 if x1 != 0.0 else x0)
     return 1 if top > 0.0 else (-1 if top < 0.0 else 0)
 
@@ -76,13 +76,13 @@ def centre_orientation(ax, ay, bx, by, cx, cy):
     difference of the exact products of the leading differences), ``size`` the
     sum of the magnitudes of the terms in ``rest``, and the exact differences
     ``b - a = (dx + dxl, dy + dyl)``."""
-    dx, dxl = _two_diff(bx, ax)
-    dy, dyl = _two_diff(by, ay)
-    uh, ul = _two_diff(cy, ay)
-    vh, vl = _two_diff(cx, ax)
-    p1, e1 = _two_product(dx, uh)
-    p2, e2 = _two_product(dy, vh)
-    s, t = _two_diff(p1, p2)
+    dx, dxl = two_diff(bx, ax)
+    dy, dyl = two_diff(by, ay)
+    uh, ul = two_diff(cy, ay)
+    vh, vl = two_diff(cx, ax)
+    p1, e1 = two_product(dx, uh)
+    p2, e2 = two_product(dy, vh)
+    s, t = two_diff(p1, p2)
     t1, t2, t3 = dx * ul, dxl * uh, dxl * ul
     t4, t5, t6 = dy * vl, dyl * vh, dyl * vl
     rest = t + e1 - e2 + t1 + t2 + t3 - t4 - t5 - t6
@@ -109,7 +109,7 @@ def corner_side(ax, ay, bx, by, cx, cy, ox, oy, high_x, high_y, base, w, n0):
     side = 1 if val > bound else (-1 if val < -bound else 0)
     if side == 0:
         if n0 < 0:
-            n0 = _orient_expansion(w, 0, ax, ay, bx, by, cx, cy)
+            n0 = orient_expansion(w, 0, ax, ay, bx, by, cx, cy)
         e = orient_offset_exact(w, n0, ax, ay, bx, by, ox, oy)
         side = 1 if e > 0.0 else (-1 if e < 0.0 else 0)
     if side == 0 and high_x and by != ay:

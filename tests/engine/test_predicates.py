@@ -38,7 +38,7 @@ from cdt_plugin._core.predicates import (
     _incircle_staged,
     _incircle_tail_terms,
     _orient2d_staged,
-    _two_diff,
+    two_diff,
     crossing_point,
     incircle,
     incircle_exact,
@@ -779,12 +779,12 @@ def _run_incircle_parts(P):
     for i in range(n):
         ax, ay, bx, by = P[i, 0], P[i, 1], P[i, 2], P[i, 3]
         cx, cy, dx, dy = P[i, 4], P[i, 5], P[i, 6], P[i, 7]
-        adx, adxt = _two_diff(ax, dx)
-        ady, adyt = _two_diff(ay, dy)
-        bdx, bdxt = _two_diff(bx, dx)
-        bdy, bdyt = _two_diff(by, dy)
-        cdx, cdxt = _two_diff(cx, dx)
-        cdy, cdyt = _two_diff(cy, dy)
+        adx, adxt = two_diff(ax, dx)
+        ady, adyt = two_diff(ay, dy)
+        bdx, bdxt = two_diff(bx, dx)
+        bdy, bdyt = two_diff(by, dy)
+        cdx, cdxt = two_diff(cx, dx)
+        cdy, cdyt = two_diff(cy, dy)
         v1, lo = _incircle_dd(adx, ady, bdx, bdy, cdx, cdy)
         corr = _incircle_tail_terms(adx, ady, bdx, bdy, cdx, cdy, adxt, adyt, bdxt, bdyt, cdxt, cdyt)
         permanent = ((abs(bdx * cdy) + abs(cdx * bdy)) * (adx * adx + ady * ady)
