@@ -82,6 +82,7 @@ from .shapely import Repair, triangle_polygons, triangulate_batch
 
 if TYPE_CHECKING:
     import dask_geopandas
+    import pyarrow
     import pyproj
     import trimesh
     from geopandas import GeoDataFrame, GeoSeries
@@ -99,7 +100,7 @@ __all__ = ["triangulate", "triangulate_dask", "voronoi", "read", "write_geojson"
            "GeographicCRSWarning", "SkippedFeaturesWarning", "NoPolygonsError", "ProjectionError",
            "NotGeographicError", "CDTAccessor"]
 
-OUTPUTS = ("geodataframe", "trimesh", "mesh")
+OUTPUTS = ("geodataframe", "geoarrow", "trimesh", "mesh")
 AUTO_PROGRESS_FEATURES = 5000       # progress=None: a bar above this many features (on a tty)
 ID_COLUMNS = ("feature", "position", "part")
 GEOJSON_ROWS = 50_000                # features per write (and progress step) of write_geojson
@@ -315,7 +316,7 @@ def _json_value(value):
 def triangulate(data: LayerLike, *, output: str = "geodataframe", project: ProjectLike = None,
                 repair: Repair = False, errors: str = "raise", progress: bool | None = None,
                 layer: str | int | None = None,
-                **options: Any) -> GeoDataFrame | list[trimesh.Trimesh | None] | GeoMesh:
+                **options: Any) -> GeoDataFrame | pyarrow.Table | list[trimesh.Trimesh | None] | GeoMesh:
     """Constrained Delaunay triangulation of every polygonal feature of a layer.
 
     Parameters
@@ -325,8 +326,11 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
         MultiPolygon's parts together; the polygonal members of a
         GeometryCollection too); other features (points, lines, empty, None) get
         no triangles. All features are meshed in ONE batch call.
-    output : {"geodataframe", "trimesh", "mesh"}
-        ``"geodataframe"``: one row per triangle (see Returns). ``"trimesh"``: a
+    output : {"geodataframe", "geoarrow", "trimesh", "mesh"}
+        ``"geodataframe"``: one row per triangle (see Returns). ``"geoarrow"``:
+        the same rows as a ``pyarrow.Table`` with a GeoArrow geometry column
+        (:meth:`GeoMesh.to_arrow`; no shapely object per triangle, so several
+        times faster on big layers: the fast path with ``"mesh"``). ``"trimesh"``: a
         list with one ``trimesh.Trimesh`` per feature (``None`` for a feature
         without triangles), vertices (x, y, z) with z = the vertex z when the
         feature has Z, else 0. ``"mesh"``: the :class:`GeoMesh` arrays.
@@ -400,6 +404,8 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
         raise CDTError(f"output must be one of {OUTPUTS}, got {output!r}")
     if output == "trimesh":
         require("trimesh", "output='trimesh'")     # before any work
+    if output == "geoarrow":
+        require("pyarrow", "output='geoarrow'", extra="gis")
     frame = read(data, layer=layer)
     mesh = _mesh(frame, project=project, repair=repair, errors=errors, progress=progress,
                  options=options, require_polygons=True, warn=True)
@@ -407,6 +413,8 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
         return mesh
     if output == "trimesh":
         return mesh.to_trimesh()
+    if output == "geoarrow":
+        return mesh.to_arrow()
     return mesh.to_geodataframe()
 
 
@@ -1226,6 +1234,40 @@ class GeoMesh:
                                        for i, e in self.errors.items()}
         return out
 
+    def to_arrow(self) -> pyarrow.Table:
+        """One row per triangle, as :meth:`to_geodataframe` has them, in a
+        ``pyarrow.Table`` whose geometry column is GeoArrow (``geoarrow.polygon``,
+        interleaved ``xy`` or ``xyz`` coordinates, the CRS as PROJJSON in the
+        field's extension metadata), built from the mesh arrays without a
+        shapely object per triangle. A layer with Z gives ``xyz``, z 0 for its
+        features without Z (as :attr:`z`). ``geopandas.GeoDataFrame.from_arrow``
+        reads it back, and the table carries GeoParquet's ``geo`` metadata:
+        ``pyarrow.parquet.write_table`` writes it as a GeoParquet file.
+
+        >>> import geopandas, shapely
+        >>> layer = geopandas.GeoDataFrame({"id": [7]}, geometry=[shapely.box(0, 0, 2, 2)])
+        >>> table = triangulate(layer, output="mesh").to_arrow()
+        >>> table.column_names, table.num_rows
+        (['feature', 'position', 'part', 'id', 'geometry'], 2)
+        >>> table.field("geometry").metadata[b"ARROW:extension:name"]
+        b'geoarrow.polygon'
+        """
+        import pandas
+
+        pa = require("pyarrow", "GeoArrow output", extra="gis")
+        src = self.source
+        name = src.geometry.name
+        features = pandas.DataFrame(src.drop(columns=[name]))   # one row per feature...
+        ids = _id_column_names(features.columns)
+        features.insert(0, ids[0], src.index.to_numpy())
+        features.insert(1, ids[1], np.arange(len(src)))
+        table = pa.Table.from_pandas(features, preserve_index=False).take(self.position)  # ...per triangle
+        table = table.add_column(2, ids[2], pa.array(self.part))
+        geometry, field_ = _geoarrow_polygons(pa, self.vertices, self.z, self.triangles, src.crs, name)
+        table = table.append_column(field_, geometry)
+        return table.replace_schema_metadata({**(table.schema.metadata or {}), b"geo": json.dumps(
+            _geoparquet_metadata(name, src.crs, self.z is not None)).encode()})
+
     def to_trimesh(self) -> list[trimesh.Trimesh | None]:
         """One ``trimesh.Trimesh`` per source row (None without triangles); z is
         the vertex z for features with Z, else 0."""
@@ -1241,6 +1283,41 @@ class GeoMesh:
                 V = np.column_stack([V, np.zeros(len(V))])
             out.append(trimesh.Trimesh(V, T, process=False))
         return out
+
+
+def _geoarrow_polygons(pa: Any, V: NDArray[np.float64], z: NDArray[np.float64] | None,
+                       T: NDArray[np.int64], crs: Any, name: str) -> tuple[Any, Any]:
+    """The triangles as a GeoArrow ``geoarrow.polygon`` array (one closed
+    counter-clockwise ring each, interleaved coordinates; the field names of
+    the GeoArrow specification: ``rings``, ``vertices``, ``xy``/``xyz``) and
+    its field. Offsets are 32-bit up to 2**31 coordinates, 64-bit beyond."""
+    k = len(T)
+    corners = T[:, [0, 1, 2, 0]].reshape(-1)
+    xy = V[corners] if z is None else np.column_stack([V[corners], z[corners]])
+    dims = "xy" if z is None else "xyz"
+    offsets_type = np.int32 if 4 * k < 2 ** 31 else np.int64
+    list_array = pa.ListArray if offsets_type is np.int32 else pa.LargeListArray
+    list_type = pa.list_ if offsets_type is np.int32 else pa.large_list
+    coords = pa.FixedSizeListArray.from_arrays(pa.array(np.ascontiguousarray(xy).reshape(-1)),
+                                               type=pa.list_(pa.field(dims, pa.float64()), len(dims)))
+    rings = list_array.from_arrays(pa.array(np.arange(0, 4 * k + 1, 4, dtype=offsets_type)), coords,
+                                   type=list_type(pa.field("vertices", coords.type)))
+    polygons = list_array.from_arrays(pa.array(np.arange(k + 1, dtype=offsets_type)), rings,
+                                      type=list_type(pa.field("rings", rings.type)))
+    metadata = {"crs": crs.to_json_dict(), "crs_type": "projjson"} if crs is not None else {}
+    field_ = pa.field(name, polygons.type, metadata={
+        b"ARROW:extension:name": b"geoarrow.polygon",
+        b"ARROW:extension:metadata": json.dumps(metadata).encode()})
+    return polygons, field_
+
+
+def _geoparquet_metadata(name: str, crs: Any, has_z: bool) -> dict[str, Any]:
+    """The ``geo`` metadata of GeoParquet 1.1 for a column of GeoArrow polygons:
+    written with the table, the file is GeoParquet (``geopandas.read_parquet``)."""
+    column: dict[str, Any] = {"encoding": "polygon",
+                              "geometry_types": ["Polygon Z" if has_z else "Polygon"]}
+    column["crs"] = crs.to_json_dict() if crs is not None else None
+    return {"version": "1.1.0", "primary_column": name, "columns": {name: column}}
 
 
 def _id_column_names(columns) -> tuple[str, ...]:

@@ -9,8 +9,10 @@ million vertices). Every implementation meshes the same polygons:
   (:func:`cdt_plugin.adapters.shapely.triangulate_batch`, GEOS validity check
   included), flat arrays out, on 1 thread and on every usable core (``workers=``);
 * ``cdt_plugin geo.triangulate``: the same, to a GeoDataFrame of triangle Polygons
-  carrying the feature's columns (1 thread, all cores), and to the flat arrays of
-  a ``GeoMesh`` (``output="mesh"``, no polygon per triangle);
+  carrying the feature's columns (1 thread, all cores), to the same rows as a
+  ``pyarrow.Table`` with GeoArrow polygons (``output="geoarrow"``) and to the flat
+  arrays of a ``GeoMesh`` (``output="mesh"``), neither with a polygon object per
+  triangle;
 * ``cdt_plugin triangulate_dask``: :func:`cdt_plugin.adapters.geo.triangulate_dask`
   with 16 partitions: on Dask's threaded scheduler with 1 and 2 threads, computed
   to one GeoDataFrame; on a ``dask.distributed.LocalCluster`` with 1 and 2 worker
@@ -109,10 +111,14 @@ def run_all(frame, workers: list[int]):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")       # degree space is fine for a plain CDT
         geo.triangulate(frame.iloc[:50], progress=False)
+        geo.triangulate(frame.iloc[:50], progress=False, output="geoarrow")   # (pyarrow imported)
         for threads in sorted({1, cores}):
             s, out = timed(lambda: geo.triangulate(frame, progress=False, workers=threads))
             add(f"cdt_plugin geo.triangulate (GeoDataFrame), {_threads(threads)}", s, len(out))
             del out
+        s, out = timed(lambda: geo.triangulate(frame, progress=False, output="geoarrow"))
+        add(f"cdt_plugin geo.triangulate (output='geoarrow'), {_threads(cores)}", s, out.num_rows)
+        del out
         s, out = timed(lambda: geo.triangulate(frame, progress=False, output="mesh"))
         add(f"cdt_plugin geo.triangulate (output='mesh'), {_threads(cores)}", s, len(out))
         del out

@@ -25,7 +25,7 @@ EXTRA_OF = {
     "trimesh": "trimesh", "networkx": "trimesh", "rtree": "trimesh",
     "open3d": "open3d",
     "matplotlib": "plot",
-    "geopandas": "gis", "pandas": "gis", "pyogrio": "gis", "pyproj": "gis",
+    "geopandas": "gis", "pandas": "gis", "pyogrio": "gis", "pyproj": "gis", "pyarrow": "gis",
     "dask": "dask", "dask_geopandas": "dask", "distributed": "dask",
     "tqdm": "cli",
     "mapbox_earcut": "bench",

@@ -129,6 +129,81 @@ def test_countries_keep_attributes_crs_and_features(countries):
         verify_feature(mesh, i, geometry)
 
 
+
+def _bits(geometries, include_z):
+    return shapely.get_coordinates(np.asarray(geometries, dtype=object), include_z=include_z)
+
+
+@needs_corpus
+def test_geoarrow_output_is_the_geodataframe_without_shapely_objects(countries, tmp_path):
+    """output="geoarrow": the rows, columns, CRS and coordinates (bit for bit) of the
+    GeoDataFrame output, read back by geopandas and through a GeoParquet file."""
+    pa = pytest.importorskip("pyarrow")
+    pq = pytest.importorskip("pyarrow.parquet")
+    layer = countries[countries["continent"] == "Africa"].set_index("name")   # South Africa: a hole
+    mesh = geo.triangulate(layer, output="mesh")
+    table = geo.triangulate(layer, output="geoarrow")
+    frame = mesh.to_geodataframe()
+    assert isinstance(table, pa.Table) and table.num_rows == len(frame) == len(mesh)
+    assert table.column_names == list(frame.columns)
+    field = table.schema.field("geometry")
+    assert field.metadata[b"ARROW:extension:name"] == b"geoarrow.polygon"
+    assert json.loads(field.metadata[b"ARROW:extension:metadata"])["crs"] == layer.crs.to_json_dict()
+    back = gpd.GeoDataFrame.from_arrow(table)
+    assert back.crs == layer.crs
+    for column in frame.columns.drop("geometry"):
+        assert back[column].tolist() == frame[column].tolist(), column
+    assert not back.has_z.any()
+    assert np.array_equal(_bits(back.geometry, False), _bits(frame.geometry, False))
+    assert shapely.is_ccw(shapely.get_exterior_ring(back.geometry.to_numpy())).all()
+    for i, geometry in enumerate(layer.geometry.to_numpy()):        # the exact checker
+        verify_feature(mesh, i, geometry)
+    pq.write_table(table, tmp_path / "triangles.parquet")
+    again = gpd.read_parquet(tmp_path / "triangles.parquet")
+    assert np.array_equal(_bits(again.geometry, False), _bits(frame.geometry, False))
+
+
+def test_geoarrow_output_with_z_and_renamed_id_columns():
+    """A layer with Z gives xyz coordinates (z 0 for a feature without Z, as GeoMesh.z);
+    source columns named like the id columns move them to cdt_*; a MultiPolygon's part
+    and a missing geometry are kept as in the GeoDataFrame output."""
+    pa = pytest.importorskip("pyarrow")
+    surface = shapely.Polygon([(x, y, plane(x, y)) for x, y in [(0, 0), (4, 0), (4, 3), (0, 3)]])
+    parts = shapely.MultiPolygon([shapely.box(10, 0, 11, 1), shapely.box(12, 0, 13, 1)])
+    layer = gpd.GeoDataFrame({"part": ["a", "b", "c"]}, geometry=[surface, None, parts],
+                             crs="EPSG:32633")
+    mesh = geo.triangulate(layer, output="mesh", max_area=1.0)
+    table = mesh.to_arrow()
+    assert table.column_names == ["cdt_feature", "cdt_position", "cdt_part", "part", "geometry"]
+    assert pa.types.is_fixed_size_list(table.schema.field("geometry").type.value_type.value_type)
+    back = gpd.GeoDataFrame.from_arrow(table)
+    frame = mesh.to_geodataframe()
+    for column in ["cdt_feature", "cdt_position", "cdt_part", "part"]:
+        assert back[column].tolist() == frame[column].tolist(), column
+    xyz = _bits(back.geometry, True)
+    on_surface = np.repeat(back["cdt_position"].to_numpy() == 0, 4)
+    assert np.array_equal(xyz[:, :2], _bits(frame.geometry, False))
+    np.testing.assert_allclose(xyz[on_surface, 2], plane(xyz[on_surface, 0], xyz[on_surface, 1]),
+                               rtol=1e-12, atol=1e-12)
+    assert (xyz[~on_surface, 2] == 0).all()
+    assert sorted(set(back["cdt_part"][back["cdt_position"] == 2])) == [0, 1]
+    verify_feature(mesh, 0, surface, refined=True)
+
+
+def test_geoarrow_output_needs_pyarrow_before_any_work(monkeypatch):
+    import importlib
+    real = importlib.import_module
+
+    def without_pyarrow(name, *args):
+        if name == "pyarrow":
+            raise ModuleNotFoundError(f"No module named {name!r}", name=name)
+        return real(name, *args)
+
+    monkeypatch.setattr(importlib, "import_module", without_pyarrow)
+    from cdt_plugin.optional import MissingPackageError
+    with pytest.raises(MissingPackageError, match=r"needs pyarrow: pip install 'cdt-plugin\[gis\]'"):
+        geo.triangulate({"type": "no layer at all"}, output="geoarrow")
+
 @needs_corpus
 def test_geojson_dict_path_geopackage_and_shapefile_inputs(tmp_path, countries):
     layer = countries[countries["continent"] == "Africa"]          # South Africa has a hole
