@@ -136,7 +136,8 @@ def read(data: LayerLike, *, layer: str | int | None = None) -> GeoDataFrame:
     Feature or bare geometry; its legacy ``"crs"`` member is used, else WGS 84 as
     RFC 7946 says and as GDAL reads a ``.geojson`` file); or a path (str or Path) to
     anything GDAL reads through pyogrio: ``.geojson`` / ``.json``, ``.shp``,
-    ``.gpkg`` (``layer=`` picks a layer by name or number).
+    ``.gpkg`` (``layer=`` picks a layer by name or number); or a GeoParquet file
+    (``.parquet``, read by ``geopandas.read_parquet``).
 
     >>> read({"type": "Polygon", "coordinates": [[[0, 0], [1, 0], [0, 1], [0, 0]]]}).crs.to_epsg()
     4326
@@ -147,6 +148,11 @@ def read(data: LayerLike, *, layer: str | int | None = None) -> GeoDataFrame:
         path = Path(data)
         if not path.exists():
             raise FileNotFoundError(2, "No such file or directory", str(path))
+        if path.suffix.lower() == ".parquet":
+            if layer is not None:
+                raise InputShapeError("layer= applies to multi-layer files (.gpkg): a GeoParquet "
+                                      "file holds one layer")
+            return geopandas.read_parquet(path)
         return geopandas.read_file(path, layer=layer, engine="pyogrio")
     if layer is not None:
         raise InputShapeError("layer= applies to a file path (a .gpkg or other multi-layer file)")

@@ -6,16 +6,18 @@
 ``.poly`` / ``.node``, GeoJSON (``.geojson`` / ``.json``: a geometry, a Feature or
 a FeatureCollection, one mesh per feature; a bare JSON array of rings is read as
 one polygon, earcut's fixture format), ``.wkt``, and GIS layers ``.shp`` /
-``.gpkg`` (read with pyogrio; ``--layer`` picks a GeoPackage layer). Outputs, by
+``.gpkg`` (read with pyogrio; ``--layer`` picks a GeoPackage layer) / ``.parquet``
+(GeoParquet). Outputs, by
 extension: ``.ply``, ``.obj``, ``.stl``, ``.glb``, ``.off`` (written by trimesh;
 its PLY, STL and GLB writers store float32 coordinates, OBJ and OFF are written
 with 17 decimals), ``.geojson`` / ``.json`` (a FeatureCollection of triangles per
 input feature) and Triangle's ``.node`` / ``.ele`` / ``.poly`` (all three are
 written).
 
-Layers in, layers out: from a ``.shp``, ``.gpkg`` or ``.geojson`` layer (or a
-``.json`` Feature/FeatureCollection), ``.gpkg`` and ``.geojson`` / ``.json`` output
-is a layer of triangles, one Polygon feature per triangle carrying the source
+Layers in, layers out: from a ``.shp``, ``.gpkg``, ``.parquet`` or ``.geojson`` layer
+(or a ``.json`` Feature/FeatureCollection), ``.gpkg``, ``.parquet`` (GeoParquet,
+written from GeoArrow arrays: the fastest) and ``.geojson`` / ``.json`` output is a
+layer of triangles, one Polygon feature per triangle carrying the source
 feature's attributes, its index (``feature``), row number and part, in the source
 CRS (:func:`cdt_plugin.adapters.geo.triangulate`, one batch call for all
 features). ``--project utm|aeqd|CRS`` meshes a geographic layer in metres and maps
@@ -58,6 +60,7 @@ from .errors import CDTError, NoPolygonsError
 from .optional import MissingPackageError, missing, require
 
 if TYPE_CHECKING:
+    import pyarrow
     from geopandas import GeoDataFrame
 
     from .adapters.geo import GeoMesh
@@ -70,12 +73,12 @@ __all__ = ["main", "build_parser", "read_input", "read_layer", "is_layer", "tria
 MESH_FORMATS = (".ply", ".obj", ".stl", ".glb", ".off")
 GEOJSON_FORMATS = (".geojson", ".json")
 TRIANGLE_FORMATS = (".node", ".ele", ".poly")
-GIS_FORMATS = (".shp", ".gpkg")
+GIS_FORMATS = (".shp", ".gpkg", ".parquet")
 INPUT_FORMATS = (".poly", ".node", ".geojson", ".json", ".wkt") + GIS_FORMATS
-LAYER_OUTPUTS = (".gpkg",) + GEOJSON_FORMATS
+LAYER_OUTPUTS = (".gpkg", ".parquet") + GEOJSON_FORMATS
 NAME_COLUMNS = ("name", "NAME", "admin")
 MANY_FEATURES = 16        # features per thread worth starting one for
-LAYER_ROWS = 50_000       # triangles per GeoPackage write (and progress step)
+LAYER_ROWS = 50_000       # triangles per GeoPackage / GeoParquet write (and progress step)
 
 EXAMPLES = """\
 examples:
@@ -123,7 +126,7 @@ def build_parser() -> argparse.ArgumentParser:
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("input", metavar="INPUT",
                         help="input file: .poly/.node (Triangle), .geojson/.json, .wkt, "
-                             ".shp/.gpkg (GIS layers)")
+                             ".shp/.gpkg/.parquet (GIS layers)")
     common.add_argument("--layer", metavar="NAME",
                         help="the layer of a multi-layer input (GeoPackage): name or number")
     common.add_argument("--min-angle", type=float, metavar="A",
@@ -152,8 +155,9 @@ def build_parser() -> argparse.ArgumentParser:
                                       "refined) and write the mesh to OUTPUT.")
     mesh.add_argument("-o", "--output", required=True, type=Path, metavar="OUTPUT",
                       help="output file: .ply .obj .stl .glb .off (trimesh), .geojson/.json, "
-                           ".node/.ele/.poly (Triangle: all three written), .gpkg; from a "
-                           "layer (.shp/.gpkg/.geojson) .gpkg and .geojson get one feature per "
+                           ".node/.ele/.poly (Triangle: all three written), .gpkg, .parquet; "
+                           "from a layer (.shp/.gpkg/.parquet/.geojson) .gpkg, .parquet "
+                           "(GeoParquet, the fastest) and .geojson get one feature per "
                            "triangle with the source attributes")
     mesh.add_argument("--extrude", type=float, metavar="H",
                       help="extrude the mesh into a watertight solid of height H (mesh formats)")
@@ -183,11 +187,11 @@ def build_parser() -> argparse.ArgumentParser:
                                      "of POINTS, clipped to --boundary, written as a layer with one "
                                      "feature per point and its attributes, in the points' CRS.")
     vor.add_argument("input", metavar="POINTS",
-                     help="point layer: .gpkg, .shp, .geojson/.json (Point geometries)")
+                     help="point layer: .gpkg, .shp, .parquet, .geojson/.json (Point geometries)")
     vor.add_argument("-o", "--output", required=True, type=Path, metavar="OUTPUT",
-                     help="output layer: .gpkg or .geojson/.json, one feature per point")
+                     help="output layer: .gpkg, .parquet or .geojson/.json, one feature per point")
     vor.add_argument("--boundary", type=Path, metavar="AREA",
-                     help="polygon layer to clip the cells to (.gpkg, .shp, .geojson/.json: the "
+                     help="polygon layer to clip the cells to (.gpkg, .shp, .parquet, .geojson/.json: the "
                           "union of its polygons, reprojected to the points' CRS); default: the "
                           "points' bounding box grown by its larger side, as GEOS does")
     vor.add_argument("--layer", metavar="NAME",
@@ -208,9 +212,9 @@ def build_parser() -> argparse.ArgumentParser:
                                      ".geojson), or sampled on a grid of --resolution as a GeoTIFF "
                                      "(.tif, needs rasterio) or a NumPy array (.npy).")
     tin.add_argument("input", metavar="POINTS",
-                     help="point layer: .gpkg, .shp, .geojson/.json (Point Z, or --z COLUMN)")
+                     help="point layer: .gpkg, .shp, .parquet, .geojson/.json (Point Z, or --z COLUMN)")
     tin.add_argument("-o", "--output", required=True, type=Path, metavar="OUTPUT",
-                     help="output: .gpkg or .geojson/.json (the TIN), .tif or .npy (the grid)")
+                     help="output: .gpkg, .parquet or .geojson/.json (the TIN), .tif or .npy (the grid)")
     tin.add_argument("--breaklines", type=Path, metavar="LINES",
                      help="line layer (LineString Z) the surface must follow")
     tin.add_argument("--boundary", type=Path, metavar="AREA",
@@ -429,6 +433,8 @@ def _check_packages(args: argparse.Namespace) -> None:
             needs.append(("shapely", "writing GeoJSON"))
         elif suffix == ".gpkg":
             needs.append(("geopandas", "writing .gpkg"))
+        elif suffix == ".parquet":
+            needs += [("geopandas", "writing .parquet"), ("pyarrow", "writing .parquet")]
     if args.command == "voronoi":
         needs.append(("geopandas", "cdt-plugin voronoi"))
     if getattr(args, "plot", None) is not None:
@@ -551,7 +557,7 @@ def _sum_stats(stats: list[dict[str, Any]]) -> dict[str, Any]:
 # ------------------------------------------------------------------ writing
 def _check_output(path: Path, extrude: float | None) -> str:
     suffix = path.suffix.lower()
-    known = MESH_FORMATS + GEOJSON_FORMATS + TRIANGLE_FORMATS + (".gpkg",)
+    known = MESH_FORMATS + GEOJSON_FORMATS + TRIANGLE_FORMATS + (".gpkg", ".parquet")
     if suffix not in known:
         raise CLIError(f"{path}: unknown output format {suffix or '(no extension)'!r}; expected one "
                        f"of {', '.join(known)}")
@@ -597,26 +603,30 @@ def write_output(path: Path, features: Sequence[Feature], tris: Sequence[Triangu
             f"{len(combined.triangles):,} triangles, {len(combined.segments):,} segment edges")
 
 
-def write_layer(path: Path, triangles: GeoDataFrame, mesh: GeoMesh,
+def write_layer(path: Path, triangles: GeoDataFrame | pyarrow.Table, mesh: GeoMesh,
                 progress: Callable[[int], object] | None = None) -> str:
-    """Write a GeoDataFrame of triangles (``_write_frame``). ``progress``: called
-    with the number of triangles written since the last call. Returns a one-line
-    summary."""
+    """Write the triangles of ``mesh`` (a GeoDataFrame, or for ``.parquet`` its
+    GeoArrow table, :meth:`~cdt_plugin.adapters.geo.GeoMesh.to_arrow`) with
+    ``_write_frame``. ``progress``: called with the number of triangles written
+    since the last call. Returns a one-line summary."""
     path = Path(path)
     _write_frame(path, triangles, progress)
     meshed = int(np.count_nonzero(np.diff(mesh.offsets)))
     return f"wrote {path}: {meshed} feature(s), {len(triangles):,} triangles"
 
 
-def _write_frame(path: Path, frame: GeoDataFrame,
+def _write_frame(path: Path, frame: GeoDataFrame | pyarrow.Table,
                  progress: Callable[[int], object] | None = None) -> None:
     """Write a GeoDataFrame as a GeoPackage (``.gpkg``, with pyogrio, appended
-    ``LAYER_ROWS`` rows at a time) or GeoJSON
-    (:func:`cdt_plugin.adapters.geo.write_geojson`); either way the coordinates
+    ``LAYER_ROWS`` rows at a time), GeoParquet (``.parquet``; a pyarrow Table with
+    GeoParquet's metadata is written ``LAYER_ROWS`` rows per row group) or GeoJSON
+    (:func:`cdt_plugin.adapters.geo.write_geojson`); every way the coordinates
     read back bit for bit. An existing file is replaced. ``progress``: called with
     the number of rows written since the last call."""
     path = Path(path)
-    if path.suffix.lower() == ".gpkg":
+    if path.suffix.lower() == ".parquet":
+        _write_parquet(path, frame, progress)
+    elif path.suffix.lower() == ".gpkg":
         if path.exists():
             path.unlink()
         for i in range(0, max(len(frame), 1), LAYER_ROWS):      # appended in pieces
@@ -629,6 +639,24 @@ def _write_frame(path: Path, frame: GeoDataFrame,
     else:
         from .adapters.geo import write_geojson
         write_geojson(frame, path, progress=progress)
+
+
+def _write_parquet(path: Path, table: GeoDataFrame | pyarrow.Table,
+                   progress: Callable[[int], object] | None = None) -> None:
+    """GeoParquet: a GeoDataFrame by geopandas (WKB geometry), a pyarrow Table
+    as it is, ``LAYER_ROWS`` rows per row group."""
+    if not hasattr(table, "schema"):                    # a GeoDataFrame
+        table.to_parquet(path)
+        if progress is not None:
+            progress(len(table))
+        return
+    import pyarrow.parquet
+    with pyarrow.parquet.ParquetWriter(path, table.schema) as writer:
+        for i in range(0, max(len(table), 1), LAYER_ROWS):
+            part = table.slice(i, LAYER_ROWS)
+            writer.write_table(part)
+            if progress is not None:
+                progress(len(part))
 
 
 def _bar(show: bool | None, desc: str, unit: str, total: int) -> Any:
@@ -660,7 +688,8 @@ def _mesh_layer(args: argparse.Namespace, output: Path) -> int:
         reading.update(1)
         reading.close()
     mesh = _triangulate_layer(frame, args, _options(args))
-    triangles = mesh.to_geodataframe()
+    # GeoParquet is written from the GeoArrow table: no shapely Polygon per triangle
+    triangles = mesh.to_arrow() if output.suffix.lower() == ".parquet" else mesh.to_geodataframe()
     writing = _bar(args.progress, "writing", "triangle", len(triangles))
     try:
         print(write_layer(output, triangles, mesh, None if writing is None else writing.update))
@@ -787,9 +816,9 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
     _check_packages(args)
     if _layer_job(args):
         return _mesh_layer(args, output)
-    if output.suffix.lower() == ".gpkg":
-        raise CLIError(f"{output}: .gpkg output needs a GIS layer input (.shp, .gpkg, .geojson, "
-                       "or a .json Feature or FeatureCollection)")
+    if output.suffix.lower() in (".gpkg", ".parquet"):
+        raise CLIError(f"{output}: {output.suffix.lower()} output needs a GIS layer input (.shp, "
+                       ".gpkg, .parquet, .geojson, or a .json Feature or FeatureCollection)")
     features, tris, combined = _mesh_all(args)
     print(write_output(output, features, tris, combined, args.extrude))
     if args.report:

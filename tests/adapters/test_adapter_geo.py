@@ -90,12 +90,13 @@ def feature_areas(triangles, n) -> np.ndarray:
                        weights=shapely.area(triangles.geometry.array))
 
 
-def run_cli(*args):
-    """``python -m cdt_plugin ARGS`` in a fresh process."""
+def run_cli(*args, check=True):
+    """``python -m cdt_plugin ARGS`` in a fresh process (``check``: it must succeed)."""
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     proc = subprocess.run([sys.executable, "-m", "cdt_plugin", *map(str, args)], capture_output=True,
                           text=True, env=env, timeout=300)
-    assert "Traceback" not in proc.stderr and proc.returncode == 0, proc.stderr
+    assert "Traceback" not in proc.stderr, proc.stderr
+    assert proc.returncode == 0 or not check, proc.stderr
     return proc
 
 
@@ -546,6 +547,49 @@ def test_cli_geojson_to_geojson(tmp_path, countries):
     assert triangle_sets(back) == triangle_sets(expected)             # coordinates exact
     assert shapely.is_ccw(shapely.get_exterior_ring(back.geometry.array)).all()
 
+
+
+@needs_corpus
+def test_cli_geoparquet_in_and_out(tmp_path, countries):
+    """GeoParquet both ways: a .parquet layer is read, the triangles are written from the
+    GeoArrow table in row groups (the progress bar counts them), and read back they are
+    the GeoDataFrame output, coordinates exact; a voronoi layer is written too."""
+    pytest.importorskip("pyarrow")
+    layer = countries[countries["continent"] == "South America"]
+    src, out = tmp_path / "south_america.parquet", tmp_path / "triangles.parquet"
+    layer.to_parquet(src)
+    proc = run_cli("mesh", src, "-o", out, "--progress")
+    expected = geo.triangulate(layer)
+    assert proc.stdout.strip() == f"wrote {out}: 13 feature(s), {len(expected):,} triangles"
+    assert f"{len(expected)}/{len(expected)}" in proc.stderr and "writing" in proc.stderr
+    back = gpd.read_parquet(out)
+    assert back.crs == layer.crs and list(back.columns) == list(expected.columns)
+    assert back["feature"].tolist() == expected["feature"].tolist()
+    assert back["pop_est"].tolist() == expected["pop_est"].tolist()
+    assert triangle_sets(back) == triangle_sets(expected)             # coordinates exact
+    mesh = geo.triangulate(layer, output="mesh")
+    for i, geometry in enumerate(layer.geometry.to_numpy()):        # the exact checker
+        verify_feature(mesh, i, geometry)
+
+    points = gpd.GeoDataFrame({"id": range(4)}, crs="EPSG:32633",
+                              geometry=gpd.points_from_xy([0, 4, 0, 4], [0, 0, 3, 3.5]))
+    points.to_parquet(tmp_path / "points.parquet")
+    run_cli("voronoi", tmp_path / "points.parquet", "-o", tmp_path / "cells.parquet")
+    cells = gpd.read_parquet(tmp_path / "cells.parquet")
+    assert cells["id"].tolist() == [0, 1, 2, 3] and cells.crs == points.crs
+    assert shapely.contains(cells.geometry.array, points.geometry.array).all()
+
+
+def test_cli_geoparquet_refuses_a_layer_name_and_non_layer_input(tmp_path):
+    pytest.importorskip("pyarrow")
+    layer = gpd.GeoDataFrame({"id": [1]}, geometry=[shapely.box(0, 0, 1, 1)], crs="EPSG:32633")
+    layer.to_parquet(tmp_path / "one.parquet")
+    proc = run_cli("mesh", tmp_path / "one.parquet", "--layer", "x", "-o", tmp_path / "t.gpkg",
+                   check=False)
+    assert proc.returncode == 1 and "a GeoParquet file holds one layer" in proc.stderr
+    (tmp_path / "square.wkt").write_text("POLYGON ((0 0, 1 0, 1 1, 0 1, 0 0))")
+    proc = run_cli("mesh", tmp_path / "square.wkt", "-o", tmp_path / "t.parquet", check=False)
+    assert proc.returncode == 1 and ".parquet output needs a GIS layer input" in proc.stderr
 
 def run_example(*args):
     env = dict(os.environ, CDT_CORPUS=str(corpus_dir()),
