@@ -1246,8 +1246,10 @@ class GeoMesh:
         interleaved ``xy`` or ``xyz`` coordinates, the CRS as PROJJSON in the
         field's extension metadata), built from the mesh arrays without a
         shapely object per triangle. A layer with Z gives ``xyz``, z 0 for its
-        features without Z (as :attr:`z`). ``geopandas.GeoDataFrame.from_arrow``
-        reads it back, and the table carries GeoParquet's ``geo`` metadata:
+        features without Z (as :attr:`z`); another geometry column of the layer
+        is kept as WKB (``geoarrow.wkb``). ``geopandas.GeoDataFrame.from_arrow``
+        reads it back (``geometry=`` names the triangles' column when there are
+        two), and the table carries GeoParquet's ``geo`` metadata:
         ``pyarrow.parquet.write_table`` writes it as a GeoParquet file.
 
         >>> import geopandas, shapely
@@ -1258,6 +1260,7 @@ class GeoMesh:
         >>> table.field("geometry").metadata[b"ARROW:extension:name"]
         b'geoarrow.polygon'
         """
+        import geopandas
         import pandas
 
         pa = require("pyarrow", "GeoArrow output", extra="gis")
@@ -1267,12 +1270,21 @@ class GeoMesh:
         ids = _id_column_names(features.columns)
         features.insert(0, ids[0], src.index.to_numpy())
         features.insert(1, ids[1], np.arange(len(src)))
+        other_geometries = {c: features[c].array.crs for c in features.columns
+                            if isinstance(features[c].dtype, geopandas.array.GeometryDtype)}
+        for c in other_geometries:                             # (a second geometry column: WKB)
+            features[c] = shapely.to_wkb(np.asarray(features[c].array, dtype=object))
         table = pa.Table.from_pandas(features, preserve_index=False).take(self.position)  # ...per triangle
+        for c, crs in other_geometries.items():
+            j = table.schema.get_field_index(c)
+            table = table.set_column(j, _geoarrow_field(pa, c, table.schema.field(c).type,
+                                                        "geoarrow.wkb", crs), table.column(j))
         table = table.add_column(2, ids[2], pa.array(self.part))
         geometry, field_ = _geoarrow_polygons(pa, self.vertices, self.z, self.triangles, src.crs, name)
         table = table.append_column(field_, geometry)
-        return table.replace_schema_metadata({**(table.schema.metadata or {}), b"geo": json.dumps(
-            _geoparquet_metadata(name, src.crs, self.z is not None)).encode()})
+        geo_metadata = _geoparquet_metadata(name, src.crs, self.z is not None, other_geometries)
+        return table.replace_schema_metadata({**(table.schema.metadata or {}),
+                                              b"geo": json.dumps(geo_metadata).encode()})
 
     def to_trimesh(self) -> list[trimesh.Trimesh | None]:
         """One ``trimesh.Trimesh`` per source row (None without triangles); z is
@@ -1310,20 +1322,29 @@ def _geoarrow_polygons(pa: Any, V: NDArray[np.float64], z: NDArray[np.float64] |
                                    type=list_type(pa.field("vertices", coords.type)))
     polygons = list_array.from_arrays(pa.array(np.arange(k + 1, dtype=offsets_type)), rings,
                                       type=list_type(pa.field("rings", rings.type)))
+    return polygons, _geoarrow_field(pa, name, polygons.type, "geoarrow.polygon", crs)
+
+
+def _geoarrow_field(pa: Any, name: str, type_: Any, extension: str, crs: Any) -> Any:
+    """A field of GeoArrow extension type ``extension`` (by its field metadata),
+    the CRS as PROJJSON."""
     metadata = {"crs": crs.to_json_dict(), "crs_type": "projjson"} if crs is not None else {}
-    field_ = pa.field(name, polygons.type, metadata={
-        b"ARROW:extension:name": b"geoarrow.polygon",
-        b"ARROW:extension:metadata": json.dumps(metadata).encode()})
-    return polygons, field_
+    return pa.field(name, type_, metadata={b"ARROW:extension:name": extension.encode(),
+                                           b"ARROW:extension:metadata": json.dumps(metadata).encode()})
 
 
-def _geoparquet_metadata(name: str, crs: Any, has_z: bool) -> dict[str, Any]:
-    """The ``geo`` metadata of GeoParquet 1.1 for a column of GeoArrow polygons:
-    written with the table, the file is GeoParquet (``geopandas.read_parquet``)."""
-    column: dict[str, Any] = {"encoding": "polygon",
-                              "geometry_types": ["Polygon Z" if has_z else "Polygon"]}
-    column["crs"] = crs.to_json_dict() if crs is not None else None
-    return {"version": "1.1.0", "primary_column": name, "columns": {name: column}}
+def _geoparquet_metadata(name: str, crs: Any, has_z: bool,
+                         wkb_columns: dict[str, Any]) -> dict[str, Any]:
+    """The ``geo`` metadata of GeoParquet 1.1 for a column of GeoArrow polygons
+    (and other geometry columns as WKB): written with the table, the file is
+    GeoParquet (``geopandas.read_parquet``)."""
+    def crs_of(c: Any) -> Any:
+        return c.to_json_dict() if c is not None else None
+    columns: dict[str, Any] = {name: {"encoding": "polygon", "crs": crs_of(crs),
+                                      "geometry_types": ["Polygon Z" if has_z else "Polygon"]}}
+    for column, column_crs in wkb_columns.items():
+        columns[column] = {"encoding": "WKB", "geometry_types": [], "crs": crs_of(column_crs)}
+    return {"version": "1.1.0", "primary_column": name, "columns": columns}
 
 
 def _id_column_names(columns) -> tuple[str, ...]:

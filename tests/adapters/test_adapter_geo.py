@@ -191,6 +191,35 @@ def test_geoarrow_output_with_z_and_renamed_id_columns():
     verify_feature(mesh, 0, surface, refined=True)
 
 
+
+def test_geoarrow_output_keeps_every_attribute_type(tmp_path):
+    """Dates, categories, missing values and a second geometry column (WKB, its own CRS)
+    come back from the GeoArrow table and from its GeoParquet file as the GeoDataFrame
+    output has them."""
+    pytest.importorskip("pyarrow")
+    import pandas as pd
+    import pyarrow.parquet as pq
+    layer = gpd.GeoDataFrame(
+        {"when": pd.to_datetime(["2020-01-01", None]), "kind": pd.Categorical(["a", "b"]),
+         "note": ["x", None],
+         "centroid": gpd.GeoSeries([shapely.Point(1, 1), None], crs="EPSG:4326")},
+        geometry=[shapely.box(0, 0, 2, 2), shapely.box(3, 3, 4, 5)], crs="EPSG:3857")
+    mesh = geo.triangulate(layer, output="mesh")
+    expected = mesh.to_geodataframe()
+    pq.write_table(mesh.to_arrow(), tmp_path / "t.parquet")
+    for back in (gpd.GeoDataFrame.from_arrow(mesh.to_arrow(), geometry="geometry"),
+                 gpd.read_parquet(tmp_path / "t.parquet")):
+        assert list(back.columns) == list(expected.columns)
+        assert back["when"].tolist() == expected["when"].tolist()
+        assert back["kind"].tolist() == ["a", "a", "b", "b"] == expected["kind"].tolist()
+        assert back["note"].tolist() == expected["note"].tolist()
+        assert back["centroid"].array.crs == layer["centroid"].crs
+        assert back["centroid"].tolist() == expected["centroid"].tolist()
+        assert back.crs == layer.crs and back.geometry.name == "geometry"
+        assert np.array_equal(_bits(back.geometry, False), _bits(expected.geometry, False))
+    for i, geometry in enumerate(layer.geometry.to_numpy()):        # the exact checker
+        verify_feature(mesh, i, geometry)
+
 def test_geoarrow_output_needs_pyarrow_before_any_work(monkeypatch):
     import importlib
     real = importlib.import_module
