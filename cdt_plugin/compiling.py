@@ -51,18 +51,23 @@ def cache_dir() -> str:
 
 
 class _CompileNotice(event.Listener):
-    """Says that it is compiling, once per call of a cdt_plugin function that
-    compiles (``delaunay``, ``triangulate``, an adapter, the CLI: the outermost
-    cdt_plugin frame, whatever the number of kernels it compiles), or once per
-    route or module for a kernel called directly; and, at INFO level, how long
-    each compilation took."""
+    """Says that it is compiling: once per burst of compilation of a cdt_plugin
+    function called from outside (``delaunay``, ``triangulate``, an adapter, the
+    CLI: the outermost cdt_plugin frame), whatever the number of kernels it
+    compiles; once per route or module for a kernel called directly (an import,
+    a test); and, at INFO level, how long each compilation took. A burst: the
+    compilations less than ``BURST`` seconds apart (a first ``delaunay`` compiles
+    eight entries one after the other)."""
+
+    BURST = 1.0
 
     def __init__(self) -> None:
         self.depth = 0
         self.start = 0.0
         self.what = ""
         self.said: set[str] = set()
-        self.call: tuple | None = None      # the public call said last: (frame id, code)
+        self.call = ""              # the public call said last
+        self.end = -1e300           # when the last compilation ended (perf_counter)
 
     def on_start(self, ev: event.Event) -> None:
         dispatcher = ev.data.get("dispatcher") if isinstance(ev.data, dict) else None
@@ -77,11 +82,11 @@ class _CompileNotice(event.Listener):
             self.start = time.perf_counter()
             frame = _public_call()
             if frame is not None:
-                call = (id(frame), frame.f_code)
-                if call == self.call:
+                call = _call_name(frame)
+                if call == self.call and self.start - self.end < self.BURST:
                     return
                 self.call = call
-                what = f"the engine for {_call_name(frame)}"
+                what = f"the engine for {call}"
             elif self.what in self.said:
                 return
             else:
@@ -96,8 +101,8 @@ class _CompileNotice(event.Listener):
             return
         self.depth -= 1
         if self.depth == 0:
-            logger.info("cdt_plugin: compiled %s in %.1f s", self.what,
-                        time.perf_counter() - self.start)
+            self.end = time.perf_counter()
+            logger.info("cdt_plugin: compiled %s in %.1f s", self.what, self.end - self.start)
 
 
 def _public_call() -> types.FrameType | None:

@@ -384,30 +384,34 @@ def test_first_use_notice_says_once_that_a_route_compiles(caplog):
 
 
 
-def test_first_use_notice_says_once_per_public_call(caplog):
-    """A call of a public cdt_plugin function that compiles several kernels (two fresh ones
-    in a compiled-core module here) is announced once, by the call's name; the next call
-    that compiles is announced again."""
+def test_first_use_notice_says_once_per_public_call(caplog, monkeypatch):
+    """A call of a public cdt_plugin function that compiles several kernels one after the
+    other (fresh ones in a compiled-core module here) is announced once, by the call's
+    name; another call that compiles is announced, and so is the same call compiling
+    again after a pause (a new burst)."""
     import logging
 
     import numba
+    from cdt_plugin import compiling
     core = {"__name__": "cdt_plugin._core.probe_for_test"}
-    exec("def first(a):\n    return a + 1\n\ndef second(a):\n    return a * 2\n", core)
-    first, second = numba.njit(core["first"]), numba.njit(core["second"])
-    third = numba.njit(lambda a: a - 1)
-    third.py_func.__module__ = "cdt_plugin._core.probe_for_test"
+    exec("def first(a):\n    return a + 1\n\ndef second(a):\n    return a * 2\n\n"
+         "def third(a):\n    return a - 1\n\ndef fourth(a):\n    return a * 3\n", core)
+    first, second, third, fourth = (numba.njit(core[f]) for f in ("first", "second", "third", "fourth"))
     public = {"__name__": "cdt_plugin.probe_api_for_test", "first": first, "second": second,
-              "third": third}
+              "third": third, "fourth": fourth}
     exec("def mesh_probe(a):\n    return second(first(a))\n\n"
-         "def other_probe(a):\n    return third(a)\n", public)
+         "def other_probe(a, again=False):\n    return fourth(a) if again else third(a)\n", public)
     with caplog.at_level(logging.WARNING, logger="cdt_plugin"):
         assert public["mesh_probe"](1) == 4          # two kernels compile: one line
         assert public["mesh_probe"](2) == 6          # compiled already: nothing is said
         assert public["other_probe"](5) == 4         # another call compiles: one more line
+        monkeypatch.setattr(compiling._notice, "BURST", 0.0)
+        assert public["other_probe"](1, True) == 3   # the same call compiling later: one more
     messages = [r.getMessage() for r in caplog.records if r.name == "cdt_plugin"]
-    assert len(messages) == 2, messages
+    assert len(messages) == 3, messages
     assert "the engine for mesh_probe()" in messages[0] and "cached" in messages[0]
     assert "the engine for other_probe()" in messages[1]
+    assert "the engine for other_probe()" in messages[2]
 
 # ------------------------------------------------- --errors skip, no polygons (#17)
 def _collection(*geometries) -> dict:
