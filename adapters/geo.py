@@ -1247,7 +1247,8 @@ class GeoMesh:
         field's extension metadata), built from the mesh arrays without a
         shapely object per triangle. A layer with Z gives ``xyz``, z 0 for its
         features without Z (as :attr:`z`); another geometry column of the layer
-        is kept as WKB (``geoarrow.wkb``). ``geopandas.GeoDataFrame.from_arrow``
+        is kept as WKB (``geoarrow.wkb``), and the labels of a MultiIndex (as
+        ``explode`` makes) as a struct of its levels. ``geopandas.GeoDataFrame.from_arrow``
         reads it back (``geometry=`` names the triangles' column when there are
         two), and the table carries GeoParquet's ``geo`` metadata:
         ``pyarrow.parquet.write_table`` writes it as a GeoParquet file.
@@ -1268,8 +1269,7 @@ class GeoMesh:
         name = src.geometry.name
         features = pandas.DataFrame(src.drop(columns=[name]))   # one row per feature...
         ids = _id_column_names(features.columns)
-        features.insert(0, ids[0], src.index.to_numpy())
-        features.insert(1, ids[1], np.arange(len(src)))
+        features.insert(0, ids[1], np.arange(len(src)))
         other_geometries = {c: features[c].array.crs for c in features.columns
                             if isinstance(features[c].dtype, geopandas.array.GeometryDtype)}
         for c in other_geometries:                             # (a second geometry column: WKB)
@@ -1279,6 +1279,7 @@ class GeoMesh:
             j = table.schema.get_field_index(c)
             table = table.set_column(j, _geoarrow_field(pa, c, table.schema.field(c).type,
                                                         "geoarrow.wkb", crs), table.column(j))
+        table = table.add_column(0, ids[0], _index_labels(pa, src.index).take(self.position))
         table = table.add_column(2, ids[2], pa.array(self.part))
         geometry, field_ = _geoarrow_polygons(pa, self.vertices, self.z, self.triangles, src.crs, name)
         table = table.append_column(field_, geometry)
@@ -1301,6 +1302,17 @@ class GeoMesh:
                 V = np.column_stack([V, np.zeros(len(V))])
             out.append(trimesh.Trimesh(V, T, process=False))
         return out
+
+
+def _index_labels(pa: Any, index: Any) -> Any:
+    """A layer's index labels as an Arrow array; a MultiIndex (``explode`` makes
+    one) as a struct of its levels (named, or ``level_0``, ``level_1``...)."""
+    if index.nlevels == 1:
+        return pa.Array.from_pandas(index.to_series(index=None))
+    names = [n if n is not None else f"level_{i}" for i, n in enumerate(index.names)]
+    return pa.StructArray.from_arrays(
+        [pa.Array.from_pandas(index.get_level_values(i).to_series(index=None))
+         for i in range(index.nlevels)], names=names)
 
 
 def _geoarrow_polygons(pa: Any, V: NDArray[np.float64], z: NDArray[np.float64] | None,

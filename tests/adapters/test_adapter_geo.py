@@ -195,7 +195,7 @@ def test_geoarrow_output_with_z_and_renamed_id_columns():
 def test_geoarrow_output_keeps_every_attribute_type(tmp_path):
     """Dates, categories, missing values and a second geometry column (WKB, its own CRS)
     come back from the GeoArrow table and from its GeoParquet file as the GeoDataFrame
-    output has them."""
+    output has them; a MultiIndex's labels as a struct of its levels."""
     pytest.importorskip("pyarrow")
     import pandas as pd
     import pyarrow.parquet as pq
@@ -203,13 +203,15 @@ def test_geoarrow_output_keeps_every_attribute_type(tmp_path):
         {"when": pd.to_datetime(["2020-01-01", None]), "kind": pd.Categorical(["a", "b"]),
          "note": ["x", None],
          "centroid": gpd.GeoSeries([shapely.Point(1, 1), None], crs="EPSG:4326")},
-        geometry=[shapely.box(0, 0, 2, 2), shapely.box(3, 3, 4, 5)], crs="EPSG:3857")
+        geometry=[shapely.box(0, 0, 2, 2), shapely.box(3, 3, 4, 5)], crs="EPSG:3857",
+        index=pd.MultiIndex.from_tuples([("a", 0), ("a", 1)], names=["region", None]))  # (explode's)
     mesh = geo.triangulate(layer, output="mesh")
     expected = mesh.to_geodataframe()
     pq.write_table(mesh.to_arrow(), tmp_path / "t.parquet")
     for back in (gpd.GeoDataFrame.from_arrow(mesh.to_arrow(), geometry="geometry"),
                  gpd.read_parquet(tmp_path / "t.parquet")):
         assert list(back.columns) == list(expected.columns)
+        assert [(f["region"], f["level_1"]) for f in back["feature"]] == expected["feature"].tolist()
         assert back["when"].tolist() == expected["when"].tolist()
         assert back["kind"].tolist() == ["a", "a", "b", "b"] == expected["kind"].tolist()
         assert back["note"].tolist() == expected["note"].tolist()
