@@ -29,7 +29,7 @@ Peers, all run in the same worker process, interleaved round-robin:
 * ``ours``      — ``cdt_plugin.triangulate(V, S, holes=H, workers=1)`` (Triangle's hole-point
   convention), one thread;
 * ``ours_threads`` — the same with its default ``workers`` (every core: from
-  ``cdt.PARALLEL_VERTICES`` (100,000) vertices the Delaunay stage builds the first cut's
+  ``cdt.PARALLEL_VERTICES`` (200,000) vertices the Delaunay stage builds the first cut's
   halves on two threads);
 * ``ours_eo``   — ``cdt_plugin.triangulate(V, S)`` (no hole points: even-odd depth);
 * ``pythoncdt`` — artem-ogre/CDT: ``insert_vertices(V)``, ``insert_edges(S as uint32)``,

@@ -48,10 +48,11 @@ _NO_REGIONS = np.empty((0, 4))
 _NO_WEIGHTS = np.empty(0)
 #: From this many vertices the Delaunay stage of the route is built on two threads. Below
 #: it the threads' set-up (the halves' own sorts, the join) costs what they save: on the
-#: C1 polygons (benchmarks/bench_cdt.py; medians of 30 interleaved rounds) two threads took
-#: 1.02x one thread's time at 63,000 vertices, 0.97x at 80,000, 0.90-0.97x at 113,000,
-#: 0.87x at 250,000, 0.77x at 500,000.
-PARALLEL_VERTICES = 100_000
+#: C1 polygons (benchmarks/bench_cdt.py) two threads took 1.0x one thread's time at 63,000
+#: and 113,000 vertices, 0.87x at 250,000, 0.77x at 500,000. (At 113,000, warm in one
+#: process, 30 interleaved rounds gave 0.90-0.97x; in fresh processes 1.0-1.1x, and the
+#: constrained benchmark 1.15x with the threshold there: not worth lowering it.)
+PARALLEL_VERTICES = 200_000
 _NO_STORE = (np.empty(0, IDX), np.empty(0, IDX), np.empty(0, IDX), np.empty(0, np.int64),
              np.int64(0))     # (pipeline.no_store: the route builds its Delaunay triangulation itself)
 
@@ -152,7 +153,7 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         larger ``max_steiner`` for finer meshes).
     workers : int, optional
         Threads for the Delaunay triangulation of the vertices (divide and
-        conquer, from 100,000 vertices: the first cut's halves side by side);
+        conquer, from 200,000 vertices: the first cut's halves side by side);
         default every core. The result is the same with any number.
 
     Notes
