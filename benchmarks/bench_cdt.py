@@ -65,6 +65,7 @@ from __future__ import annotations
 
 import functools
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -296,9 +297,11 @@ def setup_ours(even_odd: bool = False, workers: int | None = None):
 
 
 def _parallel_vertices() -> int:
-    """From how many vertices ``triangulate`` builds its Delaunay stage on two threads."""
-    import cdt_plugin.cdt
-    return cdt_plugin.cdt.PARALLEL_VERTICES
+    """From how many vertices ``triangulate`` builds its Delaunay stage on two threads
+    (``cdt.PARALLEL_VERTICES``, read from the source: importing cdt_plugin here would
+    import numba before the cold-start timings of the worker processes)."""
+    source = (REPO_ROOT / "cdt_plugin" / "cdt.py").read_text(encoding="utf-8")
+    return int(re.search(r"^PARALLEL_VERTICES = ([\d_]+)$", source, re.M).group(1))
 
 
 def count_ours(res) -> int:
