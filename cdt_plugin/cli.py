@@ -645,12 +645,12 @@ def _write_parquet(path: Path, table: GeoDataFrame | pyarrow.Table,
                    progress: Callable[[int], object] | None = None) -> None:
     """GeoParquet: a GeoDataFrame by geopandas (WKB geometry), a pyarrow Table
     as it is, ``LAYER_ROWS`` rows per row group."""
-    if not hasattr(table, "schema"):                    # a GeoDataFrame
+    import pyarrow.parquet
+    if not isinstance(table, pyarrow.Table):           # a GeoDataFrame
         table.to_parquet(path)
         if progress is not None:
             progress(len(table))
         return
-    import pyarrow.parquet
     with pyarrow.parquet.ParquetWriter(path, table.schema) as writer:
         for i in range(0, max(len(table), 1), LAYER_ROWS):
             part = table.slice(i, LAYER_ROWS)
