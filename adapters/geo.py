@@ -58,6 +58,7 @@ from __future__ import annotations
 import datetime
 import json
 import math
+import operator
 import sys
 import warnings
 from dataclasses import dataclass, field
@@ -77,6 +78,7 @@ except ImportError as exc:
 
 from cdt_plugin import CDTError, InputShapeError, NoPolygonsError   # (NoPolygonsError: re-exported)
 from cdt_plugin.batch import MeshBatch, check_batch_options
+from cdt_plugin.parallel import available_cores
 
 from .shapely import Repair, triangle_polygons, triangulate_batch
 
@@ -697,7 +699,7 @@ def _register_accessor() -> None:
 
 
 def triangulate_dask(dask_geodataframe: dask_geopandas.GeoDataFrame, *, project: ProjectLike = None,
-                     repair: Repair = False, errors: str = "raise",
+                     repair: Repair = False, errors: str = "raise", npartitions: int | None = None,
                      **options: Any) -> dask_geopandas.GeoDataFrame:
     """:func:`triangulate` for a dask-geopandas GeoDataFrame: every partition is
     meshed where it lives (``map_partitions``), on whatever Dask scheduler is
@@ -713,6 +715,13 @@ def triangulate_dask(dask_geodataframe: dask_geopandas.GeoDataFrame, *, project:
     those of :func:`triangulate` (``progress``: use Dask's own diagnostics;
     ``workers`` defaults to 1 here: Dask runs the partitions in parallel).
 
+    ``npartitions``: the partitions to mesh (the frame is repartitioned to that
+    many first). By default the frame's own, split evenly when there are fewer
+    than two per worker that will run them (the threads of the connected
+    ``dask.distributed`` client, else this machine's cores), so that a frame
+    made in one piece (``from_geopandas(layer, npartitions=1)``) still uses
+    every worker; more partitions than that are kept as they are.
+
     >>> import dask_geopandas, geopandas, shapely
     >>> layer = geopandas.GeoDataFrame({"v": [1, 2]}, geometry=[shapely.box(0, 0, 1, 1),
     ...                                shapely.box(2, 0, 3, 1)])
@@ -723,6 +732,17 @@ def triangulate_dask(dask_geodataframe: dask_geopandas.GeoDataFrame, *, project:
     options.pop("progress", None)
     options.setdefault("workers", 1)    # Dask runs the partitions in parallel
     check_batch_options(errors=errors, **options)
+    if npartitions is not None:
+        try:
+            count = operator.index(npartitions)      # int and NumPy integers, not floats or bools
+        except TypeError:
+            count = 0
+        if isinstance(npartitions, bool) or count < 1:
+            raise CDTError(f"npartitions must be None or a whole number >= 1, got {npartitions!r}")
+    wanted = (operator.index(npartitions) if npartitions is not None
+              else max(dask_geodataframe.npartitions, 2 * _dask_workers()))
+    if wanted != dask_geodataframe.npartitions:
+        dask_geodataframe = dask_geodataframe.repartition(npartitions=wanted)
     crs = dask_geodataframe.crs
     if _centred(project):
         project = _target_crs(project, crs, _dask_extent(dask_geodataframe))
@@ -733,6 +753,17 @@ def triangulate_dask(dask_geodataframe: dask_geopandas.GeoDataFrame, *, project:
     kwargs = dict(project=project, repair=repair, errors=errors, **options)
     meta = _triangulate_partition(dask_geodataframe._meta, **kwargs)
     return dask_geodataframe.map_partitions(_triangulate_partition, meta=meta, **kwargs)
+
+
+def _dask_workers() -> int:
+    """The threads that will run a Dask computation: the connected distributed
+    client's (all its workers'), else this machine's cores (the threaded
+    scheduler)."""
+    try:
+        from distributed import get_client
+        return max(1, sum(get_client().nthreads().values()))
+    except (ImportError, ValueError):       # no distributed, or no client connected
+        return available_cores()
 
 
 def _dask_extent(dask_geodataframe) -> np.ndarray:

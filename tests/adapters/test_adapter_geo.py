@@ -466,6 +466,7 @@ def test_dask_local_cluster_matches_single_machine(countries):
         with pytest.warns(geo.GeographicCRSWarning):
             lazy = geo.triangulate_dask(ddf)
         assert isinstance(lazy, dask_geopandas.GeoDataFrame)
+        assert lazy.npartitions == 4                      # two per worker thread already: kept
         assert list(lazy.columns) == list(single.columns)
         result = lazy.compute()
         result_aeqd = geo.triangulate_dask(ddf, project="aeqd", repair=True, errors="skip").compute()
@@ -476,6 +477,30 @@ def test_dask_local_cluster_matches_single_machine(countries):
         assert names.to_dict() == countries["name"][names.index].to_dict()
     assert len(result["feature"].unique()) == len(countries) == len(result_aeqd["feature"].unique()) + 2
 
+
+
+@needs_corpus
+def test_dask_splits_a_frame_made_in_one_piece(countries):
+    """By default a frame with fewer partitions than two per worker (here: one, on the
+    threaded scheduler) is split so that every core has work; npartitions= chooses; the
+    triangles are those of the single-machine call whatever the partitions."""
+    dask_geopandas = pytest.importorskip("dask_geopandas")
+    from cdt_plugin.parallel import available_cores
+    layer = countries[countries["continent"] == "Africa"]
+    single = geo.triangulate(layer)
+    ddf = dask_geopandas.from_geopandas(layer, npartitions=1)
+    lazy = geo.triangulate_dask(ddf)
+    assert lazy.npartitions == max(2, 2 * available_cores())
+    assert triangle_sets(lazy.compute(scheduler="threads"), "feature") == triangle_sets(single, "feature")
+    three = geo.triangulate_dask(ddf, npartitions=np.int64(3))
+    assert three.npartitions == 3
+    assert triangle_sets(three.compute(scheduler="sync"), "feature") == triangle_sets(single, "feature")
+    mesh = geo.triangulate(layer, output="mesh")
+    for i, geometry in enumerate(layer.geometry.to_numpy()):        # the exact checker
+        verify_feature(mesh, i, geometry)
+    for bad in (0, 2.5, True):
+        with pytest.raises(geo.CDTError, match="npartitions must be None or a whole number"):
+            geo.triangulate_dask(ddf, npartitions=bad)
 
 @needs_corpus
 @pytest.mark.filterwarnings("ignore::cdt_plugin.adapters.geo.SkippedFeaturesWarning")
