@@ -76,6 +76,9 @@ def gis():
     assert abs(tris.area.sum() - 3.0) < 1e-9 and set(tris["name"]) == {"a", "b"}
     projected = geo.triangulate(frame.to_crs("EPSG:4326"), project="utm")   # pyproj
     assert len(projected) >= 4
+    table = geo.triangulate(frame, output="geoarrow")                       # pyarrow
+    back = geopandas.GeoDataFrame.from_arrow(table)
+    assert len(back) == 4 and abs(back.area.sum() - 3.0) < 1e-12 and back.crs == frame.crs
 
 
 def dask():
