@@ -819,7 +819,8 @@ def _mesh(frame, *, project, repair, errors, progress, options, require_polygons
     if warn and failed:
         _warn_skipped(failed, frame)
     offsets = np.searchsorted(position, np.arange(len(geoms) + 1)).astype(np.int64)
-    return GeoMesh(frame, vertices, batch.z, T, position, part, offsets, failed, target, batch)
+    return GeoMesh(frame, vertices, batch.z, T, position, part, offsets, failed, target, batch,
+                   options.get("workers"))
 
 
 def _folded_features(V, T, position, frame, target, errors) -> dict:
@@ -1198,6 +1199,8 @@ class GeoMesh:
         The CRS the meshing was done in (None: the source CRS).
     batch : MeshBatch
         The engine's result (vertices in the meshing CRS).
+    workers : int or None
+        Threads for making the outputs (the triangle Polygons), as meshed with.
     """
 
     source: GeoDataFrame
@@ -1210,6 +1213,7 @@ class GeoMesh:
     errors: dict[int, CDTError] = field(default_factory=dict)
     mesh_crs: pyproj.CRS | None = None
     batch: MeshBatch | None = None
+    workers: int | None = None
 
     def __len__(self) -> int:
         return len(self.triangles)
@@ -1240,17 +1244,17 @@ class GeoMesh:
     def triangle_polygons(self) -> NDArray[np.object_]:
         """One shapely Polygon per triangle (counter-clockwise closed shell; 3D
         for features with Z), built from flat coordinate arrays in one call per
-        dimension (``shapely.from_ragged_array``: about twice as fast as
-        ``shapely.polygons``, which builds a LinearRing first)."""
+        dimension and thread (``shapely.from_ragged_array``: about twice as fast
+        as ``shapely.polygons``, which builds a LinearRing first; on
+        :attr:`workers` threads for large layers)."""
         corners = self.triangles[:, [0, 1, 2, 0]]
         if self.z is None:
-            return triangle_polygons(self.vertices[corners])
+            return triangle_polygons(self.vertices, corners, self.workers)
         out = np.empty(len(corners), dtype=object)
         has_z = self.feature_has_z[self.position]
-        out[~has_z] = triangle_polygons(self.vertices[corners[~has_z]])
-        xyz = np.concatenate([self.vertices[corners[has_z]], self.z[corners[has_z]][..., None]],
-                             axis=2)
-        out[has_z] = triangle_polygons(xyz)
+        out[~has_z] = triangle_polygons(self.vertices, corners[~has_z], self.workers)
+        out[has_z] = triangle_polygons(np.column_stack([self.vertices, self.z]), corners[has_z],
+                                       self.workers)
         return out
 
     def to_geodataframe(self) -> GeoDataFrame:

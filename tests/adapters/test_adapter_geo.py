@@ -4,6 +4,7 @@ exact checker; the command line and the examples run as subprocesses."""
 from __future__ import annotations
 
 import doctest
+import importlib
 import json
 import os
 import subprocess
@@ -504,12 +505,18 @@ def test_dask_splits_a_frame_made_in_one_piece(countries):
 
 @needs_corpus
 @pytest.mark.filterwarnings("ignore::cdt_plugin.adapters.geo.SkippedFeaturesWarning")
-def test_workers_give_the_same_layer(countries):
+def test_workers_give_the_same_layer(countries, monkeypatch):
     one = geo.triangulate(countries, workers=1, min_angle=20, errors="skip")
     assert len(one.attrs["cdt_errors"]) > 0       # one feature cannot meet 20 degrees in lon/lat
-    for workers in (2, None):
+    # the triangle Polygons made on threads too (from 500 triangles a thread here)
+    monkeypatch.setattr(importlib.import_module("cdt_plugin.adapters.shapely"), "POLYGONS_PER_THREAD", 500)
+    for workers in (2, 3, None):
         many = geo.triangulate(countries, workers=workers, min_angle=20, errors="skip")
         assert many.equals(one) and many.attrs == one.attrs
+        assert np.array_equal(shapely.get_coordinates(many.geometry.array),
+                              shapely.get_coordinates(one.geometry.array))
+    mesh = geo.triangulate(countries, workers=3, min_angle=20, errors="skip", output="mesh")
+    assert mesh.workers == 3 and len(mesh) // 500 >= 3
     with pytest.raises(geo.CDTError, match="workers must be"):
         geo.triangulate(countries, workers=0)
 
