@@ -562,16 +562,18 @@ def to_shapely(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = None,
 
 #: Triangles per thread worth starting one for when making their polygons
 POLYGONS_PER_THREAD = 50_000
+#: At most this many triangles' rings are gathered at once when making their polygons
+POLYGON_PIECE = 1_000_000
 
 
 def triangle_polygons(vertices: NDArray[np.float64], corners: NDArray[np.int64],
                       workers: int | None = 1) -> NDArray[np.object_]:
     """One Polygon per row of ``corners`` ``(k, 4)``: the closed ring of those
     rows of ``vertices`` ``(n, 2)`` or ``(n, 3)``, made by one vectorised call
-    (``shapely.from_ragged_array``) per thread: ``workers`` threads (None:
-    every core) for large ``k``, each gathering its own part of the rings (GEOS
-    makes the polygons without the GIL: two threads took 0.67 s for 2 million,
-    one 1.47 s).
+    (``shapely.from_ragged_array``) per piece of at most ``POLYGON_PIECE``
+    rings, gathered piece by piece (never all the rings at once), on ``workers``
+    threads (None: every core) for large ``k`` (GEOS makes the polygons without
+    the GIL: two threads took 0.67 s for 2 million, one 1.47 s).
 
     >>> import numpy as np
     >>> triangle_polygons(np.array([[0.0, 0], [1, 0], [0, 1]]), np.array([[0, 1, 2, 0]])).tolist()
@@ -579,10 +581,11 @@ def triangle_polygons(vertices: NDArray[np.float64], corners: NDArray[np.int64],
     """
     k = len(corners)
     threads = resolve_workers(workers, k // POLYGONS_PER_THREAD)
-    bounds = [k * i // threads for i in range(threads + 1)]
+    pieces = max(threads, -(-k // POLYGON_PIECE))     # (a piece's rings: at most 64 MB in 2D)
+    bounds = [k * i // pieces for i in range(pieces + 1)]
     parts = map_ordered(lambda i: _ring_polygons(vertices[corners[bounds[i]:bounds[i + 1]]]),
-                        range(threads), threads)
-    return parts[0] if threads == 1 else np.concatenate(parts)
+                        range(pieces), threads)
+    return parts[0] if pieces == 1 else np.concatenate(parts)
 
 
 def _ring_polygons(rings: NDArray[np.float64]) -> NDArray[np.object_]:

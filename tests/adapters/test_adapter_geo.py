@@ -508,9 +508,12 @@ def test_dask_splits_a_frame_made_in_one_piece(countries):
 def test_workers_give_the_same_layer(countries, monkeypatch):
     one = geo.triangulate(countries, workers=1, min_angle=20, errors="skip")
     assert len(one.attrs["cdt_errors"]) > 0       # one feature cannot meet 20 degrees in lon/lat
-    # the triangle Polygons made on threads too (from 500 triangles a thread here)
-    monkeypatch.setattr(importlib.import_module("cdt_plugin.adapters.shapely"), "POLYGONS_PER_THREAD", 500)
-    for workers in (2, 3, None):
+    # the triangle Polygons made on threads too (from 500 triangles a thread here), in
+    # pieces of at most 700 triangles' rings
+    adapter = importlib.import_module("cdt_plugin.adapters.shapely")
+    monkeypatch.setattr(adapter, "POLYGONS_PER_THREAD", 500)
+    monkeypatch.setattr(adapter, "POLYGON_PIECE", 700)
+    for workers in (1, 2, 3, None):
         many = geo.triangulate(countries, workers=workers, min_angle=20, errors="skip")
         assert many.equals(one) and many.attrs == one.attrs
         assert np.array_equal(shapely.get_coordinates(many.geometry.array),
