@@ -58,7 +58,6 @@ from __future__ import annotations
 import datetime
 import json
 import math
-import operator
 import sys
 import warnings
 from dataclasses import dataclass, field
@@ -78,7 +77,7 @@ except ImportError as exc:
 
 from cdt_plugin import CDTError, InputShapeError, NoPolygonsError   # (NoPolygonsError: re-exported)
 from cdt_plugin.batch import MeshBatch, check_batch_options
-from cdt_plugin.parallel import available_cores
+from cdt_plugin.parallel import available_cores, check_count
 
 from .shapely import Repair, triangle_polygons, triangulate_batch
 
@@ -732,15 +731,8 @@ def triangulate_dask(dask_geodataframe: dask_geopandas.GeoDataFrame, *, project:
     options.pop("progress", None)
     options.setdefault("workers", 1)    # Dask runs the partitions in parallel
     check_batch_options(errors=errors, **options)
-    if npartitions is not None:
-        try:
-            count = operator.index(npartitions)      # int and NumPy integers, not floats or bools
-        except TypeError:
-            count = 0
-        if isinstance(npartitions, bool) or count < 1:
-            raise CDTError(f"npartitions must be None or a whole number >= 1, got {npartitions!r}")
-    wanted = (operator.index(npartitions) if npartitions is not None
-              else max(dask_geodataframe.npartitions, 2 * _dask_workers()))
+    count = check_count(npartitions, "npartitions")
+    wanted = count if count is not None else max(dask_geodataframe.npartitions, 2 * _dask_workers())
     if wanted != dask_geodataframe.npartitions:
         dask_geodataframe = dask_geodataframe.repartition(npartitions=wanted)
     crs = dask_geodataframe.crs

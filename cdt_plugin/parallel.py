@@ -93,14 +93,24 @@ def check_workers(workers: SupportsIndex | None) -> int | None:
     ...
     cdt_plugin.errors.CDTError: workers must be None or a whole number >= 1, got 0
     """
-    if workers is None:
+    return check_count(workers, "workers")
+
+
+def check_count(value: SupportsIndex | None, name: str) -> int | None:
+    """Validate an option that is None or a whole number >= 1 (``workers``,
+    ``npartitions``): the number, None, or a :class:`CDTError` naming ``name``.
+
+    >>> check_count(3, "npartitions"), check_count(None, "npartitions")
+    (3, None)
+    """
+    if value is None:
         return None
     try:
-        count = operator.index(workers)     # int and NumPy integers, not floats or bools
+        count = operator.index(value)       # int and NumPy integers, not floats or bools
     except TypeError:
         count = 0
-    if isinstance(workers, bool) or count < 1:
-        raise CDTError(f"workers must be None or a whole number >= 1, got {workers!r}")
+    if isinstance(value, bool) or count < 1:
+        raise CDTError(f"{name} must be None or a whole number >= 1, got {value!r}")
     return count
 
 
