@@ -18,10 +18,15 @@ code-generated again. So, in the kernels:
   ``refine_run``) are ``inline="always"``, so that the kernels below them are
   not code-generated once more for them; so is the route itself
   (``pipeline.cdt_route``), which its two entries (one call from Python, the
-  batch loop) would otherwise both link whole. Nothing else is: numba copies and
-  re-types an inlined function's IR at each call site, which costs more than
-  compiling it once (inlining every kernel with a single caller made first use
-  50% slower), and LLVM inlines small helpers anyway;
+  batch loop) would otherwise both link whole. Small helpers are plain kernels:
+  numba copies and re-types an inlined function's IR at each call site, which
+  costs more than compiling it once (inlining every kernel with a single caller
+  made first use 50% slower; the quad-edge helpers of :mod:`.divide` inlined at
+  their ~150 call sites cost 3-4 s of a first ``delaunay``), and LLVM inlines
+  them anyway. The exceptions are the helpers of the insertion and flip loops
+  with many array arguments (``kernel.orient``, ``lifted_test``,
+  ``edge_is_illegal``, ``mesh.flip``, ``locate``'s steps): LLVM leaves some of
+  them as calls, which made a 50,000-vertex polygon 17% slower;
 * copy with loops (:func:`.arrays.copy_rows`), not slice assignment, which
   compiles numba's broadcasting and its string-formatted errors;
 * the exact predicates' slow stages are called by symbol (:mod:`.predicates`),
