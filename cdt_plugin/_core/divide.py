@@ -29,34 +29,34 @@ from .mesh import IDX
 QUAD_SLACK = 8   # quad-edges beyond 3 per point that a subdivision may take
 
 
-@kernel
+@kernel(forceinline=True)
 def rot(e):
     return (e & ~3) | ((e + 1) & 3)
 
 
-@kernel
+@kernel(forceinline=True)
 def sym(e):
     return e ^ 2
 
 
-@kernel
+@kernel(forceinline=True)
 def rot_inv(e):
     return (e & ~3) | ((e + 3) & 3)
 
 
-@kernel
+@kernel(forceinline=True)
 def lnext(onext, e):
     """The next edge counter-clockwise around the left face of ``e``."""
     return rot(onext[rot_inv(e)])
 
 
-@kernel
+@kernel(forceinline=True)
 def oprev(onext, e):
     """The next edge clockwise around the origin of ``e``."""
     return rot(onext[rot(e)])
 
 
-@kernel
+@kernel(forceinline=True)
 def splice(onext, a, b):
     """Guibas and Stolfi's splice: joins or separates the origin rings of
     ``a`` and ``b`` (and, dually, their left faces)."""
@@ -70,7 +70,7 @@ def splice(onext, a, b):
     onext[beta] = t
 
 
-@kernel
+@kernel(forceinline=True)
 def make_edge(onext, org, free, nfree, top, a, b):
     """A new isolated edge ``a -> b``; returns ``(edge, nfree, top)``."""
     if nfree > 0:
@@ -89,7 +89,7 @@ def make_edge(onext, org, free, nfree, top, a, b):
     return e, nfree, top
 
 
-@kernel
+@kernel(forceinline=True)
 def delete_edge(onext, org, free, nfree, e):
     """Disconnect ``e`` from the subdivision and recycle its quad-edge."""
     splice(onext, e, oprev(onext, e))
@@ -100,12 +100,12 @@ def delete_edge(onext, org, free, nfree, e):
     return nfree + 1
 
 
-@kernel
+@kernel(forceinline=True)
 def ccw(x, y, a, b, c):
     return orient(x, y, a, b, c) > 0
 
 
-@kernel
+@kernel(forceinline=True)
 def in_circle(x, y, w, a, b, c, d):
     """Whether ``d`` lies in the (perturbed) circumdisk of counter-clockwise
     ``(a, b, c)``; a repeated vertex is never inside."""
@@ -163,7 +163,7 @@ def select(a, b, lo, hi, k):
             j -= 1
 
 
-@kernel
+@kernel(forceinline=True)
 def vertex_less(x, y, a, b, axis):
     if axis == 0:
         return x[a] < x[b] or (x[a] == x[b] and y[a] < y[b])
@@ -289,7 +289,7 @@ def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi, axis,
     return results[0], results[1], top, nfree
 
 
-@kernel
+@kernel(forceinline=True)
 def connect(onext, org, free, nfree, top, a, b):
     """A new edge from the destination of ``a`` to the origin of ``b``, with
     the left faces of ``a`` and ``b`` on its left."""
@@ -539,7 +539,7 @@ def build_half(x, y, w, u, r, lo, hi, onext, org, free, base):
     return nfree, top, ldo, rdo
 
 
-@kernel
+@kernel(forceinline=True)
 def moved_quad(free, nfree, top, i):
     """The quad-edge that one thread gives the right half's ``i``-th: the left
     half's freed ones first, last freed first, then new ones after ``top``."""

@@ -21,7 +21,7 @@ from .regions import segment_depths
 from .status import LOCATE_FAILED, OK, ON_VERTEX
 
 
-@kernel
+@kernel(forceinline=True)
 def cell_of(frame, qx, qy):
     """The cell of ``(qx, qy)`` in the start grid ``frame = (x0, y0, 1 / cell
     size, cells per side)`` (points beyond it: the nearest border cell)."""

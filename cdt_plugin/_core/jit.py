@@ -13,20 +13,25 @@ code-generated again. So, in the kernels:
 
 * call kernels with typed values, not literals: ``f(a, 0)`` and ``f(a, 1)``
   compile ``f`` twice (``np.int64(0)``, ``np.bool_(False)`` or a variable do not);
+  a small kernel that many callers give mixed integer types (``int32`` from the
+  store, ``int64``, literals) declares its signature instead (``@kernel("void(int32[::1],
+  int64)")``: a :class:`DeclaredKernel`, compiled once, arguments converted);
 * the intermediate stages with a single caller (``build_mesh``, ``build``,
   ``insert_vertices``, ``insert_all_segments``, ``insert_one``, ``refine_store``,
   ``refine_run``) are ``inline="always"``, so that the kernels below them are
   not code-generated once more for them; so is the route itself
   (``pipeline.cdt_route``), which its two entries (one call from Python, the
-  batch loop) would otherwise both link whole. Small helpers are plain kernels:
-  numba copies and re-types an inlined function's IR at each call site, which
-  costs more than compiling it once (inlining every kernel with a single caller
-  made first use 50% slower; the quad-edge helpers of :mod:`.divide` inlined at
-  their ~150 call sites cost 3-4 s of a first ``delaunay``), and LLVM inlines
-  them anyway. The exceptions are the helpers of the insertion and flip loops
-  with many array arguments (``kernel.orient``, ``lifted_test``,
-  ``edge_is_illegal``, ``mesh.flip``, ``locate``'s steps): LLVM leaves some of
-  them as calls, which made a 50,000-vertex polygon 17% slower;
+  batch loop) would otherwise both link whole. Small helpers are not: numba
+  copies and re-types an inlined function's IR at each call site, which costs
+  more than compiling it once (inlining every kernel with a single caller made
+  first use 50% slower). Those in hot loops are ``forceinline=True`` instead
+  (compiled once; LLVM inlines them at every call site): the quad-edge helpers
+  of :mod:`.divide`, whose ~150 numba-inlined call sites cost 3 s of a first
+  ``delaunay``, and left as plain calls made it 5% slower. The helpers of the
+  insertion and flip loops (``kernel.orient``, ``lifted_test``,
+  ``edge_is_illegal``, ``mesh.flip``, ``locate``'s steps) stay
+  ``inline="always"``: with ``forceinline`` a 50,000-vertex polygon took 5%
+  longer (numba folds their literal arguments before LLVM sees them);
 * copy with loops (:func:`.arrays.copy_rows`), not slice assignment, which
   compiles numba's broadcasting and its string-formatted errors;
 * the exact predicates' slow stages are called by symbol (:mod:`.predicates`),
@@ -35,9 +40,50 @@ code-generated again. So, in the kernels:
 from __future__ import annotations
 
 from numba import njit
+from numba.core.compiler_lock import global_compiler_lock
+from numba.core.registry import CPUDispatcher
+
+_OPTIONS = {"no_cfunc_wrapper": True, "nogil": True}
 
 
 def kernel(*signature, **options):
-    """Decorator: ``numba.njit(*signature, cache=True, no_cfunc_wrapper=True, nogil=True,
-    **options)``."""
-    return njit(*signature, cache=True, no_cfunc_wrapper=True, nogil=True, **options)
+    """Decorator: ``numba.njit(cache=True, no_cfunc_wrapper=True, nogil=True,
+    **options)``; with a signature, a :class:`DeclaredKernel` of it."""
+    if not signature:
+        return njit(cache=True, **_OPTIONS, **options)
+    if len(signature) == 1 and callable(signature[0]) and not hasattr(signature[0], "args"):
+        return njit(cache=True, **_OPTIONS, **options)(signature[0])   # bare @kernel
+
+    def declare(py_func):
+        compiled = DeclaredKernel(py_func=py_func, locals={},
+                                  targetoptions={"nopython": True, **_OPTIONS, **options})
+        compiled.declared = signature
+        compiled.enable_caching()
+        return compiled
+    return declare
+
+
+class DeclaredKernel(CPUDispatcher):
+    """A kernel compiled for its declared signature only, as
+    ``numba.njit(signature)``, but on first use rather than when its module is
+    imported: a new process whose routes all load from the cache then never
+    loads it at all (their cached code contains it), which saves about 5 ms
+    per kernel at ``import cdt_plugin`` (the exact predicates: 40 of them).
+    Callers' arguments are converted to the declared types, never compiled
+    for others (numba would otherwise specialise on every literal argument,
+    and would evaluate a predicate given integers in overflowing int64)."""
+
+    declared: tuple = ()
+
+    def compile(self, sig):
+        with global_compiler_lock:   # (reentrant: numba's own compile takes it too)
+            if self.declared:
+                declared, self.declared = self.declared, ()
+                for each in declared:
+                    super().compile(each)
+                self.disable_compile()
+            if self._can_compile:
+                return super().compile(sig)
+            # a call from Python with other argument types: the declared entry,
+            # whose wrapper converts them
+            return next(iter(self.overloads.values())).entry_point

@@ -25,26 +25,26 @@ DEAD = -2
 IDX = np.int32  # storage dtype of vertex and half-edge indices
 
 
-@kernel
+@kernel("int64(int64)")   # (declared: callers pass int32 and int64 half-edges)
 def nxt(e):
     """The next half-edge of ``e`` inside its triangle (counter-clockwise)."""
     return e - 2 if e % 3 == 2 else e + 1
 
 
-@kernel
+@kernel("int64(int64)")
 def prv(e):
     """The previous half-edge of ``e`` inside its triangle."""
     return e + 2 if e % 3 == 0 else e - 1
 
 
-@kernel
+@kernel("void(int32[::1], int64, int64)")
 def link(twin, e, f):
     """Make ``e`` and ``f`` twins of each other."""
     twin[e] = f
     twin[f] = e
 
 
-@kernel
+@kernel("void(int32[::1], int64, int64, int64, int64)")   # (declared: callers pass literals, int32, int64)
 def set_triangle(tri, t, a, b, c):
     """Write the vertices of triangle ``t`` as ``(a, b, c)`` (counter-clockwise)."""
     tri[3 * t] = a

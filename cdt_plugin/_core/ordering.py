@@ -121,7 +121,7 @@ def lexicographic_order_compiled(x, y):
     """:func:`lexicographic_order` in one compiled call."""
     n = x.shape[0]
     order = np.arange(n)
-    sort_ids(order, 0, n, x, y, np.empty(n, np.int64))
+    sort_ids(order, np.int64(0), n, x, y, np.empty(n, np.int64))
     return order
 
 

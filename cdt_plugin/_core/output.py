@@ -167,7 +167,7 @@ def cdt_arrays(T, N, cflag, inside, remap):
     return triangles, neighbors, constrained, segments, segment_ids, keep
 
 
-@kernel
+@kernel(forceinline=True)
 def is_listed_piece(t, m, flag, inside):
     """Whether the constrained edge of triangle ``t`` across from neighbour ``m``
     is listed as a segment piece: once (from its lower triangle), and only

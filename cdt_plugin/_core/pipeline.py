@@ -729,7 +729,7 @@ def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, 
     return status, ints, vertices
 
 
-@kernel
+@kernel(forceinline=True)
 def put(dst, p, src):
     """Copy ``src`` (1-D) into ``dst`` from slot ``p``; returns the slot after it."""
     for i in range(src.shape[0]):

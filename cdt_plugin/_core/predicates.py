@@ -121,7 +121,9 @@ ICCW_ERRBOUND_A = (16.0 + 256.0 * EPSILON) * EPSILON
 # Explicit signatures everywhere: every function is compiled exactly once (numba
 # would otherwise specialise the expansion routines on every literal offset),
 # and the public predicates take float64 only (integer arguments are converted,
-# never evaluated in overflowing int64).
+# never evaluated in overflowing int64). They are compiled on first use
+# (:class:`.jit.DeclaredKernel`), not at import: a process whose routes load
+# from the cache never loads them.
 _f8 = types.float64
 _i8 = types.int64
 _b1 = types.boolean

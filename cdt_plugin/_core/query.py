@@ -222,7 +222,7 @@ def put_on_edge(out, i, x, y, a, b, qx, qy, values):
     add_weighted(out, i, values, b, s)
 
 
-@kernel
+@kernel(forceinline=True)
 def circumcentre(ax, ay, bx, by, cx, cy):
     """Circumcentre of (a, b, c), coordinates relative to any origin (the
     caller puts the query at the origin for accuracy)."""

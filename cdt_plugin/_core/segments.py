@@ -382,7 +382,7 @@ def intersection_point(x, y, p0, p1, q0, q1):
     return px, py
 
 
-@kernel
+@kernel("int64(int64[:, ::1], int64, int64, int64, int64)")
 def push_task(tasks, ntask, a, b, sid):
     """Queue segment piece ``a b`` of segment ``sid`` (nothing if ``a == b``)."""
     if a == b:
