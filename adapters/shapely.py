@@ -632,7 +632,9 @@ def clip_cells_to_polygon(vor: cdt_plugin.Voronoi, clip: Any) -> NDArray[np.obje
     with it by GEOS. One Polygon or MultiPolygon per site (a non-convex region
     can cut a cell in pieces), an empty Polygon where nothing is left.
     Raises :class:`cdt_plugin.ClipRegionError` for a non-polygonal, invalid or
-    empty region, or one that contains none of the sites."""
+    empty region, or one that contains none of the sites, and
+    :class:`cdt_plugin.CoordinateRangeError` when two sites are too close for
+    GEOS beside the region's coordinates (:data:`GEOS_RANGE`)."""
     from cdt_plugin.errors import ClipRegionError
     geom = clip if isinstance(clip, shapely.Geometry) else shapely.geometry.shape(clip) \
         if hasattr(clip, "__geo_interface__") else None
@@ -642,14 +644,46 @@ def clip_cells_to_polygon(vor: cdt_plugin.Voronoi, clip: Any) -> NDArray[np.obje
     if geom.is_empty or not geom.is_valid:
         raise ClipRegionError(f"clip polygon is {'empty' if geom.is_empty else 'invalid'}: "
                               f"{shapely.is_valid_reason(geom)}")
-    sites = shapely.points(vor.points)
-    shapely.prepare(geom)
-    if not shapely.intersects(geom, sites).any():
+    # GEOS works on everything scaled by a power of two (exact) to the region's size
+    e = _geos_exponent(vor, geom)
+    scaled = (lambda g, k: shapely.transform(g, lambda c: np.ldexp(c, k))) if e else (lambda g, k: g)
+    region = scaled(geom, -e)
+    shapely.prepare(region)
+    if not shapely.intersects(region, scaled(shapely.points(vor.points), -e)).any():
         raise ClipRegionError(f"the clip polygon contains none of the {len(vor.points)} points")
     boxed = vor.clipped(tuple(geom.bounds))
     assert boxed.cell_offsets is not None and boxed.cell_xy is not None
-    cells = shapely.intersection(cells_to_polygons(boxed.cell_offsets, boxed.cell_xy), geom)
-    return _polygonal_parts(cells)
+    cells = shapely.intersection(scaled(cells_to_polygons(boxed.cell_offsets, boxed.cell_xy), -e), region)
+    return _polygonal_parts(scaled(cells, e))
+
+
+#: GEOS intersects in doubles: the closest sites' distance, relative to the
+#: clip region's coordinates, at least 2**-510 (squares of such differences
+#: stay normal doubles; below, cells a few such distances wide came out of GEOS
+#: overlapping or empty)
+GEOS_RANGE = 510
+
+
+def _geos_exponent(vor: cdt_plugin.Voronoi, geom: Any) -> int:
+    """The power of two that brings the clip region's coordinates near 1 for
+    GEOS (exact scaling: any overall scale works), or a
+    :class:`cdt_plugin.CoordinateRangeError` when the closest two sites are
+    too close for GEOS beside the region's coordinates."""
+    from cdt_plugin.errors import CoordinateRangeError
+    top = float(np.abs(np.asarray(geom.bounds)).max())
+    e = int(np.frexp(top)[1]) if top > 0 else 0
+    pts, tri = vor.points, vor._tri.triangles
+    a, b = tri.ravel(), tri[:, [1, 2, 0]].ravel()
+    gap = np.hypot(pts[a, 0] - pts[b, 0], pts[a, 1] - pts[b, 1])
+    k = int(np.argmin(gap))
+    if np.ldexp(gap[k], -e) < 2.0 ** -GEOS_RANGE:
+        raise CoordinateRangeError(
+            f"sites {int(a[k])} {pts[a[k]].tolist()} and {int(b[k])} {pts[b[k]].tolist()} are "
+            f"{gap[k]:.3g} apart, beside clip coordinates up to {top:.3g}: too close for GEOS to "
+            f"intersect their cells with the clip polygon in doubles (at most 2**{GEOS_RANGE} "
+            "between them); clip with a box (xmin, ymin, xmax, ymax), which cdt_plugin cuts itself "
+            "at any scale, or clip the points' own neighbourhood", rows=(int(a[k]), int(b[k])))
+    return e
 
 
 def _polygonal_parts(geoms: NDArray[np.object_]) -> NDArray[np.object_]:

@@ -369,3 +369,30 @@ def test_bad_input_raises():
         sa.voronoi_polygons(g, extend_to="POINT (0 0)")
     with pytest.raises(cdt_plugin.InputShapeError, match="cannot be broadcast together"):
         sa.voronoi_polygons([g, g], tolerance=[0, 0, 0])
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-150, 1.0, 1e150, 1e300])
+def test_polygon_clip_tiles_the_region_at_any_overall_scale(scale):
+    # GEOS is given everything scaled by a power of two to the region's size
+    P = np.random.default_rng(3).random((60, 2)) * scale
+    region = shapely.affinity.scale(shapely.Point(0.5, 0.5).buffer(0.7), scale, scale, origin=(0, 0))
+    cells = cdt_plugin.delaunay(P).voronoi(clip=region).to_shapely()
+    unit = lambda g: shapely.transform(g, lambda c: c / scale)     # areas at unit scale
+    assert sum(unit(c).area for c in cells) == pytest.approx(unit(region).area, rel=REL)
+    inside = shapely.contains_xy(unit(region), P[:, 0] / scale, P[:, 1] / scale)
+    assert inside.sum() > 40
+    for c, p in zip(cells[inside], P[inside]):
+        assert shapely.intersects(unit(c), shapely.Point(p / scale))
+
+
+def test_polygon_clip_of_sites_too_close_for_geos_raises_a_range_error():
+    # sites 1e-200 apart beside a region of size 5: GEOS's cells came out overlapping
+    P = np.random.default_rng(7).random((50, 2)) * 1e-200
+    tri = cdt_plugin.delaunay(P)
+    with pytest.raises(cdt_plugin.CoordinateRangeError, match="too close for GEOS") as err:
+        tri.voronoi(clip=shapely.Point(0, 0).buffer(3))
+    a, b = err.value.rows
+    assert np.hypot(*(tri.vertices[a] - tri.vertices[b])) < 1e-200
+    # a box is cut by cdt_plugin itself: its cells tile it
+    cells = tri.voronoi(clip=(-3.0, -3.0, 3.0, 3.0)).to_shapely()
+    assert sum(c.area for c in cells) == pytest.approx(36.0, rel=REL)
