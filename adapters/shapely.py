@@ -672,8 +672,8 @@ def _geos_exponent(vor: cdt_plugin.Voronoi, geom: Any) -> int:
     from cdt_plugin.errors import CoordinateRangeError
     top = float(np.abs(np.asarray(geom.bounds)).max())
     e = int(np.frexp(top)[1]) if top > 0 else 0
-    pts, tri = vor.points, vor._tri.triangles
-    a, b = tri.ravel(), tri[:, [1, 2, 0]].ravel()
+    pts = vor.points
+    a, b = vor.ridge_points.T            # neighbouring cells (the closest two sites are among them)
     gap = np.hypot(pts[a, 0] - pts[b, 0], pts[a, 1] - pts[b, 1])
     k = int(np.argmin(gap))
     if np.ldexp(gap[k], -e) < 2.0 ** -GEOS_RANGE:
