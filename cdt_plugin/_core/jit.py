@@ -1,7 +1,8 @@
 """How every kernel is compiled, and what keeps first use short.
 
 :func:`kernel` is ``numba.njit`` with the options every kernel shares: cached
-on disk, no C-callable wrapper (nothing here takes a kernel's address, and
+on disk (the cache opened when the kernel is first compiled or loaded,
+:class:`Kernel`), no C-callable wrapper (nothing here takes a kernel's address, and
 numba would otherwise lower and code-generate one for every compilation), and
 without the GIL: a call from Python releases it on entry, so threads run
 kernels side by side (nothing in a kernel touches Python objects or shared
@@ -39,31 +40,45 @@ code-generated again. So, in the kernels:
 """
 from __future__ import annotations
 
-from numba import njit
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.registry import CPUDispatcher
 
-_OPTIONS = {"no_cfunc_wrapper": True, "nogil": True}
+_OPTIONS = {"nopython": True, "no_cfunc_wrapper": True, "nogil": True}
 
 
 def kernel(*signature, **options):
-    """Decorator: ``numba.njit(cache=True, no_cfunc_wrapper=True, nogil=True,
-    **options)``; with a signature, a :class:`DeclaredKernel` of it."""
-    if not signature:
-        return njit(cache=True, **_OPTIONS, **options)
+    """Decorator: a compiled kernel, ``numba.njit(cache=True, no_cfunc_wrapper=True,
+    nogil=True, **options)`` (a :class:`Kernel`); with a signature, a
+    :class:`DeclaredKernel` of it."""
     if len(signature) == 1 and callable(signature[0]) and not hasattr(signature[0], "args"):
-        return njit(cache=True, **_OPTIONS, **options)(signature[0])   # bare @kernel
+        return kernel(**options)(signature[0])          # bare @kernel
 
-    def declare(py_func):
-        compiled = DeclaredKernel(py_func=py_func, locals={},
-                                  targetoptions={"nopython": True, **_OPTIONS, **options})
+    def make(py_func):
+        compiled = (DeclaredKernel if signature else Kernel)(
+            py_func=py_func, locals={}, targetoptions={**_OPTIONS, **options})
         compiled.declared = signature
-        compiled.enable_caching()
         return compiled
-    return declare
+    return make
 
 
-class DeclaredKernel(CPUDispatcher):
+class Kernel(CPUDispatcher):
+    """``numba.njit(cache=True)`` whose disk cache is opened when it is first
+    compiled or loaded, not when it is defined: a process whose routes load
+    from the cache never opens the caches of the ~300 kernels inside them
+    (their cached code contains them), about 15 ms of ``import cdt_plugin``."""
+
+    declared: tuple = ()
+    cache_opened = False
+
+    def compile(self, sig):
+        with global_compiler_lock:   # (reentrant: numba's own compile takes it too)
+            if not self.cache_opened:
+                self.cache_opened = True
+                self.enable_caching()
+            return super().compile(sig)
+
+
+class DeclaredKernel(Kernel):
     """A kernel compiled for its declared signature only, as
     ``numba.njit(signature)``, but on first use rather than when its module is
     imported: a new process whose routes all load from the cache then never
@@ -73,10 +88,8 @@ class DeclaredKernel(CPUDispatcher):
     for others (numba would otherwise specialise on every literal argument,
     and would evaluate a predicate given integers in overflowing int64)."""
 
-    declared: tuple = ()
-
     def compile(self, sig):
-        with global_compiler_lock:   # (reentrant: numba's own compile takes it too)
+        with global_compiler_lock:
             if self.declared:
                 declared, self.declared = self.declared, ()
                 for each in declared:

@@ -1,11 +1,13 @@
 """How kernels are compiled (cdt_plugin._core.jit): a declared signature is
 compiled once, on first use, and every caller's arguments are converted to it."""
+import os
+
 import numpy as np
 from numba import njit, types
 
 import cdt_plugin
 from cdt_plugin._core import predicates
-from cdt_plugin._core.jit import DeclaredKernel, kernel
+from cdt_plugin._core.jit import DeclaredKernel, Kernel, kernel
 
 
 @kernel("int64(int64)")
@@ -18,10 +20,21 @@ def half_sum(a, b):
     return (a + b) / 2
 
 
+@kernel
+def times_two(x):
+    return 2 * x
+
+
 @njit
 def call_with_mixed_types(a):
     # a literal, an int32 and an int64: numba would compile three specialisations
     return plus_one(3) + plus_one(np.int32(a)) + plus_one(a)
+
+
+def test_kernel_opens_its_disk_cache_on_first_compilation():
+    assert isinstance(times_two, Kernel) and not times_two.cache_opened
+    assert times_two(np.int64(21)) == 42
+    assert times_two.cache_opened and os.path.isdir(times_two.stats.cache_path)
 
 
 def test_declared_kernel_compiles_on_first_use_only():
