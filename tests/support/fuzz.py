@@ -319,6 +319,8 @@ def check_voronoi(rng):
         _require(not inside.any(), "ClipRegionError for a box holding points")
         return
     _check_coverage(vor, box)
+    if rng.random() < 0.3:
+        _check_polygon_clip(tri, e, rng)
     # (at unit scale, where squares neither overflow nor underflow: the scale is a power of two)
     U, cells = np.ldexp(V, -e), [np.ldexp(vor.cell(i), -e) for i in range(len(V))]
     wu = None if w is None else np.ldexp(w, -2 * e)
@@ -327,6 +329,33 @@ def check_voronoi(rng):
         power = ((U - x) ** 2).sum(axis=1) - (0 if wu is None else wu)
         near = np.flatnonzero(power <= power.min() + 1e-9 * max(1.0, abs(power.min())))
         _require(any(_holds(cells[i], x) for i in near), f"sample {x.tolist()} in no nearest cell")
+
+
+def _check_polygon_clip(tri, e, rng) -> None:
+    """Cells clipped to a polygon (a disc round a random point of the points'
+    box, through GEOS) tile it, at unit scale; or the documented errors: no
+    point in it, or two sites too close for GEOS beside its coordinates."""
+    try:
+        import shapely
+    except ImportError:
+        return
+    U = np.ldexp(tri.vertices, -e)
+    lo, hi = U.min(axis=0), U.max(axis=0)
+    centre = lo + (hi - lo) * rng.random(2)
+    disc = shapely.Point(*centre).buffer(float(max(hi - lo)) * (0.1 + rng.random()), 16)
+    region = shapely.transform(disc, lambda c: np.ldexp(c, e))
+    try:
+        cells = tri.voronoi(clip=region).to_shapely()
+    except cdt_plugin.ClipRegionError:
+        _require(not shapely.contains_xy(disc, U[:, 0], U[:, 1]).any(), "ClipRegionError for a disc holding points")
+        return
+    except cdt_plugin.CoordinateRangeError as err:
+        a, b = err.rows
+        gap = np.hypot(*(U[a] - U[b]))
+        _require(gap < 2.0 ** -500 * np.abs(disc.bounds).max(), f"CoordinateRangeError for sites {gap} apart")
+        return
+    area = sum(shapely.transform(c, lambda xy: np.ldexp(xy, -e)).area for c in cells)
+    _require(abs(area - disc.area) <= 1e-9 * disc.area, f"polygon-clipped cells cover {area} of {disc.area}")
 
 
 def _lifted_test(V, w, a, b, c, d) -> int:
