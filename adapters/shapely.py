@@ -646,15 +646,19 @@ def clip_cells_to_polygon(vor: cdt_plugin.Voronoi, clip: Any) -> NDArray[np.obje
                               f"{shapely.is_valid_reason(geom)}")
     # GEOS works on everything scaled by a power of two (exact) to the region's size
     e = _geos_exponent(vor, geom)
-    scaled = (lambda g, k: shapely.transform(g, lambda c: np.ldexp(c, k))) if e else (lambda g, k: g)
-    region = scaled(geom, -e)
+    region = _scaled(geom, -e)
     shapely.prepare(region)
-    if not shapely.intersects(region, scaled(shapely.points(vor.points), -e)).any():
+    if not shapely.intersects(region, _scaled(shapely.points(vor.points), -e)).any():
         raise ClipRegionError(f"the clip polygon contains none of the {len(vor.points)} points")
     boxed = vor.clipped(tuple(geom.bounds))
     assert boxed.cell_offsets is not None and boxed.cell_xy is not None
-    cells = shapely.intersection(scaled(cells_to_polygons(boxed.cell_offsets, boxed.cell_xy), -e), region)
-    return _polygonal_parts(scaled(cells, e))
+    cells = shapely.intersection(_scaled(cells_to_polygons(boxed.cell_offsets, boxed.cell_xy), -e), region)
+    return _polygonal_parts(_scaled(cells, e))
+
+
+def _scaled(geometry: Any, k: int) -> Any:
+    """``geometry`` (one or an array) with every coordinate times ``2**k``: exact."""
+    return shapely.transform(geometry, lambda xy: np.ldexp(xy, k)) if k else geometry
 
 
 #: GEOS intersects in doubles: the closest sites' distance, relative to the

@@ -54,8 +54,9 @@ def kernel(*signature, **options):
         return kernel(**options)(signature[0])          # bare @kernel
 
     def make(py_func):
-        compiled = (DeclaredKernel if signature else Kernel)(
-            py_func=py_func, locals={}, targetoptions={**_OPTIONS, **options})
+        if not signature:
+            return Kernel(py_func=py_func, locals={}, targetoptions={**_OPTIONS, **options})
+        compiled = DeclaredKernel(py_func=py_func, locals={}, targetoptions={**_OPTIONS, **options})
         compiled.declared = signature
         return compiled
     return make
@@ -67,7 +68,6 @@ class Kernel(CPUDispatcher):
     from the cache never opens the caches of the ~300 kernels inside them
     (their cached code contains them), about 15 ms of ``import cdt_plugin``."""
 
-    declared: tuple = ()
     cache_opened = False
 
     def compile(self, sig):
@@ -87,6 +87,8 @@ class DeclaredKernel(Kernel):
     Callers' arguments are converted to the declared types, never compiled
     for others (numba would otherwise specialise on every literal argument,
     and would evaluate a predicate given integers in overflowing int64)."""
+
+    declared: tuple = ()     # the signatures still to compile
 
     def compile(self, sig):
         with global_compiler_lock:
