@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import kernel
+from .jit import entry, kernel
 from .predicates import incircle, incircle_weighted, orient2d
 from .query import OUTSIDE, walk
 
 
-@kernel
+@entry
 def orientation_signs(x, y, triangles):
     """Exact orientation sign of every triangle (+1 counter-clockwise, 0 flat)."""
     out = np.empty(triangles.shape[0], np.int64)
@@ -30,7 +30,7 @@ def opposite_vertex(triangles, neighbors, k, m):
     return -1
 
 
-@kernel
+@entry
 def edge_lifted_values(vx, vy, vw, weighted, triangles, neighbors):
     """For every interior edge (listed once): the sign of the exact lifted test of
     the far vertex against the near triangle (> 0: not locally Delaunay,
@@ -66,7 +66,7 @@ def locate_in_arrays(vx, vy, triangles, neighbors, px, py, start=0):
     return -1 if code == OUTSIDE else t
 
 
-@kernel
+@entry
 def locate_all(vx, vy, triangles, neighbors, px, py):
     """:func:`locate_in_arrays` for many points, each walk starting where the
     previous one ended (nearby points in a row walk a few steps)."""
@@ -79,7 +79,7 @@ def locate_all(vx, vy, triangles, neighbors, px, py):
     return out
 
 
-@kernel
+@entry
 def submerged_ok(vx, vy, vw, triangles, neighbors, sx, sy, sw):
     """For each submerged point: 1 if its lifted point lies on or above the lifted
     triangulation (so leaving it out is right), else 0."""

@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import kernel
+from .jit import entry, kernel
 
 
-@kernel
+@entry
 def first_nonfinite_row(xy):
     """The first row of ``xy`` (n, 2) with a NaN or infinite coordinate, or -1."""
     for i in range(xy.shape[0]):
@@ -20,7 +20,7 @@ def first_nonfinite_row(xy):
     return -1
 
 
-@kernel
+@entry
 def first_segment_out_of_range(segs, n):
     """The first row of ``segs`` (m, 2) naming a vertex outside ``0..n-1``, or -1."""
     for i in range(segs.shape[0]):

@@ -15,7 +15,7 @@ import numpy as np
 from .divide import build_divide_sorted
 from .flips import flip_to_delaunay
 from .insertion import insert_vertices
-from .jit import kernel
+from .jit import entry, kernel
 from .kernel import orient
 from .locate import same_point
 from .mesh import IDX, make_first_triangle
@@ -28,7 +28,7 @@ FLIP = 2
 ALGORITHM_CODES = {"divide": DIVIDE, "incremental": INCREMENTAL, "flip": FLIP}
 
 
-@kernel
+@entry
 def seed_triangle(x, y, order):
     """Positions in ``order`` of the 2nd and 3rd vertex of a first, non-degenerate
     triangle (the 1st is ``order[0]``); -1 where none exists (all points equal,
@@ -49,7 +49,7 @@ def seed_triangle(x, y, order):
     return k1, -1
 
 
-@kernel
+@entry
 def seed_first(order, k1, k2):
     """``order`` with the seed triangle's vertices (positions 0, k1, k2) in front."""
     out = np.empty(order.shape[0], np.int64)
@@ -64,7 +64,7 @@ def seed_first(order, k1, k2):
     return out
 
 
-@kernel(inline="always")
+@entry(inline="always")
 def build(x, y, w, weighted, inf, order, hull_only, dup_of, submerged, counts, extra, with_cons):
     """Triangulate ``order[0:3]`` (a non-degenerate triangle), then insert the rest.
     ``extra`` reserves room for that many more vertices (Steiner points);
@@ -86,7 +86,7 @@ def build(x, y, w, weighted, inf, order, hull_only, dup_of, submerged, counts, e
     return status, tri, twin, cons, ntri
 
 
-@kernel
+@entry
 def gather_coords(x, y, w, order, extra):
     """The coordinates of the points ``order``, then ``extra + 1`` zeros (room
     for Steiner points and the infinite vertex)."""
@@ -139,7 +139,7 @@ def build_mesh(xi, yi, wi, weighted, m, inf, algorithm, horizontal, extra, with_
     return status, tri, twin, cons, ntri, dup, sub
 
 
-@kernel
+@entry
 def to_input_ids(order, dup_int, sub_int, dup_of, submerged):
     """Record the duplicates and submerged points found among the mesh
     vertices ``0..m-1`` (point ``order[i]`` is vertex ``i``) by input id."""

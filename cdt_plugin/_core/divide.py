@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import kernel
+from .jit import entry, kernel
 from .kernel import lifted_test, orient
 from .mesh import IDX
 
@@ -432,7 +432,7 @@ def build_divide_sorted(x, y, w, m, inf, dup, cap, with_cons, horizontal):
     return build_subdivision(x, y, w, u, r, inf, cap, with_cons)
 
 
-@kernel
+@entry
 def cut_ranks(x, y, m, dup, horizontal):
     """Duplicates marked, and the vertices and ranks :func:`guibas_stolfi` cuts:
     ``(u, r)``, the distinct vertices and each one's rank in the order of
@@ -452,7 +452,7 @@ def cut_ranks(x, y, m, dup, horizontal):
     return u, r
 
 
-@kernel
+@entry
 def build_subdivision(x, y, w, u, r, inf, cap, with_cons):
     """The subdivision of the distinct vertices ``u`` (ranks ``r``, see
     :func:`cut_ranks`) in the half-edge store (:func:`store_subdivision`)."""
@@ -465,7 +465,7 @@ def build_subdivision(x, y, w, u, r, inf, cap, with_cons):
     return store_subdivision(onext, org, used, ldo, inf, cap, with_cons)
 
 
-@kernel
+@entry
 def quad_store(n):
     """Empty quad-edge arrays ``(onext, org, free)`` for the subdivision of
     ``n`` points, or of two halves of them side by side (:func:`right_base`);
@@ -509,7 +509,7 @@ def store_subdivision(onext, org, used, ldo, inf, cap, with_cons):
 # quad-edges renumbered as one thread would have numbered them, so the triangles come
 # out in the very same order: any number of threads gives the same arrays.
 
-@kernel
+@entry
 def split_halves(x, y, m, dup):
     """Duplicates marked, and the first (vertical) cut of the distinct vertices
     made as :func:`guibas_stolfi` makes it: ``(u, mid)``, the halves
@@ -520,14 +520,14 @@ def split_halves(x, y, m, dup):
     return u, mid
 
 
-@kernel
+@entry
 def right_base(mid):
     """The first quad-edge of the right half when the left one has ``mid``
     points: the left half takes fewer."""
     return 3 * mid + QUAD_SLACK
 
 
-@kernel
+@entry
 def build_half(x, y, w, u, r, lo, hi, onext, org, free, base):
     """One half ``u[lo:hi]`` of the first cut, triangulated in the shared
     quad-edge arrays from quad-edge ``base`` on (0 for the left half,
@@ -546,7 +546,7 @@ def moved_quad(free, nfree, top, i):
     return free[nfree - 1 - i] if i < nfree else top + i - nfree
 
 
-@kernel
+@entry
 def join_halves(x, y, w, onext, org, free, base, nfree, top, ldo, ldi, r_nfree, r_top, rdi, rdo,
                 inf, cap, with_cons):
     """Move the right half down to the quad-edges one thread gives it (after the

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import kernel
+from .jit import entry, kernel
 from .predicates import incircle, incircle_weighted, orient2d
 
 
@@ -37,7 +37,7 @@ def back_corner(neighbors, u, t):
     return -1
 
 
-@kernel
+@entry
 def fuse_ties(vx, vy, vw, weighted, triangles, neighbors, fused, lo, hi):
     """The exact lifted test across the interior edges of triangles
     ``lo:hi`` (each edge from its smaller triangle; Lemma 2.3, Sec. 2.8 with
@@ -69,7 +69,7 @@ def fuse_ties(vx, vy, vw, weighted, triangles, neighbors, fused, lo, hi):
     return bad
 
 
-@kernel
+@entry
 def triangle_faces(triangles, ring, lo, hi):
     """The faces of triangles ``lo:hi`` where none is fused (face ``t`` is
     triangle ``t``): each its vertices from the smallest, into ``ring[3 t:]``."""
@@ -85,7 +85,7 @@ def put_triangle(triangles, t, ring, at):
     rotate_to_min(ring, at, at + 3)
 
 
-@kernel
+@entry
 def subdivision_faces(triangles, neighbors, fused):
     """The faces of the Delaunay subdivision: the triangles joined across
     ``fused`` edges (both sides flagged). Returns ``(face_of, offsets, ring)``:
@@ -177,7 +177,7 @@ def reverse(a, lo, hi):
         hi -= 1
 
 
-@kernel
+@entry
 def ring_offsets(triangles, nv):
     """``(offsets, first)``: where each vertex's ring of triangles starts in
     the flat ring array (its degree in triangles), and the first triangle it
@@ -195,7 +195,7 @@ def ring_offsets(triangles, nv):
     return offsets, first
 
 
-@kernel
+@entry
 def vertex_rings(vx, vy, triangles, neighbors, offsets, first, ring, hull, lo, hi):
     """Fill ``ring`` with the triangles around each vertex whose first
     triangle is in ``lo:hi``, counter-clockwise; a hull vertex's (``hull``)
@@ -282,7 +282,7 @@ def cell_ring(triangles, offsets, ring, hull, face_of, v, faces, across):
     return n
 
 
-@kernel
+@entry
 def cell_rings(triangles, offsets, ring, hull, face_of, slots, cells, sizes, lo, hi):
     """The cell of each vertex ``v`` in ``lo:hi`` (:func:`cell_ring`) into
     ``cells`` from ``slots[v]`` (room for its ring of triangles and a hull
@@ -294,7 +294,7 @@ def cell_rings(triangles, offsets, ring, hull, face_of, slots, cells, sizes, lo,
                              no_ridges)
 
 
-@kernel
+@entry
 def unfused_cells(offsets, ring, hull, face_of, slots, cells, lo, hi):
     """:func:`cell_rings` where no triangles were fused (every face one
     triangle): each cell is the faces of its ring of triangles, in order, and a
@@ -308,7 +308,7 @@ def unfused_cells(offsets, ring, hull, face_of, slots, cells, lo, hi):
             cells[n] = -1
 
 
-@kernel
+@entry
 def pack_cells(slots, cells, sizes, out_offsets, out, lo, hi):
     """The cells of the vertices in ``lo:hi`` moved from their room in
     ``cells`` (:func:`cell_rings`) to ``out`` at ``out_offsets``."""
@@ -326,7 +326,7 @@ def cell_scratch(offsets, lo, hi):
     return np.empty(deg + 1, np.int64), np.empty(deg + 1, np.int64)
 
 
-@kernel
+@entry
 def face_centres(vx, vy, vw, offsets, ring, out, err, lo, hi):
     """The centre of each face in ``lo:hi`` into ``out``: the circumcentre
     (power centre with weights, Sec. 2.8) of three of its vertices spread round
@@ -359,7 +359,7 @@ def face_centres(vx, vy, vw, offsets, ring, out, err, lo, hi):
         err[f] = 2.0 ** -46 * (size * size * near / abs(d)) + 2.0 ** -52 * (abs(out[f, 0]) + abs(out[f, 1]))
 
 
-@kernel
+@entry
 def mark_close(triangles, neighbors, face_of, centres, err, redo, lo, hi):
     """Flag in ``redo`` both faces of every edge of triangles ``lo:hi`` whose
     centres are closer than a few times their error bounds (or not finite)."""
@@ -376,7 +376,7 @@ def mark_close(triangles, neighbors, face_of, centres, err, redo, lo, hi):
                 redo[g] = True
 
 
-@kernel
+@entry
 def redo_centres(vx, vy, vw, offsets, ring, centres, redo, lo, hi):
     """The flagged centres of faces ``lo:hi`` (and any that rounding left
     undefined) again, in double-double arithmetic."""
@@ -483,7 +483,7 @@ FAR = -1          # label of a side of the far box
 SIDE = -2         # label of a side of the clip box
 
 
-@kernel
+@entry
 def clip_cells(vx, vy, vw, triangles, offsets, ring, hull, face_of, centres,
                xmin, ymin, xmax, ymax, lo, hi):
     """Each vertex's cell cut to the box ``[xmin, xmax] x [ymin, ymax]``.

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from .insertion import insert_vertex
-from .jit import kernel
+from .jit import entry, kernel
 from .mesh import DEAD
 from .output import solid_triangles
 from .pipeline import insert_all_segments
@@ -31,7 +31,7 @@ def cell_of(frame, qx, qy):
     return int(fy) * int(g) + int(fx)
 
 
-@kernel
+@entry
 def start_grid(tri, x, y, inf, ntri, nv, g):
     """A ``g`` by ``g`` grid over the vertices' bounding box holding, for each
     cell, a triangle with a corner in it (-1: none): a point's walk starts
@@ -59,7 +59,7 @@ def start_grid(tri, x, y, inf, ntri, nv, g):
     return grid, frame
 
 
-@kernel
+@entry
 def insert_points(tri, twin, cons, x, y, w, inf, meta, px, py, stack, grid, frame):
     """Insert the points one by one (Lawson: locate, split, flip; segments are
     never flipped), each walk starting at its cell of the start grid (else at
@@ -100,7 +100,7 @@ def insert_points(tri, twin, cons, x, y, w, inf, meta, px, py, stack, grid, fram
     return status, slots
 
 
-@kernel
+@entry
 def insert_segments(store, tasks, seg_ends, split, limit):
     """Insert the segment tasks (rows: slot a, slot b, segment id from 1;
     ``seg_ends`` the end slots of every segment id, for crossings), with
@@ -117,7 +117,7 @@ def insert_segments(store, tasks, seg_ends, split, limit):
     return np.int64(status), info, out
 
 
-@kernel
+@entry
 def snapshot(store, even_odd):
     """The real triangles (slots), their neighbours, the segment id on the edge
     opposite each corner (0: none), and for ``even_odd`` which triangles lie at

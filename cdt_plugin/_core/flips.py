@@ -6,12 +6,12 @@ from __future__ import annotations
 import numpy as np
 
 from .arrays import copy_rows
-from .jit import kernel
+from .jit import entry, kernel
 from .kernel import edge_is_illegal
 from .mesh import DEAD, flip, prv
 
 
-@kernel
+@entry
 def flip_to_delaunay(tri, twin, cons, x, y, w, weighted, inf, ntri, max_flips=-1):
     """Run the flip algorithm with an edge stack over every edge of the
     triangulation; edges on segments (``cons``) are never flipped, which makes

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from .arrays import append
-from .jit import kernel
+from .jit import entry, kernel
 from .kernel import edge_is_illegal, lifted_test, orient
 from .locate import locate
 from .mesh import DEAD, flip, nxt, prv, remove_degree3, split_edge, split_triangle
@@ -157,7 +157,7 @@ def insert_vertices_loop(tri, twin, cons, x, y, w, weighted, inf, order, first, 
     return OK, ntri
 
 
-@kernel
+@entry
 def redundant_vertices(tri, twin, x, y, w, inf, ntri):
     """Weighted input, after insertion: repair what the incremental flips left.
 

@@ -3,10 +3,18 @@
 :func:`kernel` is ``numba.njit`` with the options every kernel shares: cached
 on disk (the cache opened when the kernel is first compiled or loaded,
 :class:`Kernel`), no C-callable wrapper (nothing here takes a kernel's address, and
-numba would otherwise lower and code-generate one for every compilation), and
-without the GIL: a call from Python releases it on entry, so threads run
-kernels side by side (nothing in a kernel touches Python objects or shared
-state: every workspace is allocated per call).
+numba would otherwise lower and code-generate one for every compilation), no
+CPython wrapper (only compiled code calls it), and without the GIL. An
+:func:`entry` is a kernel that Python code calls (the routes, and what the
+public modules call directly): it has numba's CPython wrapper, which unboxes
+the arguments and releases the GIL on entry, so threads run entries side by
+side (nothing in a kernel touches Python objects or shared state: every
+workspace is allocated per call). Lowering, optimising and code-generating a
+wrapper for each of the ~200 internal kernels was about a tenth of first use.
+A test may call an internal kernel from Python all the same: the call goes to
+a twin compiled with the wrapper, not cached (:meth:`Kernel._compile_for_args`);
+every such call is recorded in :data:`PYTHON_CALLERS`, where the test suite
+requires that none comes from outside the tests (an entry not marked as one).
 
 numba compiles a function once per distinct tuple of argument types, and links
 every callee's code into each caller's library, where it is optimised and
@@ -40,23 +48,40 @@ code-generated again. So, in the kernels:
 """
 from __future__ import annotations
 
+import os
+import sys
+
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.registry import CPUDispatcher
 
 _OPTIONS = {"nopython": True, "no_cfunc_wrapper": True, "nogil": True}
 
+# (kernel, calling file, calling function) of every Python call of an internal kernel
+PYTHON_CALLERS: set[tuple[str, str, str]] = set()
+
 
 def kernel(*signature, **options):
-    """Decorator: a compiled kernel, ``numba.njit(cache=True, no_cfunc_wrapper=True,
+    """Decorator: a compiled kernel that compiled code calls,
+    ``numba.njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True,
     nogil=True, **options)`` (a :class:`Kernel`); with a signature, a
     :class:`DeclaredKernel` of it."""
+    return _decorator(signature, {**_OPTIONS, "no_cpython_wrapper": True, **options})
+
+
+def entry(*signature, **options):
+    """Decorator: a kernel that Python code calls (:func:`kernel` with numba's
+    CPython wrapper)."""
+    return _decorator(signature, {**_OPTIONS, **options})
+
+
+def _decorator(signature, options):
     if len(signature) == 1 and callable(signature[0]) and not hasattr(signature[0], "args"):
-        return kernel(**options)(signature[0])          # bare @kernel
+        return _decorator((), options)(signature[0])          # bare @kernel
 
     def make(py_func):
         if not signature:
-            return Kernel(py_func=py_func, locals={}, targetoptions={**_OPTIONS, **options})
-        compiled = DeclaredKernel(py_func=py_func, locals={}, targetoptions={**_OPTIONS, **options})
+            return Kernel(py_func=py_func, locals={}, targetoptions=options)
+        compiled = DeclaredKernel(py_func=py_func, locals={}, targetoptions=options)
         compiled.declared = signature
         return compiled
     return make
@@ -66,9 +91,12 @@ class Kernel(CPUDispatcher):
     """``numba.njit(cache=True)`` whose disk cache is opened when it is first
     compiled or loaded, not when it is defined: a process whose routes load
     from the cache never opens the caches of the ~300 kernels inside them
-    (their cached code contains them), about 15 ms of ``import cdt_plugin``."""
+    (their cached code contains them), about 15 ms of ``import cdt_plugin``.
+    Without the CPython wrapper, its compilations are kept from numba's
+    dispatch of Python calls, which go to :attr:`twin` instead."""
 
     cache_opened = False
+    twin: Kernel | None = None      # the same function with the wrapper, for Python calls
 
     def compile(self, sig):
         with global_compiler_lock:   # (reentrant: numba's own compile takes it too)
@@ -76,6 +104,34 @@ class Kernel(CPUDispatcher):
                 self.cache_opened = True
                 self.enable_caching()
             return super().compile(sig)
+
+    @property
+    def for_python(self) -> bool:
+        return not self.targetoptions.get("no_cpython_wrapper")
+
+    def add_overload(self, cres):
+        if self.for_python:
+            super().add_overload(cres)
+        else:   # (numba's C dispatcher would call the missing wrapper)
+            self.overloads[tuple(cres.signature.args)] = cres
+
+    def _compile_for_args(self, *args, **kws):
+        """A call from Python that numba's dispatcher has no compilation for:
+        compiled as numba does for an entry; for an internal kernel, handed to
+        its twin (which numba then calls with the arguments)."""
+        if self.for_python:
+            return super()._compile_for_args(*args, **kws)
+        caller = sys._getframe(1).f_code
+        PYTHON_CALLERS.add((f"{self.py_func.__module__}.{self.py_func.__qualname__}",
+                            os.path.abspath(caller.co_filename), caller.co_name))
+        with global_compiler_lock:
+            if self.twin is None:
+                options = {k: v for k, v in self.targetoptions.items() if k != "no_cpython_wrapper"}
+                twin = type(self)(py_func=self.py_func, locals={}, targetoptions=options)
+                twin.cache_opened = True     # (its cache files would be this kernel's)
+                twin.declared = getattr(self, "declared", ())
+                self.twin = twin
+        return self.twin
 
 
 class DeclaredKernel(Kernel):
@@ -88,17 +144,16 @@ class DeclaredKernel(Kernel):
     for others (numba would otherwise specialise on every literal argument,
     and would evaluate a predicate given integers in overflowing int64)."""
 
-    declared: tuple = ()     # the signatures still to compile
+    declared: tuple = ()     # the signatures
 
     def compile(self, sig):
         with global_compiler_lock:
-            if self.declared:
-                declared, self.declared = self.declared, ()
-                for each in declared:
+            if not self.overloads:
+                for each in self.declared:
                     super().compile(each)
-                self.disable_compile()
-            if self._can_compile:
-                return super().compile(sig)
-            # a call from Python with other argument types: the declared entry,
-            # whose wrapper converts them
+                if self.for_python:
+                    # Python calls with other argument types: converted by numba's
+                    # dispatcher, not compiled (an internal kernel's go to its twin)
+                    self.disable_compile()
+            # compiled callers' arguments: converted by numba's typing
             return next(iter(self.overloads.values())).entry_point

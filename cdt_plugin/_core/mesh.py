@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .arrays import copy_rows
-from .jit import kernel
+from .jit import entry, kernel
 from .ordering import sort_ids
 
 DEAD = -2
@@ -235,7 +235,7 @@ def remove_degree3(tri, twin, o1, o2, o3):
     return 3 * t1
 
 
-@kernel
+@entry
 def grow_store(tri, twin, cons, x, y, w, inf, nv, at_least):
     """The store with room for about twice the vertices (or ``at_least``, if
     more): coordinates copied up to ``nv``, the infinite vertex moved to the new

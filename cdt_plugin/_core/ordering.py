@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import kernel
+from .jit import entry, kernel
 
 HILBERT_BITS = 16
 
@@ -33,7 +33,7 @@ def hilbert_index(ix, iy, order):
     return d
 
 
-@kernel
+@entry
 def hilbert_keys(x, y, idx, bits):
     """Hilbert keys of the points ``idx`` on a ``2^bits`` grid over their
     bounding box."""
@@ -74,7 +74,7 @@ def brio_order(x: np.ndarray, y: np.ndarray, seed: int = 0) -> np.ndarray:
     return brio_sort(x, y, perm)
 
 
-@kernel
+@entry
 def brio_sort(x, y, perm):
     """Sort the random permutation ``perm`` into BRIO rounds: the last half of
     the points, the half before it, ... down to at most 64 points, each round
@@ -116,7 +116,7 @@ def lexicographic_order(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return order
 
 
-@kernel
+@entry
 def lexicographic_order_compiled(x, y):
     """:func:`lexicographic_order` in one compiled call."""
     n = x.shape[0]
@@ -125,7 +125,7 @@ def lexicographic_order_compiled(x, y):
     return order
 
 
-@kernel
+@entry
 def sort_ties(x, y, order):
     """Sort each run of equal ``x[order]`` by ``y``, then by index, in place."""
     n = order.shape[0]

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import kernel
+from .jit import entry, kernel
 from .kernel import edge_is_illegal, orient
 from .mesh import DEAD, is_ghost, nxt, prv
 
@@ -50,7 +50,7 @@ def solid_triangles(tri, twin, ntri, inf):
     return triangles, neighbors, tid
 
 
-@kernel
+@entry
 def relabel_store(tri, ntri, remap):
     """In place: every vertex ``v`` of the first ``ntri`` triangles becomes
     ``remap[v]`` (negative entries, DEAD and -1, index ``remap`` from its end)."""
@@ -58,7 +58,7 @@ def relabel_store(tri, ntri, remap):
         tri[e] = remap[tri[e]]
 
 
-@kernel
+@entry
 def store_triangles(tri, ntri, inf):
     """The real (non-ghost, live) triangles of the store, each listed from its
     smallest vertex id: :func:`solid_triangles` turned by
@@ -81,7 +81,7 @@ def store_triangles(tri, ntri, inf):
     return triangles
 
 
-@kernel
+@entry
 def store_neighbors(tri, twin, ntri, inf):
     """The neighbours of :func:`store_triangles`' rows: neighbour ``j`` is
     opposite vertex ``j`` (-1: hull)."""
@@ -97,7 +97,7 @@ def store_neighbors(tri, twin, ntri, inf):
     return neighbors
 
 
-@kernel
+@entry
 def rotate_min_first(triangles, neighbors):
     """List every triangle from its smallest vertex id (neighbours alike), in place."""
     for i in range(triangles.shape[0]):
@@ -195,7 +195,7 @@ def cdt_vertices(px, py, kept, vertex_map, order, mx, my, m, nv):
     return vertices, remap
 
 
-@kernel
+@entry
 def first_defect(tri, twin, ntri, x, y, inf, check_hull):
     """First live triangle that stops the mesh from being a triangulation of a
     convex region after its vertices moved: a real triangle that is not strictly

@@ -26,7 +26,7 @@ from .construct import (DIVIDE, FLIP, build_mesh, gather_coords, horizontal_orde
                         store_room, to_input_ids)
 from .flips import flip_to_delaunay
 from .insertion import insert_vertex
-from .jit import kernel
+from .jit import entry, kernel
 from .mesh import DEAD, IDX, grow_store, nxt
 from .ordering import HILBERT_BITS, hilbert_keys, lexicographic_order_compiled
 from .output import cdt_arrays, cdt_vertices, solid_triangles
@@ -468,7 +468,7 @@ def route_points(px, py, algorithm, order_in, ms, split, nsnap, refine):
     return ROUTE_OK, i0, i1, shift, px, py, order, xi, yi, wi, n + extra, extra
 
 
-@kernel
+@entry
 def route_points_for_threads(px, py, order_in, ms, split, nsnap, refine):
     """:func:`route_points` of the divide-and-conquer route, for a caller that
     builds the Delaunay triangulation on threads: ``(status, order, xi, yi,
@@ -685,7 +685,7 @@ PACK_HEADER = 5       # triangles, segment pieces, input points, kept points, be
 PACK_ARRAYS = PACK_HEADER + 4 + NCOUNTS      # then info and counts, then the arrays
 
 
-@kernel
+@entry
 def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
                      algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, snapped,
                      refinement, prebuilt):
@@ -738,7 +738,7 @@ def put(dst, p, src):
 
 
 # ------------------------------------------------------------------ many geometries
-@kernel
+@entry
 def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1,
                     split, max_steiner, algorithm, refinement, steiner0):
     """:func:`cdt_route` over geometries ``g0:g1`` of flat ring arrays, in one

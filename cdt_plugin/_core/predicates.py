@@ -80,7 +80,7 @@ import llvmlite.binding as llvm
 import numpy as np
 from numba import cfunc, types
 
-from .jit import kernel
+from .jit import entry, kernel
 
 __all__ = [
     "EPSILON",
@@ -1199,7 +1199,7 @@ def crossing_point(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y):
 # Public filtered predicates.
 # ---------------------------------------------------------------------------
 
-@kernel(_F6, inline='never')
+@entry(_F6, inline='never')
 def orient2d(ax, ay, bx, by, cx, cy):
     """Orientation of (a, b, c), exact in sign (Shewchuk 1997, orient2d with ccwerrboundA).
 
@@ -1218,7 +1218,7 @@ def orient2d(ax, ay, bx, by, cx, cy):
     return _orient2d_slow_call(ax, ay, bx, by, cx, cy, detsum)
 
 
-@kernel(_F8, inline='never')
+@entry(_F8, inline='never')
 def incircle(ax, ay, bx, by, cx, cy, dx, dy):
     """In-circle test, exact in sign (Shewchuk 1997, incircle with iccerrboundA).
 
@@ -1236,7 +1236,7 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy):
     return _incircle_slow_call(ax, ay, bx, by, cx, cy, dx, dy, permanent)
 
 
-@kernel(_F12, inline='never')
+@entry(_F12, inline='never')
 def incircle_weighted(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
     """Power (weighted in-circle) test: lifted orientation, exact in sign (Shewchuk 1997 filter style).
 

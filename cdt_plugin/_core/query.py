@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import kernel
+from .jit import entry, kernel
 from .predicates import double_double, orient_expansion, incircle, orient2d
 
 INSIDE = 0
@@ -105,7 +105,7 @@ def scan(T, x, y, px, py):
     return -1, OUTSIDE, 0
 
 
-@kernel
+@entry
 def locate_all(T, N, own, first_at, x, y, qx, qy, order):
     """Locate every query ``order[i]`` (walking from the previous hit, so spatially
     sorted queries walk little). Returns ``(found, where, code, j)`` per query:
@@ -175,7 +175,7 @@ def add_weighted(out, i, values, v, lam):
         out[i, c] += lam * values[v, c]
 
 
-@kernel
+@entry
 def interpolate_linear(T, x, y, qx, qy, found, values):
     """Linear interpolation of vertex ``values`` (n, c) at every located query
     (NaN where ``found`` is -1). A query on a vertex gets its value exactly."""
@@ -238,7 +238,7 @@ def circumcentre(ax, ay, bx, by, cx, cy):
     return ax + (cy * b2 - by * c2) / d, ay + (bx * c2 - cx * b2) / d
 
 
-@kernel
+@entry
 def interpolate_natural(T, N, blocked, x, y, qx, qy, found, where, codes, js, values):
     """Sibson's natural neighbour interpolation at every located query.
 
@@ -414,7 +414,7 @@ def stolen_areas(T, N, x, y, qx, qy, ea, eb, et, ne, edge_at, edge_stamp, mark, 
     return AREAS_OK if abs(rx) + abs(ry) <= 1e-10 * extent * total else IMPRECISE
 
 
-@kernel
+@entry
 def convex_disk(T, N, x, y):
     """Whether the triangles cover one convex polygon: their boundary is a single
     loop (each vertex leaves by at most one boundary edge, one walk round

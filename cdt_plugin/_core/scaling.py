@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from .jit import kernel
+from .jit import entry, kernel
 
 TOP = 240
 LOW = -240
@@ -46,7 +46,7 @@ ON_GRID_ABOVE = 2.0 ** (LOW + 53)   # every double at least this large is a mult
 _MANTISSA = 2.0 ** 53
 
 
-@kernel
+@entry
 def exponents(v):
     """``(top, low)`` of a nonzero finite double: ``2**(top-1) <= |v| < 2**top``
     and ``v`` is an odd multiple of ``2**low``."""
@@ -105,7 +105,7 @@ def at_home(v, power):
     return -power * HOME <= top <= power * HOME and bottom - 53 >= power * LOW
 
 
-@kernel
+@entry
 def fit_shift(x, y, w):
     """The shift ``k`` for points ``x, y`` (and weights ``w``, empty without):
     ``(k, row_fine, row_large)``; ``k`` is :data:`NO_FIT` when no shift

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from .borrow import unowned
-from .jit import kernel
+from .jit import entry, kernel
 from .kernel import orient
 from .insertion import insert_vertex
 from .locate import ON_VERTEX, locate
@@ -363,7 +363,7 @@ def crossing_point(x, y, a, b, u, v, s0, s1, t0, t1):
     return intersection_point(x, y, np.int64(a), np.int64(b), np.int64(u), np.int64(v))
 
 
-@kernel
+@entry
 def intersection_point(x, y, p0, p1, q0, q1):
     """The crossing point of segments ``p0 p1`` and ``q0 q1`` (known to cross):
     each coordinate the double nearest to the exact crossing (exact when it is

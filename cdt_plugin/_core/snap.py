@@ -38,7 +38,7 @@ import math
 import numpy as np
 
 from .arrays import append, copy_rows
-from .jit import kernel
+from .jit import entry, kernel
 from .ordering import lexicographic_order_compiled
 from .predicates import (EPSILON, orient_expansion, two_diff, two_one_sum, two_product,
                          orient_offset_exact)
@@ -518,7 +518,7 @@ def segment_has_length(x, y, segs):
     return out
 
 
-@kernel
+@entry
 def snap_route(px, py, segs, max_steiner):
     """The snap-rounded crossings of segments ``segs`` over points ``px, py``
     (input ids), for :func:`.pipeline.cdt_route`'s ``snapped``, compiled

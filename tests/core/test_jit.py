@@ -1,5 +1,7 @@
 """How kernels are compiled (cdt_plugin._core.jit): a declared signature is
-compiled once, on first use, and every caller's arguments are converted to it."""
+compiled once, on first use, and every caller's arguments are converted to it;
+internal kernels have no CPython wrapper (a Python call goes to a twin that
+has one), entries do."""
 import os
 
 import numpy as np
@@ -7,7 +9,8 @@ from numba import njit, types
 
 import cdt_plugin
 from cdt_plugin._core import predicates
-from cdt_plugin._core.jit import DeclaredKernel, Kernel, kernel
+from cdt_plugin._core import jit
+from cdt_plugin._core.jit import DeclaredKernel, Kernel, entry, kernel
 
 
 @kernel("int64(int64)")
@@ -20,9 +23,24 @@ def half_sum(a, b):
     return (a + b) / 2
 
 
-@kernel
+@entry("float64(float64, float64)")
+def half_difference(a, b):
+    return (a - b) / 2
+
+
+@entry
 def times_two(x):
     return 2 * x
+
+
+@kernel
+def times_three(x):
+    return 3 * x
+
+
+@njit
+def call_times_three(x):
+    return times_three(x) + 1
 
 
 @njit
@@ -37,11 +55,42 @@ def test_kernel_opens_its_disk_cache_on_first_compilation():
     assert times_two.cache_opened and os.path.isdir(times_two.stats.cache_path)
 
 
+def test_entry_is_called_from_python_with_its_own_compilation():
+    assert times_two.twin is None and times_two(np.int64(4)) == 8
+    assert times_two.twin is None and times_two.signatures == [(types.int64,)]
+
+
+def test_internal_kernel_is_compiled_without_wrapper_for_compiled_callers():
+    assert not times_three.cache_opened
+    assert call_times_three(np.int64(2)) == 7
+    assert times_three.cache_opened and times_three.signatures == [(types.int64,)]
+    assert times_three.twin is None                  # no Python call yet
+    assert times_three.targetoptions["no_cpython_wrapper"]
+    assert "no_cpython_wrapper" not in times_two.targetoptions
+
+
+def test_python_call_of_internal_kernel_goes_to_an_uncached_twin_and_is_recorded():
+    before = list(times_three.signatures)
+    assert times_three(np.int64(5)) == 15 and times_three(2.5) == 7.5
+    twin = times_three.twin
+    assert isinstance(twin, Kernel) and "no_cpython_wrapper" not in twin.targetoptions
+    assert twin.cache_opened and type(twin._cache).__name__ == "NullCache"   # never cached
+    assert sorted(map(str, twin.signatures)) == ["(float64,)", "(int64,)"]
+    assert times_three.signatures == before           # the internal compilations are untouched
+    assert (f"{__name__}.times_three", os.path.abspath(__file__),
+            "test_python_call_of_internal_kernel_goes_to_an_uncached_twin_and_is_recorded") \
+        in jit.PYTHON_CALLERS
+
+
 def test_declared_kernel_compiles_on_first_use_only():
-    assert isinstance(half_sum, DeclaredKernel)
-    assert half_sum.signatures == []                 # nothing compiled at definition
-    assert half_sum(1, 2) == 1.5                     # from Python: ints converted to float64
-    assert half_sum.signatures == [(types.float64, types.float64)]
+    assert isinstance(half_difference, DeclaredKernel)
+    assert half_difference.signatures == []          # nothing compiled at definition
+    assert half_difference(3, 2) == 0.5              # from Python: ints converted to float64
+    assert half_difference.signatures == [(types.float64, types.float64)]
+    assert isinstance(half_sum, DeclaredKernel) and half_sum.signatures == []
+    assert half_sum(1, 2) == 1.5                     # internal: its twin, declared too
+    assert half_sum.twin.signatures == [(types.float64, types.float64)]
+    assert half_sum.signatures == []
 
 
 def test_declared_kernel_converts_arguments_of_every_caller():
