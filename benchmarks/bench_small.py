@@ -47,7 +47,9 @@ directory for the empty-cache cases):
   ``triangulate(star12, min_angle=30)`` (2 Steiner points: the refinement really runs);
   all of them in one process (goal: at most 30 s);
 * filled cache (the same directory again, after the all-in-one case filled it): import
-  alone; import + first ``triangulate`` of the square (goal: at most 0.5 s); all.
+  alone; import + first ``triangulate`` of the square (goal: at most 0.5 s); all; and
+  import + first ``triangulate`` again with scipy absent, as after a fresh ``pip install
+  cdt-plugin`` (numba imports scipy, when installed, to probe for BLAS: about 0.1 s).
 
 The package's bytecode is compiled first (``PYTHONPYCACHEPREFIX``), as pip does at
 install time. The child times its phases with ``time.perf_counter`` and prints them as JSON; the
@@ -279,9 +281,15 @@ FIRST_STEPS = {            # step -> what the child calls (shown in the table)
 ALL_STEPS = ["delaunay", "triangulate", "min_angle"]
 
 
-def _first_use_child(steps: list[str]) -> None:
-    """Runs in a new process: import cdt_plugin, then the first call of each step."""
+def _first_use_child(steps: list[str], without_scipy: bool = False) -> None:
+    """Runs in a new process: import cdt_plugin, then the first call of each step.
+    ``without_scipy``: as in an environment without scipy (numba imports it, when
+    present, to probe for BLAS: about 0.1 s of every import; cdt_plugin does not
+    need it, so a fresh ``pip install cdt-plugin`` has none)."""
     import shapely
+    if without_scipy:
+        assert "scipy" not in sys.modules
+        sys.modules["scipy"] = None      # type: ignore[assignment]  # (import scipy now raises ImportError)
     numba_preloaded = "numba" in sys.modules
     inputs = {"delaunay": np.random.default_rng(0).uniform(0.0, 1.0, (100, 2)),
               "triangulate": shapely.box(0, 0, 1, 1), "min_angle": star(12)}
@@ -302,12 +310,14 @@ def _first_use_child(steps: list[str]) -> None:
     print(json.dumps({"phases": phases, "numba_preloaded": numba_preloaded}), flush=True)
 
 
-def _run_child(steps: list[str], cache: str, timeout: float, pycache: str) -> dict:
+def _run_child(steps: list[str], cache: str, timeout: float, pycache: str,
+               without_scipy: bool = False) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPYCACHEPREFIX=pycache)
     env.pop("PYTHONDONTWRITEBYTECODE", None)     # bytecode as pip installs it (see _compile_bytecode)
     t0 = time.perf_counter()
     try:
-        proc = subprocess.run([sys.executable, os.path.abspath(__file__), FIRST_USE_FLAG, json.dumps(steps)],
+        proc = subprocess.run([sys.executable, os.path.abspath(__file__), FIRST_USE_FLAG, json.dumps(steps),
+                               json.dumps(without_scipy)],
                               env=env, cwd=str(REPO_ROOT), stdin=subprocess.DEVNULL,
                               capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
@@ -360,18 +370,22 @@ def measure_first_use(quick: bool, timeout: float) -> list[dict]:
                 rows.append({"cache": "filled", "steps": steps, "cache_files": files, "cache_bytes": size,
                              **_run_child(steps, filled_dir, timeout, pycache)})
                 _log_first_use(rows[-1])
+            rows.append({"cache": "filled", "steps": ["triangulate"], "without_scipy": True,
+                         **_run_child(["triangulate"], filled_dir, timeout, pycache, without_scipy=True)})
+            _log_first_use(rows[-1])
     finally:
         for d in dirs + [pycache]:
             shutil.rmtree(d, ignore_errors=True)
     return rows
 
 
-def _case_label(steps: list[str]) -> str:
-    return "import cdt_plugin" + "".join(f" + {FIRST_STEPS[s]}" for s in steps)
+def _case_label(steps: list[str], without_scipy: bool = False) -> str:
+    return ("import cdt_plugin" + "".join(f" + {FIRST_STEPS[s]}" for s in steps)
+            + (", scipy absent (cdt_plugin's dependencies only)" if without_scipy else ""))
 
 
 def _log_first_use(row: dict) -> None:
-    what = f"  first use, {row['cache']} cache, {_case_label(row['steps'])}:"
+    what = f"  first use, {row['cache']} cache, {_case_label(row['steps'], row.get('without_scipy', False))}:"
     if "error" in row:
         _log(f"{what} n/a: {row['error']}")
     else:
@@ -469,7 +483,8 @@ def render(results: dict, info: dict, args_line: str) -> str:
                   "|---|---|---|---:|---:|---|"]
         for r in first:
             if "error" in r:
-                lines.append(f"| {r['cache']} | {_case_label(r['steps'])} | n/a: {r['error']} | n/a | n/a | |")
+                lines.append(f"| {r['cache']} | {_case_label(r['steps'], r.get('without_scipy', False))} | "
+                             f"n/a: {r['error']} | n/a | n/a | |")
                 continue
             phases = ", ".join(f"{name} {s:.2f}" for name, s in r["phases"])
             goal = ""
@@ -477,7 +492,8 @@ def render(results: dict, info: dict, args_line: str) -> str:
                 goal = f"<= {GOAL_COLD_S:g} s: {_verdict(r['calls_s'] <= GOAL_COLD_S)}"
             elif r["cache"] == "filled" and r["steps"] == ["triangulate"]:
                 goal = f"<= {GOAL_CACHED_S:g} s: {_verdict(r['calls_s'] <= GOAL_CACHED_S)}"
-            lines.append(f"| {r['cache']} | {_case_label(r['steps'])} | {phases} | {r['calls_s']:.2f} | "
+            lines.append(f"| {r['cache']} | {_case_label(r['steps'], r.get('without_scipy', False))} | "
+                         f"{phases} | {r['calls_s']:.2f} | "
                          f"{r['wall_s']:.2f} | {goal} |")
         cached = next((r for r in first if r["cache"] == "filled" and "cache_files" in r), None)
         if cached:
@@ -496,7 +512,10 @@ def render(results: dict, info: dict, args_line: str) -> str:
                       "benchmark module, numpy, shapely and the inputs, before `import cdt_plugin`; not in "
                       "\"import + calls\", which the goals are judged on); child wall = the parent's clock "
                       "around the whole child (interpreter start and exit included); the package's Python "
-                      "bytecode is compiled beforehand, as pip does at install time.")
+                      "bytecode is compiled beforehand, as pip does at install time. scipy absent: the "
+                      "child makes `import scipy` fail before importing cdt_plugin, as in an environment "
+                      "with cdt_plugin's dependencies only (numba imports scipy, when installed, to probe "
+                      "for BLAS; scipy is here for the peers of other benchmarks).")
     if notes:
         lines += [""] + [f"- n/a: {n}" for n in notes]
     if results.get("warnings"):
@@ -537,7 +556,7 @@ def main(argv: list[str] | None = None) -> int:
     if argv[:1] == [WORKER_FLAG]:                 # a timing worker (harness.py)
         return harness_main(SUITE, argv)
     if argv[:1] == [FIRST_USE_FLAG]:              # a first-use child
-        _first_use_child(json.loads(argv[1]))
+        _first_use_child(json.loads(argv[1]), json.loads(argv[2]))
         return 0
     args = _parse(argv)
     t_start = time.perf_counter()
