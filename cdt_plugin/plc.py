@@ -211,21 +211,21 @@ class _Builder:
         False for anything else."""
         kind = getattr(geometry, "geom_type", None)
         if kind == "Polygon" and hasattr(geometry, "exterior"):
-            shapely = _shapely_of(geometry)
-            if shapely is not None and shapely.get_num_interior_rings(geometry) == 0:
-                # no holes: the one ring is all of its coordinates, read in one GEOS
-                # call (the ring object and its coordinate sequence cost more)
-                coords = shapely.get_coordinates(geometry, include_z=geometry.has_z)
-                if len(coords):
-                    self._add_polygon([coords])
-                return True
             polygons = (geometry,)
         elif kind == "MultiPolygon" and hasattr(geometry, "geoms"):
             polygons = geometry.geoms
         else:
             return False
+        shapely = _shapely_of(geometry)
         for polygon in polygons:
-            if not polygon.is_empty:
+            if shapely is not None and shapely.get_num_interior_rings(polygon) == 0:
+                # no holes: the one ring is all of its coordinates, read in one GEOS
+                # call (the ring object and its coordinate sequence cost more; ring
+                # objects for the holes cost more than their coordinate sequences)
+                coords = shapely.get_coordinates(polygon, include_z=polygon.has_z)
+                if len(coords):
+                    self._add_polygon([coords])
+            elif not polygon.is_empty:
                 self._add_polygon([polygon.exterior.coords]
                                   + [hole.coords for hole in polygon.interiors])
         return True
