@@ -29,7 +29,7 @@ from .mesh import IDX
 QUAD_SLACK = 8   # quad-edges beyond 3 per point that a subdivision may take
 
 
-@kernel(forceinline=True)
+@kernel("int64(int64)", forceinline=True)
 def rot(e):
     return (e & ~3) | ((e + 1) & 3)
 
@@ -50,13 +50,13 @@ def lnext(onext, e):
     return rot(onext[rot_inv(e)])
 
 
-@kernel(forceinline=True)
+@kernel("int64(int32[::1], int64)", forceinline=True)
 def oprev(onext, e):
     """The next edge clockwise around the origin of ``e``."""
     return rot(onext[rot(e)])
 
 
-@kernel(forceinline=True)
+@kernel("void(int32[::1], int64, int64)", forceinline=True)
 def splice(onext, a, b):
     """Guibas and Stolfi's splice: joins or separates the origin rings of
     ``a`` and ``b`` (and, dually, their left faces)."""
@@ -89,7 +89,7 @@ def make_edge(onext, org, free, nfree, top, a, b):
     return e, nfree, top
 
 
-@kernel(forceinline=True)
+@kernel("int64(int32[::1], int32[::1], int32[::1], int64, int64)", forceinline=True)
 def delete_edge(onext, org, free, nfree, e):
     """Disconnect ``e`` from the subdivision and recycle its quad-edge."""
     splice(onext, e, oprev(onext, e))

@@ -95,7 +95,7 @@ def brio_sort(x, y, perm):
         m = hi - lo
         for p in range(m):
             pos[p] = p
-        sort_ids(pos, 0, m, keys, keys, tmp)      # ties keep the random order
+        sort_ids(pos, np.int64(0), m, keys, keys, tmp)      # ties keep the random order
         for p in range(m):
             out[lo + p] = chunk[pos[p]]
         hi = lo
@@ -130,7 +130,7 @@ def sort_ties(x, y, order):
     """Sort each run of equal ``x[order]`` by ``y``, then by index, in place."""
     n = order.shape[0]
     tmp = np.empty(0, np.int64)
-    lo = 0
+    lo = np.int64(0)
     while lo < n:
         hi = lo + 1
         while hi < n and x[order[hi]] == x[order[lo]]:

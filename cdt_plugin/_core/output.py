@@ -114,7 +114,7 @@ def rotate_min_first(triangles, neighbors):
             neighbors[i, 0], neighbors[i, 1], neighbors[i, 2] = n2, n0, n1
 
 
-@kernel
+@kernel("int64(int64, int64, int64)")
 def min_first(a, b, c):
     """The rotation that lists a triangle from its smallest vertex id: output
     triangles then do not depend on the insertion order."""

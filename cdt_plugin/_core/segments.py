@@ -523,7 +523,7 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
 
 
 # ------------------------------------------------------------------ after splitting
-@kernel
+@kernel("UniTuple(float64, 2)(float64[::1], float64[::1], int64, int64, int64)")
 def along_key(x, y, A, B, v):
     """Where vertex ``v`` lies along segment ``A -> B``: ``(position on the
     major axis, position on the other)``, each oriented from ``A`` (exact
@@ -590,7 +590,7 @@ def pieces_out_of_order(tri, cons, ntri, x, y, seg_ends):
         order[start[sid[i]]] = i
         start[sid[i]] += 1
     tmp = np.empty(m, np.int64)
-    lo = 0
+    lo = np.int64(0)     # (a literal 0 would compile sort_ids once more)
     for s in range(1, nseg + 1):           # start[s] is now where segment s's pieces end
         sort_ids(order, lo, start[s], lo0, lo1, tmp)
         lo = start[s]
