@@ -17,7 +17,8 @@ def pytest_sessionfinish(session, exitstatus):
     jit = sys.modules.get("cdt_plugin._core.jit")
     if jit is None:
         return
-    outside = sorted(c for c in jit.PYTHON_CALLERS if not c[1].startswith(TESTS + os.sep))
+    outside = sorted(c for c in jit.PYTHON_CALLERS
+                     if not os.path.realpath(c[1]).startswith(TESTS + os.sep))
     if outside:
         lines = [f"  {name} called from {path} ({function})" for name, path, function in outside]
         session.config.get_terminal_writer().line(

@@ -21,7 +21,9 @@ every callee's code into each caller's library, where it is optimised and
 code-generated again. So, in the kernels:
 
 * call kernels with typed values, not literals: ``f(a, 0)`` and ``f(a, 1)``
-  compile ``f`` twice (``np.int64(0)``, ``np.bool_(False)`` or a variable do not);
+  compile ``f`` twice (``np.int64(0)``, ``np.bool_(False)`` or a variable do not,
+  but a variable that holds a literal on one path does: ``lo = 0`` before a loop
+  that sets ``lo = start[s]`` compiled ``sort_ids`` once more);
   a small kernel that many callers give mixed integer types (``int32`` from the
   store, ``int64``, literals) declares its signature instead (``@kernel("void(int32[::1],
   int64)")``: a :class:`DeclaredKernel`, compiled once, arguments converted);
