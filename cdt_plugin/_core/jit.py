@@ -15,6 +15,8 @@ A test may call an internal kernel from Python all the same: the call goes to
 a twin compiled with the wrapper, not cached (:meth:`Kernel._compile_for_args`);
 every such call is recorded in :data:`PYTHON_CALLERS`, where the test suite
 requires that none comes from outside the tests (an entry not marked as one).
+Kernels compile with :class:`KernelFlags`, numba's flags with their values read
+once (numba reads them all at every typed call of an overloaded function).
 
 numba compiles a function once per distinct tuple of argument types, and links
 every callee's code into each caller's library, where it is optimised and
@@ -53,7 +55,9 @@ from __future__ import annotations
 import os
 import sys
 
+from numba.core.compiler import Flags
 from numba.core.compiler_lock import global_compiler_lock
+from numba.core.dispatcher import _FunctionCompiler
 from numba.core.registry import CPUDispatcher
 
 _OPTIONS = {"nopython": True, "no_cfunc_wrapper": True, "nogil": True}
@@ -89,6 +93,61 @@ def _decorator(signature, options):
     return make
 
 
+class KernelFlags(Flags):
+    """numba's compile flags, with their values read once. While a function
+    compiles, numba looks up every typed call of an overloaded function
+    (``np.empty``, ``len``, ``min``, ...) in a cache keyed by the flags of that
+    function, hashing and comparing them anew each time: reading each of ~45
+    options, some 100,000 times in a first use (about 5% of it). Here the values
+    are read once, until an option is set; hash and equality are numba's."""
+
+    __slots__ = ("_memo",)
+
+    def _snapshot(self) -> dict:
+        try:
+            return self._memo
+        except AttributeError:
+            memo = self.values()
+            object.__setattr__(self, "_memo", memo)
+            return memo
+
+    def _forget(self) -> None:
+        try:
+            object.__delattr__(self, "_memo")
+        except AttributeError:
+            pass
+
+    def __setattr__(self, name, value):
+        self._forget()
+        super().__setattr__(name, value)
+
+    def __delattr__(self, name):
+        self._forget()
+        super().__delattr__(name)
+
+    def discard(self, name):
+        self._forget()
+        super().discard(name)
+
+    def __hash__(self):
+        return _FLAGS_HASH
+
+    def __eq__(self, other):
+        if isinstance(other, KernelFlags):
+            return self is other or self._snapshot() == other._snapshot()
+        return super().__eq__(other)
+
+
+_FLAGS_HASH = hash(Flags())     # numba's hash of any flags (of the option names)
+
+
+class _KernelCompiler(_FunctionCompiler):
+    """numba's compiler of a dispatcher's function, with :class:`KernelFlags`."""
+
+    def _customize_flags(self, flags):
+        return KernelFlags(super()._customize_flags(flags))
+
+
 class Kernel(CPUDispatcher):
     """``numba.njit(cache=True)`` whose disk cache is opened when it is first
     compiled or loaded, not when it is defined: a process whose routes load
@@ -99,6 +158,11 @@ class Kernel(CPUDispatcher):
 
     cache_opened = False
     twin: Kernel | None = None      # the same function with the wrapper, for Python calls
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        if type(self._compiler) is _FunctionCompiler:
+            self._compiler.__class__ = _KernelCompiler
 
     def compile(self, sig):
         with global_compiler_lock:   # (reentrant: numba's own compile takes it too)

@@ -109,3 +109,24 @@ def test_predicates_compile_once_and_take_integers_as_doubles():
     assert all(len(k.signatures) <= 1 for k in declared)
     assert predicates.orient2d(0, 0, 1, 0, 0, 1) == predicates.orient2d(0.0, 0.0, 1.0, 0.0, 0.0, 1.0) > 0
     assert len(predicates.orient2d.signatures) == 1
+
+
+def test_kernels_compile_with_flags_read_once_and_equal_to_numbas():
+    from numba.core.compiler import Flags
+    assert type(times_two._compiler) is jit._KernelCompiler      # (entries and kernels alike)
+    assert type(times_three._compiler) is jit._KernelCompiler
+    plain = Flags()
+    times_two.targetdescr.options.parse_as_flags(plain, times_two.targetoptions)
+    flags = times_two._compiler._customize_flags(Flags(plain))
+    assert type(flags) is jit.KernelFlags and flags.nrt and flags.release_gil
+    assert flags == plain and plain == flags and hash(flags) == hash(plain)
+    copy = jit.KernelFlags(flags)
+    assert copy == flags and hash(copy) == hash(flags)
+    copy.boundscheck = not flags.boundscheck             # setting an option: read anew
+    assert copy != flags and copy != plain
+    copy.discard("boundscheck")
+    assert copy == flags
+    copy.nrt = False
+    assert copy != flags
+    del copy.nrt                                         # back to numba's default (no NRT)
+    assert not copy.nrt and copy != flags and copy == Flags(copy)
