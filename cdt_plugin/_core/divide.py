@@ -23,7 +23,8 @@ from __future__ import annotations
 import numpy as np
 
 from .jit import entry, kernel
-from .kernel import lifted_test, orient
+from .kernel import lifted_test
+from .predicates import orient2d
 from .mesh import IDX
 
 QUAD_SLACK = 8   # quad-edges beyond 3 per point that a subdivision may take
@@ -102,7 +103,7 @@ def delete_edge(onext, org, free, nfree, e):
 
 @kernel(forceinline=True)
 def ccw(x, y, a, b, c):
-    return orient(x, y, a, b, c) > 0
+    return orient2d(x[a], y[a], x[b], y[b], x[c], y[c]) > 0
 
 
 @kernel(forceinline=True)

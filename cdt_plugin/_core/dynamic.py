@@ -136,7 +136,7 @@ def snapshot(store, even_odd):
         nseg = 0
         for e in range(3 * ntri):
             nseg = max(nseg, np.int64(cons[e]))
-        depth, _, _ = segment_depths(tri, twin, cons, ntri, inf, np.ones(nseg + 1, np.int64),
+        depth, _, _ = segment_depths(tri, twin, cons, ntri, inf, np.full(nseg + 1, 1, np.int64),
                                      np.zeros(nseg + 2, np.int64), np.empty(0, np.int64),
                                      np.empty(0, np.int64))
         for t in range(ntri):

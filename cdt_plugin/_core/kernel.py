@@ -26,7 +26,7 @@ def lex_less(x, y, i, j):
     return x[i] < x[j] or (x[i] == x[j] and y[i] < y[j])
 
 
-@kernel(inline='always')
+@kernel("float64(float64[::1], float64[::1], int64, int64, int64)", forceinline=True)
 def orient(x, y, a, b, c):
     """Exact orientation of real vertices ``a, b, c`` (> 0 counter-clockwise)."""
     return orient2d(x[a], y[a], x[b], y[b], x[c], y[c])

@@ -258,7 +258,7 @@ def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_start
     if holes.shape[0] > 0:
         label = np.zeros(k, np.int64)
         flood_seeds(x, y, T, N, cflag, holes[:, 0].copy(), holes[:, 1].copy(), inside, label,
-                    np.ones(holes.shape[0], np.int64))
+                    np.full(holes.shape[0], 1, np.int64))
         for i in range(k):
             if label[i] != 0:
                 inside[i] = False

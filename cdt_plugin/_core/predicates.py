@@ -555,7 +555,7 @@ def _incircle_exact_of_doubles(adx, ady, awd, bdx, bdy, bwd, cdx, cdy, cwd, use_
     weight differences) are exact in one double each, i.e. their two_diff tails
     vanish; returns the most significant component of the result.
     """
-    w = np.empty(_RB_SIZE, np.float64)
+    w = np.empty(_RB_SIZE)
     rowlen0 = rowlen1 = rowlen2 = 0
     for k in range(3):
         if k == 0:
@@ -620,7 +620,7 @@ def orient2d_exact(ax, ay, bx, by, cx, cy):
         l1, l0 = two_product(acx, bcy)
         r1, r0 = two_product(acy, bcx)
         return l0 - r0
-    w = np.empty(72, np.float64)
+    w = np.empty(72)
     n_acx = _diff_expansion(w, 0, ax, cx)
     n_bcx = _diff_expansion(w, 2, bx, cx)
     n_acy = _diff_expansion(w, 4, ay, cy)
@@ -684,7 +684,7 @@ def _incircle_exact_core(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw, use_w):
         if tails == 0.0:
             return _sign_of_sum_of_three_products(la, ca, lb, cb, lc, cc)
         return _incircle_exact_of_doubles(adx, ady, awd, bdx, bdy, bwd, cdx, cdy, cwd, use_w)
-    w = np.empty(_W_SIZE, np.float64)
+    w = np.empty(_W_SIZE)
     # Slot i (offset 2 i) holds the exact difference: adx, ady, bdx, bdy, cdx,
     # cdy, awd, bwd, cwd; its length is kept in w[_W_LEN + i].
     minuend = (ax, ay, bx, by, cx, cy, aw, bw, cw)
@@ -805,7 +805,7 @@ def _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum):
     # Stage D: B + (acxtail*bcy - acytail*bcx) + (acx*bcytail - acy*bcxtail)
     #            + (acxtail*bcytail - acytail*bcxtail), exactly.
     # Workspace: B w[0:4], u w[4:8], C1 w[8:16], C2 w[16:28], D w[28:44].
-    w = np.empty(44, np.float64)
+    w = np.empty(44)
     w[0] = b0
     w[1] = b1
     w[2] = b2
@@ -1089,7 +1089,7 @@ def _crossing_coordinate(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, axis):
     denominator are taken to double-double precision (relative error ~2^-104)
     and divided with one correction step, so only a value within ~2^-100 of a
     midpoint between doubles could round the other way."""
-    w = np.empty(432, np.float64)
+    w = np.empty(432)
     n0 = orient_expansion(w, 0, q0x, q0y, q1x, q1y, p0x, p0y)          # d0 at w[8:]
     n1 = orient_expansion(w, 72, q0x, q0y, q1x, q1y, p1x, p1y)         # d1 at w[80:]
     for k in range(80, 80 + n1):
