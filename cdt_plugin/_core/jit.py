@@ -16,7 +16,8 @@ a twin compiled with the wrapper, not cached (:meth:`Kernel._compile_for_args`);
 every such call is recorded in :data:`PYTHON_CALLERS`, where the test suite
 requires that none comes from outside the tests (an entry not marked as one).
 Kernels compile with :class:`KernelFlags`, numba's flags with their values read
-once (numba reads them all at every typed call of an overloaded function).
+once (numba reads them all at every typed call of an overloaded function), and
+processes write their disk cache one at a time (:class:`LockedCache`).
 
 numba compiles a function once per distinct tuple of argument types, and links
 every callee's code into each caller's library, where it is optimised and
@@ -53,9 +54,12 @@ code-generated again. So, in the kernels:
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
+from typing import Iterator
 
+from numba.core.caching import FunctionCache
 from numba.core.compiler import Flags
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.dispatcher import _FunctionCompiler
@@ -149,9 +153,73 @@ class _KernelCompiler(_FunctionCompiler):
         return KernelFlags(super()._customize_flags(flags))
 
 
+class LockedCache(FunctionCache):
+    """numba's disk cache of a kernel, written by one process at a time (an
+    exclusive lock on a file in the cache directory; reading takes none).
+    numba saves a compilation by reading the function's index, naming a data
+    file after the entries it found, writing the index and then that file. Two
+    processes that compile different signatures of one function at once (cold
+    Dask workers, a process pool, parallel test workers) can pick the same data
+    file, and leave an index entry that names the other signature's machine
+    code, which a later process would load and run (numba issue #10128 reports
+    the segmentation faults). A reader never sees a half-written file: numba
+    replaces each one whole."""
+
+    def _save_overload(self, sig, data):
+        with cache_lock(self._cache_path):
+            super()._save_overload(sig, data)
+
+
+LOCK_NAME = "cdt_plugin.lock"
+
+
+@contextlib.contextmanager
+def cache_lock(directory: str) -> Iterator[bool]:
+    """Holds the exclusive lock of the cache ``directory`` (yields True), or,
+    where the file cannot be locked (a read-only cache, a file system without
+    locks), yields False and lets numba write as it would alone."""
+    try:
+        os.makedirs(directory, exist_ok=True)
+        handle = open(os.path.join(directory, LOCK_NAME), "a+b")
+    except OSError:
+        yield False
+        return
+    with handle:
+        try:
+            _lock(handle)
+        except OSError:
+            yield False
+            return
+        try:
+            yield True
+        finally:
+            _unlock(handle)
+
+
+if os.name == "nt":
+    import msvcrt
+
+    def _lock(handle) -> None:
+        handle.seek(0)
+        msvcrt.locking(handle.fileno(), msvcrt.LK_LOCK, 1)   # (retries for 10 s, then OSError)
+
+    def _unlock(handle) -> None:
+        handle.seek(0)
+        msvcrt.locking(handle.fileno(), msvcrt.LK_UNLCK, 1)
+else:
+    import fcntl
+
+    def _lock(handle) -> None:
+        fcntl.flock(handle.fileno(), fcntl.LOCK_EX)
+
+    def _unlock(handle) -> None:
+        fcntl.flock(handle.fileno(), fcntl.LOCK_UN)
+
+
 class Kernel(CPUDispatcher):
-    """``numba.njit(cache=True)`` whose disk cache is opened when it is first
-    compiled or loaded, not when it is defined: a process whose routes load
+    """``numba.njit(cache=True)`` whose disk cache (a :class:`LockedCache`) is
+    opened when it is first compiled or loaded, not when it is defined: a
+    process whose routes load
     from the cache never opens the caches of the ~300 kernels inside them
     (their cached code contains them), about 15 ms of ``import cdt_plugin``.
     Without the CPython wrapper, its compilations are kept from numba's
@@ -164,6 +232,9 @@ class Kernel(CPUDispatcher):
         super().__init__(*args, **kwargs)
         if type(self._compiler) is _FunctionCompiler:
             self._compiler.__class__ = _KernelCompiler
+
+    def enable_caching(self):
+        self._cache = LockedCache(self.py_func)
 
     def compile(self, sig):
         with global_compiler_lock:   # (reentrant: numba's own compile takes it too)

@@ -130,3 +130,38 @@ def test_kernels_compile_with_flags_read_once_and_equal_to_numbas():
     assert copy != flags
     del copy.nrt                                         # back to numba's default (no NRT)
     assert not copy.nrt and copy != flags and copy == Flags(copy)
+
+
+def test_kernels_write_their_disk_cache_one_process_at_a_time(tmp_path):
+    """A process that compiles a kernel waits for the lock of the cache directory
+    before writing the cache (numba's index and data files), and writes it once
+    the lock is free."""
+    import subprocess
+    import sys
+    (tmp_path / "locked_kernel.py").write_text(
+        "from cdt_plugin._core.jit import entry\n\n\n@entry\ndef plus_one(x):\n    return x + 1\n")
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), *sys.path])}
+
+    def run(code):
+        return subprocess.Popen([sys.executable, "-c", f"import locked_kernel as m; {code}"],
+                                env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    out, err = run("m.plus_one.enable_caching(); print(m.plus_one._cache.cache_path)").communicate(timeout=300)
+    directory = out.strip()
+    assert directory, err
+    with jit.cache_lock(directory) as locked:
+        assert locked
+        child = run("print(m.plus_one(41))")
+        try:
+            child.wait(timeout=10)          # (compiling one line takes well under a second)
+        except subprocess.TimeoutExpired:
+            pass
+        assert child.poll() is None, child.communicate()
+        assert not [n for n in os.listdir(directory) if n.endswith((".nbi", ".nbc"))]
+    out, err = child.communicate(timeout=300)
+    assert child.returncode == 0 and out.strip() == "42", err
+    assert [n for n in os.listdir(directory) if "plus_one" in n and n.endswith(".nbi")]
+    assert jit.LOCK_NAME in os.listdir(directory)
+    loaded = run("print(m.plus_one(1), sum(m.plus_one.stats.cache_hits.values()))")
+    out, err = loaded.communicate(timeout=300)
+    assert out.split() == ["2", "1"], err             # a new process loads what it wrote
