@@ -5,7 +5,10 @@ While a route compiles, one line on stderr says so, through the
 ``cdt_plugin`` logger (silence it with
 ``logging.getLogger("cdt_plugin").setLevel(logging.ERROR)``).
 :func:`compile_routes` (the ``cdt-plugin compile`` command) compiles every
-route ahead of time, for Docker images, CI and Dask workers.
+route ahead of time, for Docker images, CI and Dask workers. On two cores or
+more, a second process compiles two stages of the constrained Delaunay route
+while it compiles (see "a helper process" below; ``CDT_PLUGIN_COMPILE_HELPER=0``
+keeps to one process).
 
 >>> from cdt_plugin.compiling import ROUTES
 >>> sorted(ROUTES)
@@ -13,9 +16,11 @@ route ahead of time, for Docker images, CI and Dask workers.
 """
 from __future__ import annotations
 
+import atexit
 import glob
 import logging
 import os
+import subprocess
 import sys
 import time
 import types
@@ -23,6 +28,8 @@ from typing import Callable, Iterable
 
 import numpy as np
 from numba.core import config, event
+
+from ._core import jit
 
 logger = logging.getLogger("cdt_plugin")
 
@@ -76,6 +83,8 @@ class _CompileNotice(event.Listener):
         if self.depth == 0 and not module.startswith("cdt_plugin"):
             return
         self.depth += 1
+        if getattr(py_func, "__name__", "") in HELPED_ROUTES:
+            helper.start()
         if self.depth == 1:
             name = getattr(py_func, "__name__", "")
             self.what = _ENTRY_NAMES.get(name) or _MODULE_NAMES.get(module) or f"{module}.{name}"
@@ -130,6 +139,111 @@ def _call_name(frame: types.FrameType) -> str:
 
 _notice = _CompileNotice()
 event.register("numba:compile", _notice)
+
+
+# ------------------------------------------------------------ a helper process on first use
+# numba compiles on one core. While a cold process compiles the constrained Delaunay
+# route, a second process compiles two of its largest stages (refinement's loop and the
+# domain's classification: about a quarter of the route) into the disk cache, which
+# the route then loads instead of compiling them (the cache is written under a lock,
+# :class:`~cdt_plugin._core.jit.LockedCache`). Each stage declares the argument types
+# the route gives it (``ahead=``); a route that calls it with others compiles it itself.
+HELPER_ENV = "CDT_PLUGIN_COMPILE_HELPER"       # "0": no helper process
+HELPED_ROUTES = ("cdt_route_packed", "mesh_geometries")
+HELPER_STAGES = ("cdt_plugin._core.pipeline.classify", "cdt_plugin._core.refine.refine_loop")
+
+
+def _stage(name: str):
+    import importlib
+    module, _, attr = name.rpartition(".")
+    return getattr(importlib.import_module(module), attr)
+
+
+def _usable_cpus() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
+class _Helper:
+    """The helper process of this one (at most one, started by the first cold
+    compilation of a constrained Delaunay route)."""
+
+    def __init__(self) -> None:
+        self.started = False
+        self.proc: subprocess.Popen | None = None
+        self.pending: set[str] = set()      # the stages it has not said it compiled
+        self.pid = -1                       # the process that started it
+
+    def allowed(self) -> bool:
+        return (os.environ.get(HELPER_ENV, "1") != "0" and _usable_cpus() >= 2
+                and bool(sys.executable))
+
+    def start(self) -> None:
+        if self.started or not self.allowed():
+            return
+        self.started = True
+        try:
+            self._spawn()
+        except Exception:       # never stop a compilation over its helper: it compiles alone
+            self.proc, self.pending = None, set()
+
+    def _spawn(self) -> None:
+        names = [n for n in HELPER_STAGES if not _stage(n).overloads]
+        if not names:
+            return
+        env = {**os.environ, HELPER_ENV: "0",
+               "PYTHONPATH": os.pathsep.join([os.path.dirname(_PACKAGE),     # this very package
+                                              *filter(None, [os.environ.get("PYTHONPATH")])])}
+        code = "import sys; from cdt_plugin.compiling import compile_ahead; compile_ahead(sys.argv[1:])"
+        try:
+            self.proc = subprocess.Popen([sys.executable, "-c", code, *names], env=env, text=True,
+                                         stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                         stderr=subprocess.DEVNULL)
+        except OSError:          # (an interpreter that cannot start another)
+            return
+        self.pending, self.pid = set(names), os.getpid()
+        atexit.register(self.stop)
+        logger.info("cdt_plugin: a second process compiles %s", ", ".join(names))
+
+    def wait_for(self, kernel) -> None:
+        """Before ``kernel`` compiles here: if the helper compiles it, wait until it
+        has (or has ended); numba then loads it from the cache."""
+        if not self.pending:
+            return
+        name = f"{kernel.py_func.__module__}.{kernel.py_func.__qualname__}"
+        if name not in self.pending or self.proc is None or os.getpid() != self.pid:   # (a fork)
+            return
+        t0 = time.perf_counter()
+        while name in self.pending:
+            try:
+                line = self.proc.stdout.readline() if self.proc.stdout else ""
+            except (OSError, ValueError):
+                line = ""
+            if not line:              # it ended (or failed): the rest compiles here
+                self.pending.clear()
+                break
+            self.pending.discard(line.strip())
+        logger.info("cdt_plugin: waited %.1f s for the second process's %s", time.perf_counter() - t0, name)
+
+    def stop(self) -> None:
+        if self.proc is not None and self.proc.poll() is None:
+            self.proc.terminate()
+
+
+def compile_ahead(names: list[str]) -> None:
+    """The helper process: compile each named stage for the argument types its
+    route gives it, into the disk cache, and print its name when it is done."""
+    logging.getLogger("cdt_plugin").setLevel(logging.ERROR)
+    for name in names:
+        kernel = _stage(name)
+        kernel.compile(kernel.ahead)
+        print(name, flush=True)
+
+
+helper = _Helper()
+jit.await_helper = helper.wait_for
 
 
 # ------------------------------------------------------------ a cache older than the sources

@@ -57,7 +57,7 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
-from typing import Iterator
+from typing import Callable, Iterator
 
 from numba.core.caching import FunctionCache
 from numba.core.compiler import Flags
@@ -75,7 +75,8 @@ def kernel(*signature, **options):
     """Decorator: a compiled kernel that compiled code calls,
     ``numba.njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True,
     nogil=True, **options)`` (a :class:`Kernel`); with a signature, a
-    :class:`DeclaredKernel` of it."""
+    :class:`DeclaredKernel` of it. ``ahead=`` a tuple of numba types: the
+    arguments its route calls it with (:attr:`Kernel.ahead`)."""
     return _decorator(signature, {**_OPTIONS, "no_cpython_wrapper": True, **options})
 
 
@@ -88,14 +89,22 @@ def entry(*signature, **options):
 def _decorator(signature, options):
     if len(signature) == 1 and callable(signature[0]) and not hasattr(signature[0], "args"):
         return _decorator((), options)(signature[0])          # bare @kernel
+    ahead = options.pop("ahead", None)
 
     def make(py_func):
         if not signature:
-            return Kernel(py_func=py_func, locals={}, targetoptions=options)
-        compiled = DeclaredKernel(py_func=py_func, locals={}, targetoptions=options)
-        compiled.declared = signature
+            compiled = Kernel(py_func=py_func, locals={}, targetoptions=options)
+        else:
+            compiled = DeclaredKernel(py_func=py_func, locals={}, targetoptions=options)
+            compiled.declared = signature
+        compiled.ahead = ahead
         return compiled
     return make
+
+
+# Called with a kernel that has ``ahead`` argument types before it compiles: waits
+# while a helper process compiles it (set by :mod:`cdt_plugin.compiling`).
+await_helper: Callable[[Kernel], None] | None = None
 
 
 class KernelFlags(Flags):
@@ -227,6 +236,10 @@ class Kernel(CPUDispatcher):
 
     cache_opened = False
     twin: Kernel | None = None      # the same function with the wrapper, for Python calls
+    # the argument types its route calls it with, which a helper process compiles it
+    # for while the route compiles (a first use, :mod:`cdt_plugin.compiling`); a caller
+    # with other types compiles it for those
+    ahead: tuple | None = None
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
@@ -238,6 +251,8 @@ class Kernel(CPUDispatcher):
 
     def compile(self, sig):
         with global_compiler_lock:   # (reentrant: numba's own compile takes it too)
+            if self.ahead is not None and await_helper is not None:
+                await_helper(self)
             if not self.cache_opened:
                 self.cache_opened = True
                 self.enable_caching()

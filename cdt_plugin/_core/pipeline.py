@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import types
 
 from .arrays import copy_rows
 from .construct import (DIVIDE, FLIP, build_mesh, gather_coords, horizontal_order, seed_first, seed_triangle,
@@ -212,7 +213,15 @@ def solid_with_flags(tri, twin, cons, ntri, inf):
     return T, N, tid, cflag
 
 
-@kernel
+_I32, _I64, _I64_2, _F8, _F8_2 = (types.int32[::1], types.int64[::1], types.int64[:, ::1],
+                                  types.float64[::1], types.float64[:, ::1])
+# classify's arguments in the route, for a helper process to compile it ahead (first use)
+_CLASSIFY_ARGS = (_I32, _I32, _I32, types.int64, types.int64, _F8, _F8, _I64_2, _I64_2, _I64, _I64_2,
+                  _I64, _I64, _I64, _I64, types.boolean[::1], _F8_2, _F8_2, types.boolean, types.boolean,
+                  types.boolean, _I64)
+
+
+@kernel(ahead=_CLASSIFY_ARGS)
 def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_start, seg_rings,
              ring_polygon, ring_is_hole, holes, regions, use_seeds, keep_hull, check_holes, info):
     """Which solid triangles are inside the domain, and their region: depth

@@ -39,6 +39,7 @@ import math
 from collections import namedtuple
 
 import numpy as np
+from numba import types
 
 from .arrays import copy_rows
 from .flips import flip_to_delaunay, push_outer_edges
@@ -637,7 +638,19 @@ def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts
 
 
 # ------------------------------------------------------------- main loop
-@kernel(_nrt=False)
+RefineBuffers = namedtuple("RefineBuffers",
+                           "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub")
+
+_I32, _I64, _I64_2, _F8 = types.int32[::1], types.int64[::1], types.int64[:, ::1], types.float64[::1]
+_i8, _f8 = types.int64, types.float64
+# refine_loop's arguments in the route, for a helper process to compile it ahead (first use)
+_REFINE_LOOP_ARGS = (_I32, _I32, _I32, _F8, _F8, _i8, _i8, _i8, _i8, _I64, _I64, _I64_2, _f8, _f8, _f8,
+                     _F8, types.boolean, _i8, _I64,
+                     types.NamedTuple((_I64_2, _I64, _I64, _I64, _I64, _I64, _I64_2, _I64, _I64, _I64,
+                                       _I64, _I64, types.int8[::1]), RefineBuffers))
+
+
+@kernel(_nrt=False, ahead=_REFINE_LOOP_ARGS)
 def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
                 offconstant, lens, area_of_label, conforming, max_new, counts, buffers):
     """Refine until no piece is encroached and no triangle is bad (or is
@@ -872,10 +885,6 @@ def with_hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends):
 
 
 STEINER_ROOM = 4   # vertex room refinement starts with, per input vertex
-
-RefineBuffers = namedtuple("RefineBuffers",
-                           "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub")
-
 
 @kernel(inline="always")
 def refine_run(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
