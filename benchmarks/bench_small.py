@@ -45,7 +45,9 @@ directory for the empty-cache cases):
 * empty cache: ``import cdt_plugin`` alone; import + first ``delaunay`` of 100 random
   points; import + first ``triangulate`` of the square; import + first
   ``triangulate(star12, min_angle=30)`` (2 Steiner points: the refinement really runs);
-  all of them in one process (goal: at most 30 s);
+  all of them in one process (goal: at most 30 s); the same all-in-one case with
+  ``CDT_PLUGIN_COMPILE_HELPER=0`` first (numba compiling on one core only: no second
+  process compiles route stages);
 * filled cache (the same directory again, after the all-in-one case filled it): import
   alone; import + first ``triangulate`` of the square (goal: at most 0.5 s); all; and
   import + first ``triangulate`` again with scipy absent, as after a fresh ``pip install
@@ -269,6 +271,7 @@ GOAL_SQUARE_US = 30.0      # ... and the square at most 30 us
 STRETCH_EARCUT = 2.0       # stretch: at most 2x earcut
 GOAL_COLD_S = 30.0         # import + delaunay + triangulate + refinement, empty cache
 GOAL_CACHED_S = 0.5        # import + first small triangulate, filled cache
+HELPER_ENV = "CDT_PLUGIN_COMPILE_HELPER"   # cdt_plugin.compiling's switch ("0": one process)
 
 # ----------------------------------------------------------------------------- first use
 
@@ -311,8 +314,11 @@ def _first_use_child(steps: list[str], without_scipy: bool = False) -> None:
 
 
 def _run_child(steps: list[str], cache: str, timeout: float, pycache: str,
-               without_scipy: bool = False) -> dict:
+               without_scipy: bool = False, one_process: bool = False) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPYCACHEPREFIX=pycache)
+    env.pop(HELPER_ENV, None)
+    if one_process:
+        env[HELPER_ENV] = "0"                    # no second process compiles route stages
     env.pop("PYTHONDONTWRITEBYTECODE", None)     # bytecode as pip installs it (see _compile_bytecode)
     t0 = time.perf_counter()
     try:
@@ -359,6 +365,10 @@ def measure_first_use(quick: bool, timeout: float) -> list[dict]:
     rows: list[dict] = []
     dirs: list[str] = []
     try:
+        dirs.append(tempfile.mkdtemp(prefix="numba-small-"))
+        rows.append({"cache": "empty", "steps": ALL_STEPS, "one_process": True,
+                     **_run_child(ALL_STEPS, dirs[-1], timeout, pycache, one_process=True)})
+        _log_first_use(rows[-1])
         for steps in empty:
             dirs.append(tempfile.mkdtemp(prefix="numba-small-"))
             rows.append({"cache": "empty", "steps": steps, **_run_child(steps, dirs[-1], timeout, pycache)})
@@ -379,13 +389,18 @@ def measure_first_use(quick: bool, timeout: float) -> list[dict]:
     return rows
 
 
-def _case_label(steps: list[str], without_scipy: bool = False) -> str:
+def _case_label(steps: list[str], without_scipy: bool = False, one_process: bool = False) -> str:
     return ("import cdt_plugin" + "".join(f" + {FIRST_STEPS[s]}" for s in steps)
-            + (", scipy absent (cdt_plugin's dependencies only)" if without_scipy else ""))
+            + (", scipy absent (cdt_plugin's dependencies only)" if without_scipy else "")
+            + (f", one process ({HELPER_ENV}=0)" if one_process else ""))
+
+
+def _row_label(row: dict) -> str:
+    return _case_label(row["steps"], row.get("without_scipy", False), row.get("one_process", False))
 
 
 def _log_first_use(row: dict) -> None:
-    what = f"  first use, {row['cache']} cache, {_case_label(row['steps'], row.get('without_scipy', False))}:"
+    what = f"  first use, {row['cache']} cache, {_row_label(row)}:"
     if "error" in row:
         _log(f"{what} n/a: {row['error']}")
     else:
@@ -483,16 +498,15 @@ def render(results: dict, info: dict, args_line: str) -> str:
                   "|---|---|---|---:|---:|---|"]
         for r in first:
             if "error" in r:
-                lines.append(f"| {r['cache']} | {_case_label(r['steps'], r.get('without_scipy', False))} | "
-                             f"n/a: {r['error']} | n/a | n/a | |")
+                lines.append(f"| {r['cache']} | {_row_label(r)} | n/a: {r['error']} | n/a | n/a | |")
                 continue
             phases = ", ".join(f"{name} {s:.2f}" for name, s in r["phases"])
             goal = ""
-            if r["cache"] == "empty" and r["steps"] == ALL_STEPS:
+            if r["cache"] == "empty" and r["steps"] == ALL_STEPS and not r.get("one_process"):
                 goal = f"<= {GOAL_COLD_S:g} s: {_verdict(r['calls_s'] <= GOAL_COLD_S)}"
             elif r["cache"] == "filled" and r["steps"] == ["triangulate"]:
                 goal = f"<= {GOAL_CACHED_S:g} s: {_verdict(r['calls_s'] <= GOAL_CACHED_S)}"
-            lines.append(f"| {r['cache']} | {_case_label(r['steps'], r.get('without_scipy', False))} | "
+            lines.append(f"| {r['cache']} | {_row_label(r)} | "
                          f"{phases} | {r['calls_s']:.2f} | "
                          f"{r['wall_s']:.2f} | {goal} |")
         cached = next((r for r in first if r["cache"] == "filled" and "cache_files" in r), None)
@@ -515,7 +529,10 @@ def render(results: dict, info: dict, args_line: str) -> str:
                       "bytecode is compiled beforehand, as pip does at install time. scipy absent: the "
                       "child makes `import scipy` fail before importing cdt_plugin, as in an environment "
                       "with cdt_plugin's dependencies only (numba imports scipy, when installed, to probe "
-                      "for BLAS; scipy is here for the peers of other benchmarks).")
+                      "for BLAS; scipy is here for the peers of other benchmarks). An empty-cache child "
+                      "that compiles the constrained Delaunay route starts a second process, which "
+                      "compiles two of the route's stages into the cache meanwhile (two cores here); "
+                      f"one process: {HELPER_ENV}=0, no second process.")
     if notes:
         lines += [""] + [f"- n/a: {n}" for n in notes]
     if results.get("warnings"):
