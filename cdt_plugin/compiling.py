@@ -225,6 +225,8 @@ class _Helper:
                 self.pending.clear()
                 break
             self.pending.discard(line.strip())
+        if not self.pending:
+            self.proc.poll()          # (reaps it once it has exited)
         logger.info("cdt_plugin: waited %.1f s for the second process's %s", time.perf_counter() - t0, name)
 
     def stop(self) -> None:

@@ -112,7 +112,7 @@ class KernelFlags(Flags):
     compiles, numba looks up every typed call of an overloaded function
     (``np.empty``, ``len``, ``min``, ...) in a cache keyed by the flags of that
     function, hashing and comparing them anew each time: reading each of ~45
-    options, some 100,000 times in a first use (about 5% of it). Here the values
+    options, some 100,000 times in a first use (about 7% of it). Here the values
     are read once, until an option is set; hash and equality are numba's."""
 
     __slots__ = ("_memo",)
