@@ -59,6 +59,7 @@ import os
 import sys
 from typing import Callable, Iterator
 
+from numba import types
 from numba.core.caching import FunctionCache
 from numba.core.compiler import Flags
 from numba.core.compiler_lock import global_compiler_lock
@@ -66,6 +67,10 @@ from numba.core.dispatcher import _FunctionCompiler
 from numba.core.registry import CPUDispatcher
 
 _OPTIONS = {"nopython": True, "no_cfunc_wrapper": True, "nogil": True}
+
+# numba's types of the C-contiguous arrays kernels take, for the argument types they declare
+I32, I64, I64_2, F8, F8_2 = (types.int32[::1], types.int64[::1], types.int64[:, ::1],
+                             types.float64[::1], types.float64[:, ::1])
 
 # (kernel, calling file, calling function) of every Python call of an internal kernel
 PYTHON_CALLERS: set[tuple[str, str, str]] = set()

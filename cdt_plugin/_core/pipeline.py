@@ -27,7 +27,7 @@ from .construct import (DIVIDE, FLIP, build_mesh, gather_coords, horizontal_orde
                         store_room, to_input_ids)
 from .flips import flip_to_delaunay
 from .insertion import insert_vertex
-from .jit import entry, kernel
+from .jit import F8, F8_2, I32, I64, I64_2, entry, kernel
 from .mesh import DEAD, IDX, grow_store, nxt
 from .ordering import HILBERT_BITS, hilbert_keys, lexicographic_order_compiled
 from .output import cdt_arrays, cdt_vertices, solid_triangles
@@ -213,12 +213,10 @@ def solid_with_flags(tri, twin, cons, ntri, inf):
     return T, N, tid, cflag
 
 
-_I32, _I64, _I64_2, _F8, _F8_2 = (types.int32[::1], types.int64[::1], types.int64[:, ::1],
-                                  types.float64[::1], types.float64[:, ::1])
 # classify's arguments in the route, for a helper process to compile it ahead (first use)
-_CLASSIFY_ARGS = (_I32, _I32, _I32, types.int64, types.int64, _F8, _F8, _I64_2, _I64_2, _I64, _I64_2,
-                  _I64, _I64, _I64, _I64, types.boolean[::1], _F8_2, _F8_2, types.boolean, types.boolean,
-                  types.boolean, _I64)
+_CLASSIFY_ARGS = (I32, I32, I32, types.int64, types.int64, F8, F8, I64_2, I64_2, I64, I64_2,
+                  I64, I64, I64, I64, types.boolean[::1], F8_2, F8_2, types.boolean, types.boolean,
+                  types.boolean, I64)
 
 
 @kernel(ahead=_CLASSIFY_ARGS)

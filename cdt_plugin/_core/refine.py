@@ -44,7 +44,7 @@ from numba import types
 from .arrays import copy_rows
 from .flips import flip_to_delaunay, push_outer_edges
 from .insertion import legalize
-from .jit import kernel
+from .jit import F8, I32, I64, I64_2, kernel
 from .kernel import edge_is_illegal, orient
 from .locate import solid_step
 from .predicates import incircle, orient2d
@@ -641,13 +641,12 @@ def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts
 RefineBuffers = namedtuple("RefineBuffers",
                            "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub")
 
-_I32, _I64, _I64_2, _F8 = types.int32[::1], types.int64[::1], types.int64[:, ::1], types.float64[::1]
 _i8, _f8 = types.int64, types.float64
 # refine_loop's arguments in the route, for a helper process to compile it ahead (first use)
-_REFINE_LOOP_ARGS = (_I32, _I32, _I32, _F8, _F8, _i8, _i8, _i8, _i8, _I64, _I64, _I64_2, _f8, _f8, _f8,
-                     _F8, types.boolean, _i8, _I64,
-                     types.NamedTuple((_I64_2, _I64, _I64, _I64, _I64, _I64, _I64_2, _I64, _I64, _I64,
-                                       _I64, _I64, types.int8[::1]), RefineBuffers))
+_REFINE_LOOP_ARGS = (I32, I32, I32, F8, F8, _i8, _i8, _i8, _i8, I64, I64, I64_2, _f8, _f8, _f8,
+                     F8, types.boolean, _i8, I64,
+                     types.NamedTuple((I64_2, I64, I64, I64, I64, I64, I64_2, I64, I64, I64,
+                                       I64, I64, types.int8[::1]), RefineBuffers))
 
 
 @kernel(_nrt=False, ahead=_REFINE_LOOP_ARGS)
