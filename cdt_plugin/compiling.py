@@ -22,6 +22,7 @@ import logging
 import os
 import subprocess
 import sys
+import threading
 import time
 import types
 from typing import Callable, Iterable
@@ -83,14 +84,13 @@ class _CompileNotice(event.Listener):
         if self.depth == 0 and not module.startswith("cdt_plugin"):
             return
         self.depth += 1
-        if getattr(py_func, "__name__", "") in HELPED_ROUTES:
-            helper.start()
         if self.depth == 1:
             name = getattr(py_func, "__name__", "")
             self.what = _ENTRY_NAMES.get(name) or _MODULE_NAMES.get(module) or f"{module}.{name}"
             self.start = time.perf_counter()
             frame = _public_call()
             if frame is not None:
+                helper.start()
                 call = _call_name(frame)
                 if call == self.call and self.start - self.end < self.BURST:
                     return
@@ -142,15 +142,29 @@ event.register("numba:compile", _notice)
 
 
 # ------------------------------------------------------------ a helper process on first use
-# numba compiles on one core. While a cold process compiles the constrained Delaunay
-# route, a second process compiles two of its largest stages (refinement's loop and the
-# domain's classification: about a quarter of the route) into the disk cache, which
-# the route then loads instead of compiling them (the cache is written under a lock,
-# :class:`~cdt_plugin._core.jit.LockedCache`). Each stage declares the argument types
-# the route gives it (``ahead=``); a route that calls it with others compiles it itself.
+# numba compiles on one core. When a cold process first compiles a route for a public
+# call, a second process compiles the constrained Delaunay route's largest stages into
+# the disk cache (the cache is written under a lock, :class:`~cdt_plugin._core.jit.LockedCache`),
+# in the order of HELPER_STAGES; the route loads each one the helper has compiled
+# instead of compiling it (a stage compiled apart: nothing of it is compiled again),
+# waits for the one it is compiling, and claims the rest, which the helper then skips.
+# Each stage declares the argument types the route gives it (``ahead=``); a caller
+# with other types compiles it itself. The helper starts at a first ``delaunay`` as
+# well: most scripts triangulate next, and the cache keeps what it compiled.
 HELPER_ENV = "CDT_PLUGIN_COMPILE_HELPER"       # "0": no helper process
-HELPED_ROUTES = ("cdt_route_packed", "mesh_geometries")
-HELPER_STAGES = ("cdt_plugin._core.pipeline.classify", "cdt_plugin._core.refine.refine_loop")
+# The helper's order. The route needs them in the order polygon_rings (before the
+# route), build_mesh, insert_all_segments, classify, refine_store, cdt_arrays; the
+# route compiles build_mesh itself while the helper compiles the stages after it, and
+# classify while the helper compiles refinement (first use measured about 2 s shorter
+# than with the helper taking them from the route's end).
+HELPER_STAGES = (
+    "cdt_plugin._core.rings.polygon_rings",
+    "cdt_plugin._core.pipeline.insert_all_segments",
+    "cdt_plugin._core.refine.refine_store",
+    "cdt_plugin._core.output.cdt_arrays",
+    "cdt_plugin._core.pipeline.classify",
+    "cdt_plugin._core.construct.build_mesh",
+)
 
 
 def _stage(name: str):
@@ -166,15 +180,23 @@ def _usable_cpus() -> int:
         return os.cpu_count() or 1
 
 
+def _stage_name(kernel) -> str:
+    return f"{kernel.py_func.__module__}.{kernel.py_func.__qualname__}"
+
+
 class _Helper:
-    """The helper process of this one (at most one, started by the first cold
-    compilation of a constrained Delaunay route)."""
+    """The helper process of this one (at most one, started by the first
+    compilation for a public call when a stage it compiles is not in the cache).
+    It says ``start NAME`` and ``done NAME`` for each stage; it is told ``mine
+    NAME`` for each stage this process compiles itself."""
 
     def __init__(self) -> None:
         self.started = False
         self.proc: subprocess.Popen | None = None
-        self.pending: set[str] = set()      # the stages it has not said it compiled
-        self.pid = -1                       # the process that started it
+        self.pid = -1                        # the process that started it
+        self.state: dict[str, str] = {}      # stage -> "pending", "start", "done" or "mine"
+        self.ended = False
+        self.changed = threading.Condition()
 
     def allowed(self) -> bool:
         return (os.environ.get(HELPER_ENV, "1") != "0" and _usable_cpus() >= 2
@@ -187,10 +209,11 @@ class _Helper:
         try:
             self._spawn()
         except Exception:       # never stop a compilation over its helper: it compiles alone
-            self.proc, self.pending = None, set()
+            self.proc, self.state = None, {}
 
     def _spawn(self) -> None:
-        names = [n for n in HELPER_STAGES if not _stage(n).overloads]
+        names = [n for n in HELPER_STAGES
+                 if not _stage(n).overloads and not _stage(n).in_cache(_stage(n).ahead)]
         if not names:
             return
         env = {**os.environ, HELPER_ENV: "0",
@@ -199,35 +222,55 @@ class _Helper:
         code = "import sys; from cdt_plugin.compiling import compile_ahead; compile_ahead(sys.argv[1:])"
         try:
             self.proc = subprocess.Popen([sys.executable, "-c", code, *names], env=env, text=True,
-                                         stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                         stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                          stderr=subprocess.DEVNULL)
         except OSError:          # (an interpreter that cannot start another)
             return
-        self.pending, self.pid = set(names), os.getpid()
+        self.state, self.pid = dict.fromkeys(names, "pending"), os.getpid()
+        threading.Thread(target=self._listen, args=(self.proc,), daemon=True,
+                         name="cdt_plugin compile helper").start()
         atexit.register(self.stop)
         logger.info("cdt_plugin: a second process compiles %s", ", ".join(names))
 
-    def wait_for(self, kernel) -> None:
-        """Before ``kernel`` compiles here: if the helper compiles it, wait until it
-        has (or has ended); numba then loads it from the cache."""
-        if not self.pending:
-            return
-        name = f"{kernel.py_func.__module__}.{kernel.py_func.__qualname__}"
-        if name not in self.pending or self.proc is None or os.getpid() != self.pid:   # (a fork)
-            return
+    def _listen(self, proc: subprocess.Popen) -> None:
+        """Follows what the helper says, until it ends (then reaps it)."""
+        try:
+            for line in proc.stdout or ():
+                what, _, name = line.strip().partition(" ")
+                with self.changed:
+                    if self.state.get(name) != "mine":
+                        self.state[name] = what
+                    self.changed.notify_all()
+        except (OSError, ValueError):
+            pass
+        with self.changed:
+            self.ended = True
+            self.changed.notify_all()
+        proc.wait()
+
+    def wait_for(self, kernel, sig) -> None:
+        """Before ``kernel`` compiles here for ``sig``: if the helper is compiling
+        it, wait until it has (numba then loads it from the cache); if the helper has
+        not begun it, claim it."""
+        name = _stage_name(kernel)
+        if name not in self.state or os.getpid() != self.pid or tuple(sig) != kernel.ahead:
+            return                                               # (not the helper's; a fork)
         t0 = time.perf_counter()
-        while name in self.pending:
-            try:
-                line = self.proc.stdout.readline() if self.proc.stdout else ""
-            except (OSError, ValueError):
-                line = ""
-            if not line:              # it ended (or failed): the rest compiles here
-                self.pending.clear()
-                break
-            self.pending.discard(line.strip())
-        if not self.pending:
-            self.proc.poll()          # (reaps it once it has exited)
-        logger.info("cdt_plugin: waited %.1f s for the second process's %s", time.perf_counter() - t0, name)
+        with self.changed:
+            while self.state[name] == "start" and not self.ended:
+                self.changed.wait()
+            if self.state[name] != "pending":
+                if self.state[name] == "done":
+                    logger.info("cdt_plugin: waited %.1f s for the second process's %s",
+                                time.perf_counter() - t0, name)
+                return
+            self.state[name] = "mine"
+        try:
+            if self.proc is not None and self.proc.stdin is not None:
+                self.proc.stdin.write(f"mine {name}\n")
+                self.proc.stdin.flush()
+        except (OSError, ValueError):      # (it ended)
+            pass
 
     def stop(self) -> None:
         if self.proc is not None and self.proc.poll() is None:
@@ -236,12 +279,24 @@ class _Helper:
 
 def compile_ahead(names: list[str]) -> None:
     """The helper process: compile each named stage for the argument types its
-    route gives it, into the disk cache, and print its name when it is done."""
+    route gives it, into the disk cache, saying when it starts and ends each;
+    skip those the parent claims (read from stdin) before it gets to them."""
     logging.getLogger("cdt_plugin").setLevel(logging.ERROR)
+    claimed: set[str] = set()
+
+    def listen() -> None:
+        for line in sys.stdin:
+            what, _, name = line.strip().partition(" ")
+            if what == "mine":
+                claimed.add(name)
+    threading.Thread(target=listen, daemon=True).start()
     for name in names:
+        if name in claimed:
+            continue
+        print("start", name, flush=True)
         kernel = _stage(name)
         kernel.compile(kernel.ahead)
-        print(name, flush=True)
+        print("done", name, flush=True)
 
 
 helper = _Helper()

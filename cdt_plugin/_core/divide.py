@@ -201,7 +201,7 @@ def in_frame(onext, org, x, y, ldo, rdo, axis):
     return onext[first], hull_extreme(onext, org, x, y, rdo, axis, np.bool_(True))
 
 
-@kernel(_nrt=False)
+@kernel(_nrt=False, apart=True)
 def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi, axis, base):
     """Delaunay triangulation of the distinct vertices ``u[lo:hi]`` (at least
     two; ids in lexicographic order of their points) by divide and conquer with
@@ -484,7 +484,7 @@ def work_stacks(n):
     return np.empty(4 * 3 * depth, np.int64), np.empty(2 * depth, np.int64)
 
 
-@kernel
+@kernel(apart=True)
 def store_subdivision(onext, org, used, ldo, inf, cap, with_cons):
     """The subdivision in the half-edge store with room for at least ``cap``
     triangles: ``(tri, twin, cons, ntri)``. Where they fit, ``tri`` and

@@ -55,11 +55,17 @@ code-generated again. So, in the kernels:
 from __future__ import annotations
 
 import contextlib
+import importlib
+import itertools
 import os
+import pickle
 import sys
 from typing import Callable, Iterator
 
+from llvmlite import binding as ll
 from numba import types
+from numba.core import cgutils
+from numba.core.bytecode import FunctionIdentity
 from numba.core.caching import FunctionCache
 from numba.core.compiler import Flags
 from numba.core.compiler_lock import global_compiler_lock
@@ -68,9 +74,11 @@ from numba.core.registry import CPUDispatcher
 
 _OPTIONS = {"nopython": True, "no_cfunc_wrapper": True, "nogil": True}
 
-# numba's types of the C-contiguous arrays kernels take, for the argument types they declare
-I32, I64, I64_2, F8, F8_2 = (types.int32[::1], types.int64[::1], types.int64[:, ::1],
-                             types.float64[::1], types.float64[:, ::1])
+# numba's types of the scalars and C-contiguous arrays kernels take, for the argument
+# types they declare
+i8, f8, b1 = types.int64, types.float64, types.boolean
+I32, I64, I64_2, F8, F8_2, B1 = (types.int32[::1], types.int64[::1], types.int64[:, ::1],
+                                 types.float64[::1], types.float64[:, ::1], types.boolean[::1])
 
 # (kernel, calling file, calling function) of every Python call of an internal kernel
 PYTHON_CALLERS: set[tuple[str, str, str]] = set()
@@ -95,6 +103,7 @@ def _decorator(signature, options):
     if len(signature) == 1 and callable(signature[0]) and not hasattr(signature[0], "args"):
         return _decorator((), options)(signature[0])          # bare @kernel
     ahead = options.pop("ahead", None)
+    apart = options.pop("apart", False)
 
     def make(py_func):
         if not signature:
@@ -103,13 +112,15 @@ def _decorator(signature, options):
             compiled = DeclaredKernel(py_func=py_func, locals={}, targetoptions=options)
             compiled.declared = signature
         compiled.ahead = ahead
+        compiled.apart = compiled._compiler.apart = apart
         return compiled
     return make
 
 
-# Called with a kernel that has ``ahead`` argument types before it compiles: waits
-# while a helper process compiles it (set by :mod:`cdt_plugin.compiling`).
-await_helper: Callable[[Kernel], None] | None = None
+# Called with a kernel that has ``ahead`` argument types and the signature it is asked
+# for, before it compiles: waits while a helper process compiles it, or claims it
+# (set by :mod:`cdt_plugin.compiling`).
+await_helper: Callable[[Kernel, tuple], None] | None = None
 
 
 class KernelFlags(Flags):
@@ -161,10 +172,25 @@ _FLAGS_HASH = hash(Flags())     # numba's hash of any flags (of the option names
 
 
 class _KernelCompiler(_FunctionCompiler):
-    """numba's compiler of a dispatcher's function, with :class:`KernelFlags`."""
+    """numba's compiler of a dispatcher's function, with :class:`KernelFlags`;
+    for a kernel compiled apart, under a symbol that is the same in every process."""
+
+    apart = False
 
     def _customize_flags(self, flags):
         return KernelFlags(super()._customize_flags(flags))
+
+    def _compile_core(self, args, return_type):
+        if not self.apart:
+            return super()._compile_core(args, return_type)
+        # numba names a compilation after the function, its argument types and a
+        # number it counts per process; the first number drawn is the function's own
+        counter = FunctionIdentity._unique_ids
+        FunctionIdentity._unique_ids = itertools.chain([APART_UID], counter)
+        try:
+            return super()._compile_core(args, return_type)
+        finally:
+            FunctionIdentity._unique_ids = counter
 
 
 class LockedCache(FunctionCache):
@@ -177,11 +203,92 @@ class LockedCache(FunctionCache):
     file, and leave an index entry that names the other signature's machine
     code, which a later process would load and run (numba issue #10128 reports
     the segmentation faults). A reader never sees a half-written file: numba
-    replaces each one whole."""
+    replaces each one whole. Each entry also lists the stages compiled apart that
+    its code calls, which are loaded first (see "stages compiled apart" below)."""
 
     def _save_overload(self, sig, data):
+        if not self._enabled or not self._impl.check_cachable(data):
+            return
+        self._impl.locator.ensure_cache_path()
+        key = self._index_key(sig, data.codegen)
+        payload = (_STAGES_TAG, needed_stages(data.library), self._impl.reduce(data))
         with cache_lock(self._cache_path):
-            super()._save_overload(sig, data)
+            self._cache_file.save(key, payload)
+
+    def _load_overload(self, sig, target_context):
+        if not self._enabled:
+            return None
+        data = self._cache_file.load(self._index_key(sig, target_context.codegen()))
+        if not (isinstance(data, tuple) and len(data) == 3 and data[0] == _STAGES_TAG):
+            return None
+        _, stages, payload = data
+        if not load_stages(stages):
+            return None
+        cres = self._impl.rebuild(target_context, payload)
+        cres.library._cdt_stages = stages
+        return cres
+
+
+# ------------------------------------------------------------ stages compiled apart
+# numba links the code of every kernel a function calls into that function's library,
+# where LLVM optimises and code-generates it again: the route's library held every
+# stage's code a second time, and each entry that calls the route a third. A kernel
+# declared ``apart=True`` (a large stage that runs once per call) is compiled once:
+# its callers link a declaration of it and call it by its symbol, which is registered
+# with LLVM when it is compiled or loaded. The symbol is the same in every process
+# (numba's per-process number in it is fixed, :data:`APART_UID`), so code cached by
+# one process calls a stage compiled by another (the helper process of a first use).
+# A cache entry lists the stages its code calls (:func:`needed_stages`); they are
+# loaded before it, and an entry whose stage symbol is missing is compiled again
+# rather than loaded (LLVM would stop the process on an unresolved symbol).
+APART_UID = 0            # (numba counts from 1)
+_STAGES_TAG = "cdt_plugin-stages-1"      # the form of a cache entry: (tag, stages, numba's data)
+
+
+def needed_stages(library) -> tuple:
+    """The stages compiled apart that ``library``'s code calls, at any depth:
+    ``(module, qualname, argument types, symbol)`` each."""
+    got = getattr(library, "_cdt_stages", None)
+    if got is not None:
+        return got
+    found = {}
+    for lib in getattr(library, "_linking_libraries", ()):
+        stage = getattr(lib, "_cdt_stage", None)
+        if stage is not None:
+            found[stage[3]] = stage
+        for each in needed_stages(lib):
+            found[each[3]] = each
+    library._cdt_stages = tuple(found.values())
+    return library._cdt_stages
+
+
+def load_stages(stages) -> bool:
+    """Load (or compile) each stage; whether every one's symbol is then defined."""
+    for module, qualname, args, symbol in stages:
+        stage = importlib.import_module(module)
+        for part in qualname.split("."):
+            stage = getattr(stage, part)
+        stage.compile(args)
+        if not ll.address_of_symbol(symbol):
+            return False
+    return True
+
+
+def expose(cres) -> None:
+    """A stage compiled apart, just compiled or loaded: callers link a declaration
+    of it only, and its symbol is registered with LLVM."""
+    lib, fndesc = cres.library, cres.fndesc
+    name = fndesc.mangled_name
+    if getattr(lib, "_cdt_stage", None) is None:
+        if lib._shared_module is None:      # (loaded from the cache: the declaration already)
+            ctx = cres.target_context
+            mod = ctx.codegen()._create_empty_module(name)
+            fnty = ctx.call_conv.get_function_type(fndesc.restype, fndesc.argtypes)
+            cgutils.get_or_insert_function(mod, fnty, name)
+            lib._shared_module = ll.parse_assembly(str(mod))
+        lib._cdt_stage = (fndesc.modname, fndesc.qualname, tuple(cres.signature.args), name)
+    # (numba's own lookup says 0 for code loaded from the cache)
+    ll.add_symbol(name, lib.codegen._engine.get_function_address(name))
 
 
 LOCK_NAME = "cdt_plugin.lock"
@@ -245,6 +352,7 @@ class Kernel(CPUDispatcher):
     # for while the route compiles (a first use, :mod:`cdt_plugin.compiling`); a caller
     # with other types compiles it for those
     ahead: tuple | None = None
+    apart = False
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
@@ -256,18 +364,33 @@ class Kernel(CPUDispatcher):
 
     def compile(self, sig):
         with global_compiler_lock:   # (reentrant: numba's own compile takes it too)
-            if self.ahead is not None and await_helper is not None:
-                await_helper(self)
-            if not self.cache_opened:
-                self.cache_opened = True
-                self.enable_caching()
+            if self.ahead is not None and await_helper is not None and not self.overloads:
+                await_helper(self, sig)
+            self.open_cache()
             return super().compile(sig)
+
+    def open_cache(self) -> None:
+        if not self.cache_opened:
+            self.cache_opened = True
+            self.enable_caching()
+
+    def in_cache(self, sig) -> bool:
+        """Whether the disk cache holds a compilation for the argument types ``sig``
+        (read from its index; nothing is loaded)."""
+        self.open_cache()
+        try:
+            key = self._cache._index_key(tuple(sig), self.targetctx.codegen())
+            return key in self._cache._cache_file._load_index()
+        except (OSError, EOFError, ValueError, AttributeError, pickle.UnpicklingError):
+            return False         # (an unreadable index, numba's internals changed: as not there)
 
     @property
     def for_python(self) -> bool:
         return not self.targetoptions.get("no_cpython_wrapper")
 
     def add_overload(self, cres):
+        if self.apart:
+            expose(cres)
         if self.for_python:
             super().add_overload(cres)
         else:   # (numba's C dispatcher would call the missing wrapper)

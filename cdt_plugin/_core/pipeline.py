@@ -20,14 +20,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import types
 
 from .arrays import copy_rows
 from .construct import (DIVIDE, FLIP, build_mesh, gather_coords, horizontal_order, seed_first, seed_triangle,
                         store_room, to_input_ids)
 from .flips import flip_to_delaunay
 from .insertion import insert_vertex
-from .jit import F8, F8_2, I32, I64, I64_2, entry, kernel
+from .jit import B1, F8, F8_2, I32, I64, I64_2, b1, entry, i8, kernel
 from .mesh import DEAD, IDX, grow_store, nxt
 from .ordering import HILBERT_BITS, hilbert_keys, lexicographic_order_compiled
 from .output import cdt_arrays, cdt_vertices, solid_triangles
@@ -173,7 +172,7 @@ def chain_tasks(chains, first, segs, mesh_of, n):
     return tasks, ntask, passed
 
 
-@kernel(inline="always")
+@kernel(apart=True, ahead=(I32, I32, I32, F8, F8, F8, i8, i8, i8, I64_2, i8, I64_2, b1, i8, I64, I64))
 def insert_all_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_ends, split,
                         limit, seg_counts, info):
     """Run the segment tasks to the end, growing the store and the walk buffers
@@ -214,12 +213,11 @@ def solid_with_flags(tri, twin, cons, ntri, inf):
 
 
 # classify's arguments in the route, for a helper process to compile it ahead (first use)
-_CLASSIFY_ARGS = (I32, I32, I32, types.int64, types.int64, F8, F8, I64_2, I64_2, I64, I64_2,
-                  I64, I64, I64, I64, types.boolean[::1], F8_2, F8_2, types.boolean, types.boolean,
-                  types.boolean, I64)
+_CLASSIFY_ARGS = (I32, I32, I32, i8, i8, F8, F8, I64_2, I64_2, I64, I64_2, I64, I64, I64, I64, B1, F8_2,
+                  F8_2, b1, b1, b1, I64)
 
 
-@kernel(ahead=_CLASSIFY_ARGS)
+@kernel(apart=True, ahead=_CLASSIFY_ARGS)
 def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_start, seg_rings,
              ring_polygon, ring_is_hole, holes, regions, use_seeds, keep_hull, check_holes, info):
     """Which solid triangles are inside the domain, and their region: depth
@@ -496,7 +494,7 @@ def no_store():
 # (inline="always": its entry from Python, cdt_route_packed, would otherwise
 # link, optimise and code-generate the whole route a second time: 5-8 s of a
 # first triangulate; the batch loop, mesh_geometries, types it once more instead)
-@kernel(inline="always")
+@kernel(apart=True)
 def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
               algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, snapped,
               refinement, prebuilt):

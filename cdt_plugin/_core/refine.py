@@ -39,12 +39,11 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import types
 
 from .arrays import copy_rows
 from .flips import flip_to_delaunay, push_outer_edges
 from .insertion import legalize
-from .jit import F8, I32, I64, I64_2, kernel
+from .jit import F8, I32, I64, I64_2, b1, f8, i8, kernel
 from .kernel import edge_is_illegal, orient
 from .locate import solid_step
 from .predicates import incircle, orient2d
@@ -641,15 +640,7 @@ def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts
 RefineBuffers = namedtuple("RefineBuffers",
                            "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub")
 
-_i8, _f8 = types.int64, types.float64
-# refine_loop's arguments in the route, for a helper process to compile it ahead (first use)
-_REFINE_LOOP_ARGS = (I32, I32, I32, F8, F8, _i8, _i8, _i8, _i8, I64, I64, I64_2, _f8, _f8, _f8,
-                     F8, types.boolean, _i8, I64,
-                     types.NamedTuple((I64_2, I64, I64, I64, I64, I64, I64_2, I64, I64, I64,
-                                       I64, I64, types.int8[::1]), RefineBuffers))
-
-
-@kernel(_nrt=False, ahead=_REFINE_LOOP_ARGS)
+@kernel(_nrt=False)
 def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
                 offconstant, lens, area_of_label, conforming, max_new, counts, buffers):
     """Refine until no piece is encroached and no triangle is bad (or is
@@ -822,7 +813,7 @@ def freeze_boundary(tri, twin, cons, lab, ntri):
             cons[twin[e]] = -cons[twin[e]]
 
 
-@kernel(inline="always")   # (one caller: the route)
+@kernel(apart=True, ahead=(I32, I32, I32, F8, F8, F8, i8, i8, i8, I64, I64_2, f8, F8, b1, b1, i8, i8))
 def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_angle, area_of_label,
                  conforming, split_boundary, max_new, room):
     """Refine the store whose triangle labels are ``lab``, with room for at

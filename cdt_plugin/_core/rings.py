@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from .checks import first_nonfinite_row
-from .jit import entry, kernel
+from .jit import F8_2, I64, entry, kernel
 from .predicates import orient2d
 from .scaling import NO_FIT, fit_shift
 
@@ -69,7 +69,7 @@ def ring_segments(ring_start, r0, r1, keep):
     return segments_of_rings(ring_start[r0:r1], ring_start[r0 + 1:r1 + 1], keep, ring_start[r0])
 
 
-@entry
+@entry(ahead=(F8_2, I64, I64))
 def polygon_rings(xy, begin, end):
     """The vertices ``xy`` (n, 2) checked (``bad``: the first row with a NaN or
     infinite coordinate, -1 when none) and every ring ``begin[r]..end[r] - 1``

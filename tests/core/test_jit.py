@@ -165,3 +165,82 @@ def test_kernels_write_their_disk_cache_one_process_at_a_time(tmp_path):
     loaded = run("print(m.plus_one(1), sum(m.plus_one.stats.cache_hits.values()))")
     out, err = loaded.communicate(timeout=300)
     assert out.split() == ["2", "1"], err             # a new process loads what it wrote
+
+
+APART_MODULE = '''
+import numpy as np
+from cdt_plugin._core.jit import F8, entry, kernel
+
+
+@kernel(apart=True, ahead=(F8,))
+def total(a):
+    s = 0.0
+    for v in a:
+        s += v
+    return s
+
+
+@entry
+def twice_total(a):
+    return 2.0 * total(a)
+'''
+
+APART_REPORT = '''
+import json, numpy as np
+import apart_kernels as m
+from cdt_plugin._core import jit
+value = m.twice_total(np.arange(4.0))
+stage = next(iter(m.total.overloads.values()))
+caller = next(iter(m.twice_total.overloads.values()))
+symbol = stage.fndesc.mangled_name
+print(json.dumps({"value": value, "uid": stage.fndesc.uid,
+                  "caller_defines": [f.name for f in caller.library._final_module.functions
+                                     if not f.is_declaration and f.name == symbol],
+                  "needs": [s[3] for s in jit.needed_stages(caller.library)], "symbol": symbol,
+                  "hits": [sum(k.stats.cache_hits.values()) for k in (m.total, m.twice_total)],
+                  "misses": [sum(k.stats.cache_misses.values()) for k in (m.total, m.twice_total)]}))
+'''
+
+
+def _run_apart(tmp_path, code):
+    import json
+    import subprocess
+    import sys
+    (tmp_path / "apart_kernels.py").write_text(APART_MODULE)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([str(tmp_path), *sys.path])}
+    proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def test_stage_compiled_apart_is_called_by_a_symbol_every_process_names_alike(tmp_path):
+    """A kernel declared apart is compiled once: its caller's library declares it
+    and calls it by its symbol (numba would link and code-generate it again), the
+    symbol carries the fixed number, not a per-process count, and the caller's
+    cache entry lists it; a new process loads both from the cache."""
+    first = _run_apart(tmp_path, APART_REPORT)
+    assert first["value"] == 12.0 and first["uid"] == jit.APART_UID
+    assert first["caller_defines"] == [] and first["needs"] == [first["symbol"]]
+    assert first["misses"] == [1, 1] and first["hits"] == [0, 0]
+    second = _run_apart(tmp_path, APART_REPORT)
+    assert second["value"] == 12.0 and second["symbol"] == first["symbol"]
+    assert second["hits"] == [1, 1] and second["misses"] == [0, 0]
+
+
+def test_cached_caller_whose_stage_symbol_is_missing_compiles_again(tmp_path):
+    """Where a stage's symbol is not defined once the stages are loaded, the caller's
+    cache entry is not loaded (LLVM would stop the process on the unresolved
+    symbol): it compiles again."""
+    _run_apart(tmp_path, APART_REPORT)
+    patch = ("from llvmlite import binding as ll\n"
+             "ll.address_of_symbol = lambda name: None\n")
+    out = _run_apart(tmp_path, patch + APART_REPORT)
+    assert out["value"] == 12.0
+    assert out["hits"] == [1, 0] and out["misses"] == [0, 1]
+
+
+def test_load_stages_says_whether_each_symbol_is_defined():
+    stage = (__name__, "plus_one", (types.int64,), "no such symbol")
+    assert jit.load_stages(()) and not jit.load_stages((stage,))
