@@ -6,8 +6,8 @@ While a route compiles, one line on stderr says so, through the
 ``logging.getLogger("cdt_plugin").setLevel(logging.ERROR)``).
 :func:`compile_routes` (the ``cdt-plugin compile`` command) compiles every
 route ahead of time, for Docker images, CI and Dask workers. On two cores or
-more, a second process compiles two stages of the constrained Delaunay route
-while it compiles (see "a helper process" below; ``CDT_PLUGIN_COMPILE_HELPER=0``
+more, a second process compiles the largest stages of the constrained Delaunay
+route meanwhile (see "a helper process" below; ``CDT_PLUGIN_COMPILE_HELPER=0``
 keeps to one process).
 
 >>> from cdt_plugin.compiling import ROUTES
@@ -158,6 +158,9 @@ HELPER_ENV = "CDT_PLUGIN_COMPILE_HELPER"       # "0": no helper process
 # classify while the helper compiles refinement (first use measured about 2 s shorter
 # than with the helper taking them from the route's end).
 HELPER_STAGES = (
+    "cdt_plugin._core.predicates._incircle_slow",
+    "cdt_plugin._core.predicates._incircle_weighted_slow",
+    "cdt_plugin._core.predicates._crossing_coordinate",
     "cdt_plugin._core.rings.polygon_rings",
     "cdt_plugin._core.pipeline.insert_all_segments",
     "cdt_plugin._core.refine.refine_store",
@@ -253,7 +256,8 @@ class _Helper:
         it, wait until it has (numba then loads it from the cache); if the helper has
         not begun it, claim it."""
         name = _stage_name(kernel)
-        if name not in self.state or os.getpid() != self.pid or tuple(sig) != kernel.ahead:
+        args = tuple(getattr(sig, "args", sig))                  # (a declared signature: its arguments)
+        if name not in self.state or os.getpid() != self.pid or args != kernel.ahead:
             return                                               # (not the helper's; a fork)
         t0 = time.perf_counter()
         with self.changed:

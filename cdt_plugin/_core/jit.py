@@ -30,12 +30,21 @@ code-generated again. So, in the kernels:
   a small kernel that many callers give mixed integer types (``int32`` from the
   store, ``int64``, literals) declares its signature instead (``@kernel("void(int32[::1],
   int64)")``: a :class:`DeclaredKernel`, compiled once, arguments converted);
-* the intermediate stages with a single caller (``build_mesh``, ``build``,
-  ``insert_vertices``, ``insert_all_segments``, ``insert_one``, ``refine_store``,
-  ``refine_run``) are ``inline="always"``, so that the kernels below them are
-  not code-generated once more for them; so is the route itself
-  (``pipeline.cdt_route``), which its two entries (one call from Python, the
-  batch loop) would otherwise both link whole. Small helpers are not: numba
+* the large stages that run once per call are compiled apart (``apart=True``,
+  see "stages compiled apart" below: callers link a declaration and call them by
+  symbol): the route itself (``pipeline.cdt_route``, which its two entries, one
+  call from Python and the batch loop, would otherwise each link whole), the
+  Delaunay construction (``construct.build_mesh``), segment insertion
+  (``pipeline.insert_all_segments``), refinement (``refine.refine_store``), the
+  domain (``pipeline.classify``), the output arrays (``output.cdt_arrays``),
+  the modified flip algorithm (``flips.flip_to_delaunay``), divide and conquer
+  (``divide.guibas_stolfi``, ``divide.store_subdivision``) and the exact
+  predicates' slow stages (:mod:`.predicates`), so that callers link the fast
+  filter only;
+* the other intermediate stages with a single caller (``build``,
+  ``insert_vertices``, ``insert_one``, ``refine_run``, ``route_points``) are
+  ``inline="always"``, so that the kernels below them are not code-generated
+  once more for them. Small helpers are not: numba
   copies and re-types an inlined function's IR at each call site, which costs
   more than compiling it once (inlining every kernel with a single caller made
   first use 50% slower). Those in hot loops are ``forceinline=True`` instead
@@ -48,9 +57,7 @@ code-generated again. So, in the kernels:
   ``inline="always"``: with ``forceinline`` a 50,000-vertex polygon took 5%
   longer (numba folds their literal arguments before LLVM sees them);
 * copy with loops (:func:`.arrays.copy_rows`), not slice assignment, which
-  compiles numba's broadcasting and its string-formatted errors;
-* the exact predicates' slow stages are called by symbol (:mod:`.predicates`),
-  so that callers link the fast filter only.
+  compiles numba's broadcasting and its string-formatted errors.
 """
 from __future__ import annotations
 
@@ -104,6 +111,8 @@ def _decorator(signature, options):
         return _decorator((), options)(signature[0])          # bare @kernel
     ahead = options.pop("ahead", None)
     apart = options.pop("apart", False)
+    if apart:       # (numba would otherwise take these from the first caller: see APART_OPTIONS)
+        options = {**APART_OPTIONS, **options}
 
     def make(py_func):
         if not signature:
@@ -240,8 +249,14 @@ class LockedCache(FunctionCache):
 # one process calls a stage compiled by another (the helper process of a first use).
 # A cache entry lists the stages its code calls (:func:`needed_stages`); they are
 # loaded before it, and an entry whose stage symbol is missing is compiled again
-# rather than loaded (LLVM would stop the process on an unresolved symbol).
+# rather than loaded (LLVM would stop the process on an unresolved symbol). So code
+# that calls a stage is cached by a :class:`Kernel` only: numba's own ``cache=True``
+# would load it without its stages (the tests' compiled loops are entries too).
 APART_UID = 0            # (numba counts from 1)
+# The options a callee takes from the function compiling it unless it sets them (numba's
+# CPU target): a stage compiled apart sets them, so that it compiles alike whoever
+# calls it first (an ``_nrt=False`` caller would deny its allocations reference counting).
+APART_OPTIONS = {"_nrt": True, "fastmath": False, "error_model": "python", "forceinline": False}
 _STAGES_TAG = "cdt_plugin-stages-1"      # the form of a cache entry: (tag, stages, numba's data)
 
 
@@ -379,7 +394,7 @@ class Kernel(CPUDispatcher):
         (read from its index; nothing is loaded)."""
         self.open_cache()
         try:
-            key = self._cache._index_key(tuple(sig), self.targetctx.codegen())
+            key = self._cache._index_key(sig, self.targetctx.codegen())
             return key in self._cache._cache_file._load_index()
         except (OSError, EOFError, ValueError, AttributeError, pickle.UnpicklingError):
             return False         # (an unreadable index, numba's internals changed: as not there)
@@ -426,6 +441,9 @@ class DeclaredKernel(Kernel):
     and would evaluate a predicate given integers in overflowing int64)."""
 
     declared: tuple = ()     # the signatures
+
+    def in_cache(self, sig) -> bool:
+        return all(Kernel.in_cache(self, each) for each in self.declared)   # (numba's key: the signature)
 
     def compile(self, sig):
         with global_compiler_lock:

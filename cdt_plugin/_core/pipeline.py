@@ -491,9 +491,9 @@ def no_store():
     return e, e.copy(), e.copy(), np.empty(0, np.int64), np.int64(0)
 
 
-# (inline="always": its entry from Python, cdt_route_packed, would otherwise
-# link, optimise and code-generate the whole route a second time: 5-8 s of a
-# first triangulate; the batch loop, mesh_geometries, types it once more instead)
+# (compiled apart: its entry from Python, cdt_route_packed, and the batch loop,
+# mesh_geometries, call it by symbol; each would otherwise link, optimise and
+# code-generate the whole route again: 5-8 s of a first triangulate)
 @kernel(apart=True)
 def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
               algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, snapped,

@@ -42,9 +42,9 @@ it has the float filter and the exact fallback only (no intermediate stages).
 Every function but the two staged ones is ``@kernel(inline='never')``
 with an explicit signature (compiled once, float64 only), nopython,
 allocation-free on the fast path and in stages B and C.  What follows the
-float filter is compiled once more as a C-callable function that the public
-predicates call by symbol (see "The slow stages" below), so the kernels that
-call a predicate link its filter only.  The exact fallbacks
+float filter is compiled apart, once, and the public predicates call it by
+symbol (see "The slow stages" below), so the kernels that call a predicate
+link its filter only.  The exact fallbacks
 live in separate compiled functions (``orient2d_exact``, ``incircle_exact``,
 ``incircle_weighted_exact``).  They first try a scalar route that is exact
 whenever the coordinate differences (and, for the circle tests, the squares and
@@ -76,9 +76,8 @@ safe for all of them (:mod:`.scaling`), which makes every finite double usable.
 """
 from __future__ import annotations
 
-import llvmlite.binding as llvm
 import numpy as np
-from numba import cfunc, types
+from numba import types
 
 from .jit import entry, kernel
 
@@ -1081,6 +1080,7 @@ def double_double(w, e, elen):
     return _fast_two_sum(s, c)
 
 
+@kernel(_f8(*[_f8] * 9), apart=True, ahead=(_f8,) * 9)
 def _crossing_coordinate(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, axis):
     """Coordinate ``axis`` (0.0: x, 1.0: y) of the crossing point of lines
     ``p0 p1`` and ``q0 q1``, rounded to the nearest double (exact when it is a
@@ -1137,23 +1137,16 @@ def orient_offset_exact(w, n0, ax, ay, bx, by, hx, hy):
 # numba links a callee's code into every caller and code-generates it there
 # again. The stages after the float filter are most of the predicates' code
 # (about a third of everything the routes compile) and rarely run, so they are
-# compiled once as C-callable functions, registered with LLVM under a symbol
-# name, and the public predicates call them by that name: a caller links the
-# filter only. (The symbol is registered at import, before any cached caller
-# is loaded.)
+# compiled apart (:mod:`.jit`, "stages compiled apart"): a caller links the
+# filter only and calls them by symbol. They compile when the first kernel that
+# calls a predicate compiles, not at import.
 
-def _by_symbol(name: str, signature, py_func):
-    """Compile ``py_func`` as a C-callable function registered as ``name``;
-    returns a function that compiled code calls by that name."""
-    compiled = cfunc(signature, cache=True)(py_func)
-    llvm.add_symbol(name, compiled.address)
-    return types.ExternalFunction(name, signature)
-
-
+@kernel(_f8(*[_f8] * 7), apart=True, ahead=(_f8,) * 7)
 def _orient2d_slow(ax, ay, bx, by, cx, cy, detsum):
     return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)[0]
 
 
+@kernel(_f8(*[_f8] * 9), apart=True, ahead=(_f8,) * 9)
 def _incircle_slow(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     det, stage = _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
     if stage == 4:
@@ -1161,16 +1154,9 @@ def _incircle_slow(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     return det
 
 
+@kernel(_f8(*[_f8] * 12), apart=True, ahead=(_f8,) * 12)
 def _incircle_weighted_slow(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
     return incircle_weighted_exact(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw)
-
-
-_orient2d_slow_call = _by_symbol("cdt_plugin_orient2d_slow", _f8(*[_f8] * 7), _orient2d_slow)
-_incircle_slow_call = _by_symbol("cdt_plugin_incircle_slow", _f8(*[_f8] * 9), _incircle_slow)
-_incircle_weighted_slow_call = _by_symbol("cdt_plugin_incircle_weighted_slow", _f8(*[_f8] * 12),
-                                          _incircle_weighted_slow)
-_crossing_coordinate_call = _by_symbol("cdt_plugin_crossing_coordinate", _f8(*[_f8] * 9),
-                                       _crossing_coordinate)
 
 
 @kernel
@@ -1191,8 +1177,8 @@ def crossing_point(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y):
         q0x, q0y, q1x, q1y = q1x, q1y, q0x, q0y
     if _before(q0x, q0y, p0x, p0y) or (q0x == p0x and q0y == p0y and _before(q1x, q1y, p1x, p1y)):
         p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y = q0x, q0y, q1x, q1y, p0x, p0y, p1x, p1y
-    return (_crossing_coordinate_call(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, 0.0),
-            _crossing_coordinate_call(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, 1.0))
+    return (_crossing_coordinate(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, 0.0),
+            _crossing_coordinate(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, 1.0))
 
 
 # ---------------------------------------------------------------------------
@@ -1215,7 +1201,7 @@ def orient2d(ax, ay, bx, by, cx, cy):
     det, errbound, detsum = _orient2d_filter(ax, ay, bx, by, cx, cy)
     if det >= errbound or -det >= errbound:
         return det
-    return _orient2d_slow_call(ax, ay, bx, by, cx, cy, detsum)
+    return _orient2d_slow(ax, ay, bx, by, cx, cy, detsum)
 
 
 @entry(_F8, inline='never')
@@ -1233,7 +1219,7 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy):
     det, errbound, permanent = _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy)
     if det > errbound or -det > errbound:
         return det
-    return _incircle_slow_call(ax, ay, bx, by, cx, cy, dx, dy, permanent)
+    return _incircle_slow(ax, ay, bx, by, cx, cy, dx, dy, permanent)
 
 
 @entry(_F12, inline='never')
@@ -1283,7 +1269,7 @@ def incircle_weighted(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
     errbound = ICCW_ERRBOUND_A * permanent
     if det > errbound or -det > errbound:
         return det
-    return _incircle_weighted_slow_call(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw)
+    return _incircle_weighted_slow(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw)
 
 
 # ---------------------------------------------------------------------------

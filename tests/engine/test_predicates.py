@@ -18,7 +18,10 @@ proven for incircle's double-double stages hold on every case (checked with
 Fractions).
 
 Case generation is vectorised with numpy; the compiled predicates run in small
-@njit loops over the case arrays; the Fraction reference is the slow part.
+compiled loops over the case arrays (``jit.entry``: cached like the engine's
+kernels, whose cache entries list the predicates' slow stages they call, which a
+new process loads first; numba's own cache does not know them); the Fraction
+reference is the slow part.
 """
 from __future__ import annotations
 
@@ -29,8 +32,8 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-from numba import njit
 
+from cdt_plugin._core.jit import entry
 from cdt_plugin._core.predicates import (
     EPSILON,
     _incircle_dd,
@@ -99,7 +102,7 @@ def _ref_signs(fn, P: np.ndarray) -> np.ndarray:
 # ---------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@entry
 def _run_orient(P):
     """Per case: orient2d, orient2d_exact, orient2d_fast, the deciding stage, the staged value."""
     n = P.shape[0]
@@ -115,7 +118,7 @@ def _run_orient(P):
     return out
 
 
-@njit(cache=True)
+@entry
 def _run_incircle(P):
     """Per case: incircle, incircle_exact, incircle_fast, the deciding stage, the staged value."""
     n = P.shape[0]
@@ -132,7 +135,7 @@ def _run_incircle(P):
     return out
 
 
-@njit(cache=True)
+@entry
 def _naive_weighted(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
     adx = ax - dx
     ady = ay - dy
@@ -147,7 +150,7 @@ def _naive_weighted(ax, ay, aw, bx, by, bw, cx, cy, cw, dx, dy, dw):
             + clift * (adx * bdy - bdx * ady))
 
 
-@njit(cache=True)
+@entry
 def _run_weighted(P):
     n = P.shape[0]
     out = np.empty((n, 3))
@@ -771,7 +774,7 @@ def test_incircle_stage_coverage_by_design():
     assert ((stage == 2) | (stage == 3)).sum() > 500
 
 
-@njit(cache=True)
+@entry
 def _run_incircle_parts(P):
     """Per case: stage B's double-double (v1, lo), stage C's tail terms, the filter's permanent."""
     n = P.shape[0]
@@ -853,7 +856,7 @@ def test_incircle_stage_error_bounds_hold():
     assert checked > 5000
 
 
-@njit(cache=True)
+@entry
 def _run_exact_of_doubles(D, use_w):
     out = np.empty(D.shape[0])
     for i in range(D.shape[0]):
@@ -1126,8 +1129,8 @@ def test_incircle_weighted_hypothesis_plane(xy, coef, k, shift):
 
 
 # ---------------------------------------------------------------------------
-# The slow stages are called by symbol (compiled once, registered at import):
-# a new process that loads the compiled route from the cache must reach them.
+# The slow stages are called by symbol (compiled apart, loaded before a cached
+# caller): a new process that loads the compiled route from the cache must reach them.
 # ---------------------------------------------------------------------------
 
 def test_slow_stages_reached_from_a_new_process_on_the_cached_route():
