@@ -530,8 +530,9 @@ def render(results: dict, info: dict, args_line: str) -> str:
                       "child makes `import scipy` fail before importing cdt_plugin, as in an environment "
                       "with cdt_plugin's dependencies only (numba imports scipy, when installed, to probe "
                       "for BLAS; scipy is here for the peers of other benchmarks). An empty-cache child "
-                      "that compiles the constrained Delaunay route starts a second process, which "
-                      "compiles two of the route's stages into the cache meanwhile (two cores here); "
+                      "that compiles a route for a public call starts a second process, which compiles "
+                      "the constrained Delaunay route's largest stages into the cache meanwhile (two "
+                      "cores here); "
                       f"one process: {HELPER_ENV}=0, no second process.")
     if notes:
         lines += [""] + [f"- n/a: {n}" for n in notes]

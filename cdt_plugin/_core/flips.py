@@ -11,7 +11,7 @@ from .kernel import edge_is_illegal
 from .mesh import DEAD, flip, prv
 
 
-@entry(apart=True)
+@entry
 def flip_to_delaunay(tri, twin, cons, x, y, w, weighted, inf, ntri, max_flips=-1):
     """Run the flip algorithm with an edge stack over every edge of the
     triangulation; edges on segments (``cons``) are never flipped, which makes

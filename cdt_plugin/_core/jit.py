@@ -37,7 +37,7 @@ code-generated again. So, in the kernels:
   Delaunay construction (``construct.build_mesh``), segment insertion
   (``pipeline.insert_all_segments``), refinement (``refine.refine_store``), the
   domain (``pipeline.classify``), the output arrays (``output.cdt_arrays``),
-  the modified flip algorithm (``flips.flip_to_delaunay``), divide and conquer
+  divide and conquer
   (``divide.guibas_stolfi``, ``divide.store_subdivision``) and the exact
   predicates' slow stages (:mod:`.predicates`), so that callers link the fast
   filter only;
@@ -103,6 +103,10 @@ def kernel(*signature, **options):
 def entry(*signature, **options):
     """Decorator: a kernel that Python code calls (:func:`kernel` with numba's
     CPython wrapper)."""
+    if options.get("apart"):
+        # (numba finds a cached entry's CPython wrapper through the definitions of the
+        # code it links into callers, which for a stage compiled apart are none)
+        raise TypeError("an entry cannot be compiled apart: make it a kernel that an entry calls")
     return _decorator(signature, {**_OPTIONS, **options})
 
 

@@ -244,3 +244,9 @@ def test_cached_caller_whose_stage_symbol_is_missing_compiles_again(tmp_path):
 def test_load_stages_says_whether_each_symbol_is_defined():
     stage = (__name__, "plus_one", (types.int64,), "no such symbol")
     assert jit.load_stages(()) and not jit.load_stages((stage,))
+
+
+def test_an_entry_cannot_be_compiled_apart():
+    import pytest
+    with pytest.raises(TypeError, match="cannot be compiled apart"):
+        entry(apart=True)(lambda x: x)
