@@ -173,10 +173,9 @@ HELPER_STAGES = (
 )
 
 
-def _stage(name: str):
-    import importlib
-    module, _, attr = name.rpartition(".")
-    return getattr(importlib.import_module(module), attr)
+def _stage(name: str) -> jit.Kernel:
+    module, _, qualname = name.rpartition(".")
+    return jit.kernel_at(module, qualname)
 
 
 def _usable_cpus() -> int:
@@ -220,8 +219,8 @@ class _Helper:
             self.proc, self.state = None, {}
 
     def _spawn(self) -> None:
-        names = [n for n in HELPER_STAGES
-                 if not _stage(n).overloads and not _stage(n).in_cache(_stage(n).ahead)]
+        stages = {n: _stage(n) for n in HELPER_STAGES}
+        names = [n for n, k in stages.items() if not k.overloads and not k.in_cache(k.ahead)]
         if not names:
             return
         env = {**os.environ, HELPER_ENV: "0",

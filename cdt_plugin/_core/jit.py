@@ -281,13 +281,18 @@ def needed_stages(library) -> tuple:
     return library._cdt_stages
 
 
+def kernel_at(module: str, qualname: str) -> Kernel:
+    """The kernel defined as ``qualname`` in ``module`` (imported if need be)."""
+    found = importlib.import_module(module)
+    for part in qualname.split("."):
+        found = getattr(found, part)
+    return found
+
+
 def load_stages(stages) -> bool:
     """Load (or compile) each stage; whether every one's symbol is then defined."""
     for module, qualname, args, symbol in stages:
-        stage = importlib.import_module(module)
-        for part in qualname.split("."):
-            stage = getattr(stage, part)
-        stage.compile(args)
+        kernel_at(module, qualname).compile(args)
         if not ll.address_of_symbol(symbol):
             return False
     return True
