@@ -304,7 +304,8 @@ def expose(cres) -> None:
     lib, fndesc = cres.library, cres.fndesc
     name = fndesc.mangled_name
     if getattr(lib, "_cdt_stage", None) is None:
-        if lib._shared_module is None:      # (loaded from the cache: the declaration already)
+        # (a stage loaded from the cache has its declaration already: numba's cached bitcode)
+        if lib._shared_module is None:
             ctx = cres.target_context
             mod = ctx.codegen()._create_empty_module(name)
             fnty = ctx.call_conv.get_function_type(fndesc.restype, fndesc.argtypes)
