@@ -15,7 +15,7 @@ import numpy as np
 from .divide import build_divide_sorted
 from .flips import flip_to_delaunay
 from .insertion import insert_vertices
-from .jit import F8, I64, b1, entry, i8, kernel
+from .jit import F8, I8, I32, I64, Tuple, b1, entry, i8, kernel
 from .kernel import orient
 from .locate import same_point
 from .mesh import IDX, make_first_triangle
@@ -118,7 +118,8 @@ def store_room(m, extra):
     return max(4, 2 * (m + extra) + 2)
 
 
-@kernel(apart=True, ahead=(F8, F8, F8, b1, i8, i8, i8, I64, i8, b1, I64))
+@kernel(apart=True, ahead=(F8, F8, F8, b1, i8, i8, i8, I64, i8, b1, I64),
+        returns=Tuple((i8, I32, I32, I32, i8, I64, I8)))
 def build_mesh(xi, yi, wi, weighted, m, inf, algorithm, horizontal, extra, with_cons, counts):
     """The Delaunay triangulation of mesh vertices ``0..m-1`` (seed triangle
     first for the incremental routes, lexicographic order for divide and

@@ -40,7 +40,8 @@ code-generated again. So, in the kernels:
   divide and conquer
   (``divide.guibas_stolfi``, ``divide.store_subdivision``) and the exact
   predicates' slow stages (:mod:`.predicates`), so that callers link the fast
-  filter only;
+  filter only; one that the helper process of a first use is compiling is linked
+  late (``returns=`` its declared return type: see "stages linked late" below);
 * the other intermediate stages with a single caller (``build``,
   ``insert_vertices``, ``insert_one``, ``refine_run``, ``route_points``) are
   ``inline="always"``, so that the kernels below them are not code-generated
@@ -62,6 +63,8 @@ code-generated again. So, in the kernels:
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import hashlib
 import importlib
 import itertools
 import os
@@ -70,8 +73,9 @@ import sys
 from typing import Callable, Iterator
 
 from llvmlite import binding as ll
+from llvmlite import ir as llvmir
 from numba import types
-from numba.core import cgutils
+from numba.core import cgutils, sigutils, typing
 from numba.core.bytecode import FunctionIdentity
 from numba.core.caching import FunctionCache
 from numba.core.compiler import Flags
@@ -86,6 +90,10 @@ _OPTIONS = {"nopython": True, "no_cfunc_wrapper": True, "nogil": True}
 i8, f8, b1 = types.int64, types.float64, types.boolean
 I32, I64, I64_2, F8, F8_2, B1 = (types.int32[::1], types.int64[::1], types.int64[:, ::1],
                                  types.float64[::1], types.float64[:, ::1], types.boolean[::1])
+I8, B1_2 = types.int8[::1], types.boolean[:, ::1]
+Tuple = types.Tuple           # (a stage's declared return type: ``returns=Tuple((i8, I64))``)
+# the half-edge store as stages hand it back: tri, twin, cons, x, y, w, ntri, n, cap
+STORE = types.Tuple((I32, I32, I32, F8, F8, F8, i8, i8, i8))
 
 # (kernel, calling file, calling function) of every Python call of an internal kernel
 PYTHON_CALLERS: set[tuple[str, str, str]] = set()
@@ -96,7 +104,8 @@ def kernel(*signature, **options):
     ``numba.njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True,
     nogil=True, **options)`` (a :class:`Kernel`); with a signature, a
     :class:`DeclaredKernel` of it. ``ahead=`` a tuple of numba types: the
-    arguments its route calls it with (:attr:`Kernel.ahead`)."""
+    arguments its route calls it with (:attr:`Kernel.ahead`); ``returns=`` the
+    numba type it returns for them (:attr:`Kernel.returns`)."""
     return _decorator(signature, {**_OPTIONS, "no_cpython_wrapper": True, **options})
 
 
@@ -114,6 +123,7 @@ def _decorator(signature, options):
     if len(signature) == 1 and callable(signature[0]) and not hasattr(signature[0], "args"):
         return _decorator((), options)(signature[0])          # bare @kernel
     ahead = options.pop("ahead", None)
+    returns = options.pop("returns", None)
     apart = options.pop("apart", False)
     if apart:       # (numba would otherwise take these from the first caller: see APART_OPTIONS)
         options = {**APART_OPTIONS, **options}
@@ -124,7 +134,7 @@ def _decorator(signature, options):
         else:
             compiled = DeclaredKernel(py_func=py_func, locals={}, targetoptions=options)
             compiled.declared = signature
-        compiled.ahead = ahead
+        compiled.ahead, compiled.returns = ahead, returns
         compiled.apart = compiled._compiler.apart = apart
         return compiled
     return make
@@ -134,6 +144,9 @@ def _decorator(signature, options):
 # for, before it compiles: waits while a helper process compiles it, or claims it
 # (set by :mod:`cdt_plugin.compiling`).
 await_helper: Callable[[Kernel, tuple], None] | None = None
+# Whether a helper process is compiling this kernel for these argument types now (set by
+# :mod:`cdt_plugin.compiling`): a stage compiled apart is then linked late (:class:`LateStage`).
+helper_compiling: Callable[[Kernel, tuple], bool] | None = None
 
 
 class KernelFlags(Flags):
@@ -313,7 +326,110 @@ def expose(cres) -> None:
             lib._shared_module = ll.parse_assembly(str(mod))
         lib._cdt_stage = (fndesc.modname, fndesc.qualname, tuple(cres.signature.args), name)
     # (numba's own lookup says 0 for code loaded from the cache)
-    ll.add_symbol(name, lib.codegen._engine.get_function_address(name))
+    address = lib.codegen._engine.get_function_address(name)
+    ll.add_symbol(name, address)
+    # (callers linked late call it through its pointer)
+    stage_pointer(pointer_name(fndesc.modname, fndesc.qualname, cres.signature.args)).value = address
+
+
+# ------------------------------------------------------------ stages linked late
+# A caller needs a stage's code only when it runs: its typing needs the stage's
+# signature, and its code can call the stage through a pointer that is filled in later
+# (as numba calls a function recursively). So when a route reaches a stage compiled
+# apart that the helper process is compiling (a first use), it does not wait: it is
+# typed against the stage's declared return type (``returns=``), calls the stage
+# through the stage's pointer (a :class:`LateStage`) and goes on compiling. The stage
+# is loaded (waited for, or compiled here if the helper failed) before any entry
+# compiled meanwhile can be called (:func:`load_late_stages`). Every stage compiled
+# apart has its pointer (:func:`pointer_name`), filled when it is compiled or loaded, so
+# code cached by a caller linked late finds it in any later process.
+
+def pointer_name(module: str, qualname: str, args: tuple) -> str:
+    """The symbol of the pointer to a stage's code for argument types ``args``."""
+    digest = hashlib.sha1(repr(tuple(args)).encode()).hexdigest()[:16]
+    return f"cdt_plugin.stage${module}.{qualname}${digest}"
+
+
+_POINTERS: dict[str, ctypes.c_void_p] = {}     # symbol -> the pointer's memory
+
+
+def stage_pointer(name: str) -> ctypes.c_void_p:
+    """The pointer ``name`` (a null one, registered with LLVM, the first time)."""
+    pointer = _POINTERS.get(name)
+    if pointer is None:
+        pointer = _POINTERS[name] = ctypes.c_void_p(0)
+        ll.add_symbol(name, ctypes.addressof(pointer))
+    return pointer
+
+
+class LateStage:
+    """Stands for the compilation of a stage compiled apart that another process is
+    compiling: what numba's typing and lowering of a caller read of a compilation
+    (its signature, the key and the code of its call), made from the stage's declared
+    types. :meth:`load` loads the stage itself."""
+
+    objectmode = False
+
+    def __init__(self, kernel: Kernel, args: tuple):
+        self.kernel, self.args = kernel, args
+        self.signature = typing.signature(kernel.returns, *args)
+        func = kernel.py_func
+        self.pointer = pointer_name(func.__module__, func.__qualname__, args)
+        stage_pointer(self.pointer)
+        self.entry_point = self.library = self       # (numba's key of the call; what callers link)
+        # (a caller's cache entry lists it; a later process loads it first, and its pointer)
+        self._cdt_stage = (func.__module__, func.__qualname__, args, self.pointer)
+        self._linking_libraries: tuple = ()
+        self._reload_init: set = set()
+        self.loaded = False
+        kernel.targetctx._defns[self].append(self.lower_call, args)
+        LATE.append(self)
+
+    def lower_call(self, context, builder, sig, args):
+        """A call of the stage in a caller's code: through its pointer."""
+        context.add_linking_libs([self])
+        fnty = context.call_conv.get_function_type(sig.return_type, sig.args)
+        try:
+            cell = builder.module.get_global(self.pointer)
+        except KeyError:
+            cell = llvmir.GlobalVariable(builder.module, fnty.as_pointer(), name=self.pointer)
+            cell.linkage = "external"
+        status, result = context.call_conv.call_function(builder, builder.load(cell), sig.return_type,
+                                                         sig.args, args)
+        with cgutils.if_unlikely(builder, status.is_error):
+            context.call_conv.return_status_propagate(builder, status)
+        return result
+
+    def _ensure_finalized(self) -> None:
+        pass                                  # (nothing to finalise: callers link no code of it)
+
+    def _get_module_for_linking(self):
+        return ll.parse_assembly("")
+
+    def load(self) -> None:
+        """Load the stage (after waiting for the helper) or compile it, in place of this
+        stand-in; its pointer then leads to it."""
+        if self.loaded:
+            return
+        self.loaded = True
+        kernel, args = self.kernel, self.args
+        if kernel.overloads.get(args) is self:
+            del kernel.overloads[args]
+        kernel.compile(args)
+        got = kernel.overloads[args].signature.return_type
+        if got != kernel.returns:
+            raise TypeError(f"{kernel.py_func.__qualname__} returns {got}, not its declared "
+                            f"returns={kernel.returns}")
+
+
+# stages linked late and not loaded yet
+LATE: list[LateStage] = []
+
+
+def load_late_stages() -> None:
+    """Load every stage linked late (before code that calls one runs)."""
+    while LATE:
+        LATE.pop(0).load()
 
 
 LOCK_NAME = "cdt_plugin.lock"
@@ -377,6 +493,7 @@ class Kernel(CPUDispatcher):
     # for while the route compiles (a first use, :mod:`cdt_plugin.compiling`); a caller
     # with other types compiles it for those
     ahead: tuple | None = None
+    returns = None          # the type it returns for ``ahead`` (a stage that can be linked late)
     apart = False
 
     def __init__(self, *args, **kwargs):
@@ -389,10 +506,33 @@ class Kernel(CPUDispatcher):
 
     def compile(self, sig):
         with global_compiler_lock:   # (reentrant: numba's own compile takes it too)
+            late = self.overloads.get(tuple(sigutils.normalize_signature(sig)[0]))
+            if isinstance(late, LateStage):
+                late.load()
             if self.ahead is not None and await_helper is not None and not self.overloads:
                 await_helper(self, sig)
             self.open_cache()
             return super().compile(sig)
+
+    def get_call_template(self, args, kws):
+        """numba's typing of a call from compiled code, which compiles the kernel for
+        the call's types (or loads it); a stage that the helper process is compiling
+        is linked late instead (:class:`LateStage`)."""
+        if not self.apart or self.returns is None:
+            return super().get_call_template(args, kws)
+        pysig, folded = self._compiler.fold_argument_types(args, kws)
+        folded = tuple(folded)
+        with global_compiler_lock:
+            late = self.overloads.get(folded)
+            if (late is None and not self.overloads and helper_compiling is not None
+                    and helper_compiling(self, folded)):
+                late = self.overloads[folded] = LateStage(self, folded)
+        if not isinstance(late, LateStage):
+            return super().get_call_template(args, kws)
+        name = self.py_func.__name__      # (numba's template, without compiling)
+        template = typing.make_concrete_template(f"CallTemplate({name})", key=name,
+                                                 signatures=self.nopython_signatures)
+        return template, pysig, folded, {}
 
     def open_cache(self) -> None:
         if not self.cache_opened:
@@ -416,6 +556,8 @@ class Kernel(CPUDispatcher):
     def add_overload(self, cres):
         if self.apart:
             expose(cres)
+        if self.for_python:
+            load_late_stages()    # (before Python can call it: its code may call one)
         if self.for_python:
             super().add_overload(cres)
         else:   # (numba's C dispatcher would call the missing wrapper)

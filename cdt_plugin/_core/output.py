@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import B1, I64, I64_2, entry, kernel
+from .jit import B1, B1_2, I64, I64_2, Tuple, entry, kernel
 from .kernel import edge_is_illegal, orient
 from .mesh import DEAD, is_ghost, nxt, prv
 
@@ -123,7 +123,7 @@ def min_first(a, b, c):
     return 1 if b < c else 2
 
 
-@kernel(apart=True, ahead=(I64_2, I64_2, I64_2, B1, I64))
+@kernel(apart=True, ahead=(I64_2, I64_2, I64_2, B1, I64), returns=Tuple((I64_2, I64_2, B1_2, I64_2, I64, I64)))
 def cdt_arrays(T, N, cflag, inside, remap):
     """One pass over the real triangles of a constrained triangulation: the
     kept ones (``inside``) in output ids with their neighbours (-1 across the

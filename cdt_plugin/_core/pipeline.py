@@ -26,7 +26,7 @@ from .construct import (DIVIDE, FLIP, build_mesh, gather_coords, horizontal_orde
                         store_room, to_input_ids)
 from .flips import flip_to_delaunay
 from .insertion import insert_vertex
-from .jit import B1, F8, F8_2, I32, I64, I64_2, b1, entry, i8, kernel
+from .jit import B1, F8, F8_2, I32, I64, I64_2, STORE, Tuple, b1, entry, i8, kernel
 from .mesh import DEAD, IDX, grow_store, nxt
 from .ordering import HILBERT_BITS, hilbert_keys, lexicographic_order_compiled
 from .output import cdt_arrays, cdt_vertices, solid_triangles
@@ -172,7 +172,8 @@ def chain_tasks(chains, first, segs, mesh_of, n):
     return tasks, ntask, passed
 
 
-@kernel(apart=True, ahead=(I32, I32, I32, F8, F8, F8, i8, i8, i8, I64_2, i8, I64_2, b1, i8, I64, I64))
+@kernel(apart=True, ahead=(I32, I32, I32, F8, F8, F8, i8, i8, i8, I64_2, i8, I64_2, b1, i8, I64, I64),
+        returns=Tuple((i8, STORE)))
 def insert_all_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_ends, split,
                         limit, seg_counts, info):
     """Run the segment tasks to the end, growing the store and the walk buffers
@@ -217,7 +218,7 @@ _CLASSIFY_ARGS = (I32, I32, I32, i8, i8, F8, F8, I64_2, I64_2, I64, I64_2, I64, 
                   F8_2, b1, b1, b1, I64)
 
 
-@kernel(apart=True, ahead=_CLASSIFY_ARGS)
+@kernel(apart=True, ahead=_CLASSIFY_ARGS, returns=Tuple((B1, I64, i8)))
 def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_start, seg_rings,
              ring_polygon, ring_is_hole, holes, regions, use_seeds, keep_hull, check_holes, info):
     """Which solid triangles are inside the domain, and their region: depth

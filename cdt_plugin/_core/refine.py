@@ -43,7 +43,7 @@ import numpy as np
 from .arrays import copy_rows
 from .flips import flip_to_delaunay, push_outer_edges
 from .insertion import legalize
-from .jit import F8, I32, I64, I64_2, b1, f8, i8, kernel
+from .jit import F8, I32, I64, I64_2, STORE, Tuple, b1, f8, i8, kernel
 from .kernel import edge_is_illegal, orient
 from .locate import solid_step
 from .predicates import incircle, orient2d
@@ -813,7 +813,8 @@ def freeze_boundary(tri, twin, cons, lab, ntri):
             cons[twin[e]] = -cons[twin[e]]
 
 
-@kernel(apart=True, ahead=(I32, I32, I32, F8, F8, F8, i8, i8, i8, I64, I64_2, f8, F8, b1, b1, i8, i8))
+@kernel(apart=True, ahead=(I32, I32, I32, F8, F8, F8, i8, i8, i8, I64, I64_2, f8, F8, b1, b1, i8, i8),
+        returns=Tuple((i8, I64, I64, I64_2, STORE)))
 def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_angle, area_of_label,
                  conforming, split_boundary, max_new, room):
     """Refine the store whose triangle labels are ``lab``, with room for at

@@ -169,10 +169,10 @@ def test_kernels_write_their_disk_cache_one_process_at_a_time(tmp_path):
 
 APART_MODULE = '''
 import numpy as np
-from cdt_plugin._core.jit import F8, entry, kernel
+from cdt_plugin._core.jit import F8, entry, f8, kernel
 
 
-@kernel(apart=True, ahead=(F8,))
+@kernel(apart=True, ahead=(F8,), returns=f8)
 def total(a):
     s = 0.0
     for v in a:
@@ -239,6 +239,64 @@ def test_cached_caller_whose_stage_symbol_is_missing_compiles_again(tmp_path):
     out = _run_apart(tmp_path, patch + APART_REPORT)
     assert out["value"] == 12.0
     assert out["hits"] == [1, 0] and out["misses"] == [0, 1]
+
+
+LATE_REPORT = '''
+import json, numpy as np
+import apart_kernels as m
+from cdt_plugin._core import jit
+jit.helper_compiling = lambda kernel, args: kernel is m.total    # (as while a helper compiles it)
+seen = []
+load_late_stages = jit.load_late_stages
+def spy():
+    seen.extend((s.kernel.py_func.__name__, s.loaded, type(m.total.overloads[s.args]).__name__)
+                for s in jit.LATE)
+    load_late_stages()
+jit.load_late_stages = spy
+value = m.twice_total(np.arange(4.0))
+stage = m.total.overloads[(jit.F8,)]
+caller = next(iter(m.twice_total.overloads.values()))
+module = caller.library._final_module
+pointer = jit.pointer_name("apart_kernels", "total", (jit.F8,))
+print(json.dumps({"value": value, "late": seen, "left": len(jit.LATE),
+                  "pointer_in_caller": any(g.name == pointer for g in module.global_variables),
+                  "caller_names_stage": any(f.name == stage.fndesc.mangled_name for f in module.functions),
+                  "needs": [s[3] for s in jit.needed_stages(caller.library)], "pointer": pointer,
+                  "hits": [sum(k.stats.cache_hits.values()) for k in (m.total, m.twice_total)],
+                  "misses": [sum(k.stats.cache_misses.values()) for k in (m.total, m.twice_total)]}))
+'''
+
+
+def test_stage_the_helper_is_compiling_is_linked_late_and_loaded_before_its_caller_runs(tmp_path):
+    """A caller typed while the helper process compiles its stage does not wait: it
+    calls the stage through the stage's pointer, and the stage is loaded before the
+    caller can be called from Python (here compiled in this process: no helper). Its
+    cache entry lists the pointer; a new process loads caller and stage, and the
+    pointer is filled there too."""
+    first = _run_apart(tmp_path, LATE_REPORT)
+    assert first["late"] == [["total", False, "LateStage"]] and first["left"] == 0
+    assert first["value"] == 12.0
+    assert first["pointer_in_caller"] and not first["caller_names_stage"]
+    assert first["needs"] == [first["pointer"]]
+    assert first["misses"] == [1, 1]
+    second = _run_apart(tmp_path, APART_REPORT)     # (no helper: nothing is linked late)
+    assert second["value"] == 12.0 and second["hits"] == [1, 1] and second["misses"] == [0, 0]
+
+
+def test_stage_linked_late_must_return_what_it_declares(tmp_path):
+    """A stage whose declared ``returns`` is not the type numba infers is refused when
+    it is loaded (its callers were typed against the declaration)."""
+    import subprocess
+    import sys
+    (tmp_path / "apart_kernels.py").write_text(APART_MODULE.replace("returns=f8", "returns=types.int64")
+                                               .replace("import numpy as np", "import numpy as np\nfrom numba import types"))
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([str(tmp_path), *sys.path])}
+    code = ("import numpy as np, apart_kernels as m\nfrom cdt_plugin._core import jit\n"
+            "jit.helper_compiling = lambda kernel, args: True\nm.twice_total(np.arange(4.0))\n")
+    proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300,
+                          check=False)
+    assert proc.returncode != 0 and "total returns float64, not its declared returns=int64" in proc.stderr
 
 
 def test_load_stages_says_whether_each_symbol_is_defined():

@@ -75,7 +75,9 @@ def test_helper_is_off_by_environment_or_on_one_core(monkeypatch):
 def test_stages_compiled_ahead_name_the_argument_types_their_route_gives_them():
     """The helper compiles each stage for its declared ``ahead`` types: they must be
     those the route calls it with (a polygon in, refinement on), else the route
-    compiles its own and the helper's work is lost."""
+    compiles its own and the helper's work is lost. A stage compiled apart declares
+    the type it returns for them (``returns``), which a route linking it late is
+    typed against: it must be the one numba infers."""
     from shapely.geometry import Polygon
 
     from cdt_plugin._core import jit
@@ -83,3 +85,23 @@ def test_stages_compiled_ahead_name_the_argument_types_their_route_gives_them():
     for name in compiling.HELPER_STAGES:
         stage = compiling._stage(name)
         assert isinstance(stage, jit.Kernel) and stage.ahead in stage.overloads, name
+        if stage.apart and not isinstance(stage, jit.DeclaredKernel):
+            assert stage.returns == stage.overloads[stage.ahead].signature.return_type, name
+
+
+def test_route_links_late_only_the_stage_the_helper_is_compiling(monkeypatch):
+    """A route that reaches a stage the helper is compiling links it late (does not
+    wait for it); one the helper has not begun, or with other argument types, or in
+    another process (a fork), it does not."""
+    from cdt_plugin._core import refine
+    helper = compiling._Helper()
+    stage, name = refine.refine_store, "cdt_plugin._core.refine.refine_store"
+    helper.pid = os.getpid()
+    helper.state = {name: "start"}
+    assert helper.compiling(stage, stage.ahead)
+    assert not helper.compiling(stage, stage.ahead[:-1])
+    for said in ("pending", "done", "mine"):
+        helper.state[name] = said
+        assert not helper.compiling(stage, stage.ahead)
+    helper.state[name], helper.pid = "start", -1
+    assert not helper.compiling(stage, stage.ahead)
