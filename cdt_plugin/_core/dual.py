@@ -548,10 +548,15 @@ def far_box(vx, vy, centres, xmin, ymin, xmax, ymax):
     """A box holding the clip box, every face centre and every vertex, with
     a margin as wide as all of them: ``(xmin, ymin, xmax, ymax)`` (scaled
     with its inputs: a power-of-two scale of the input scales the cells exactly)."""
-    lo_x = min(xmin, vx.min(), centres[:, 0].min())
-    lo_y = min(ymin, vy.min(), centres[:, 1].min())
-    hi_x = max(xmax, vx.max(), centres[:, 0].max())
-    hi_y = max(ymax, vy.max(), centres[:, 1].max())
+    # (loops, not numpy's min and max, whose implementation would make a new process
+    # whose routes come from the cache import numba's array maths, and scipy)
+    lo_x, lo_y, hi_x, hi_y = xmin, ymin, xmax, ymax
+    for i in range(vx.shape[0]):
+        lo_x, hi_x = min(lo_x, vx[i]), max(hi_x, vx[i])
+        lo_y, hi_y = min(lo_y, vy[i]), max(hi_y, vy[i])
+    for f in range(centres.shape[0]):
+        lo_x, hi_x = min(lo_x, centres[f, 0]), max(hi_x, centres[f, 0])
+        lo_y, hi_y = min(lo_y, centres[f, 1]), max(hi_y, centres[f, 1])
     m = max(hi_x - lo_x, hi_y - lo_y)          # > 0: the clip box has a positive size
     return np.array([lo_x - m, lo_y - m, hi_x + m, hi_y + m])
 

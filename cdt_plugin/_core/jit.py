@@ -82,6 +82,7 @@ from numba.core.compiler import Flags
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.dispatcher import _FunctionCompiler
 from numba.core.registry import CPUDispatcher
+from numba.core.runtime import rtsys
 
 _OPTIONS = {"nopython": True, "no_cfunc_wrapper": True, "nogil": True}
 
@@ -231,6 +232,15 @@ class LockedCache(FunctionCache):
     the segmentation faults). A reader never sees a half-written file: numba
     replaces each one whole. Each entry also lists the stages compiled apart that
     its code calls, which are loaded first (see "stages compiled apart" below)."""
+
+    def load_overload(self, sig, target_context):
+        # numba refreshes the target's registries before each load, which the first
+        # time imports all of numba's implementations (and scipy, to probe for BLAS):
+        # 0.1-0.2 s of a new process whose routes all come from the cache. Cached code
+        # needs numba's runtime only; a compilation refreshes the registries itself.
+        rtsys.initialize(target_context)
+        with self._guard_against_spurious_io_errors():
+            return self._load_overload(sig, target_context)
 
     def _save_overload(self, sig, data):
         if not self._enabled or not self._impl.check_cachable(data):

@@ -157,7 +157,10 @@ def on_grid(v):
     below ``2**(LOW + 53)``; NaN and infinities pass)."""
     if not abs(v) < ON_GRID_ABOVE:
         return v
-    return np.round(v * 2.0 ** -LOW) * GRID
+    # (np.round's rounding, half to even, sign kept: its implementation would make a new
+    # process whose routes come from the cache import numba's array maths, and scipy)
+    y = v * 2.0 ** -LOW
+    return math.copysign(float(round(y)), y) * GRID
 
 
 @kernel

@@ -308,3 +308,23 @@ def test_an_entry_cannot_be_compiled_apart():
     import pytest
     with pytest.raises(TypeError, match="cannot be compiled apart"):
         entry(apart=True)(lambda x: x)
+
+
+def test_routes_come_from_the_cache_without_numbas_compiler_set_up():
+    """A new process whose routes all come from the cache does not set up numba's
+    compiler (refreshing its registries imports all of numba's implementations, and
+    scipy to probe for BLAS: 0.1-0.2 s of such a process): cached code needs numba's
+    runtime only, and no kernel calls numba's array maths (its cached code would
+    import them all the same)."""
+    import json
+    import subprocess
+    import sys
+    from cdt_plugin import compiling
+    compiling.compile_routes()          # (the cache filled, as by `cdt-plugin compile`)
+    code = ("import json, sys\nfrom cdt_plugin import compiling\ncompiling.compile_routes()\n"
+            "print(json.dumps([m for m in ('numba.np.arraymath', 'numba.np.linalg') if m in sys.modules]))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600,
+                          check=False)
+    assert proc.returncode == 0, proc.stderr
+    assert "compiling" not in proc.stderr, proc.stderr        # every route loaded
+    assert json.loads(proc.stdout.strip().splitlines()[-1]) == []
