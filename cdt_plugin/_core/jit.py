@@ -81,7 +81,7 @@ from numba.core.caching import FunctionCache
 from numba.core.compiler import Flags
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.dispatcher import _FunctionCompiler
-from numba.core.registry import CPUDispatcher
+from numba.core.registry import CPUDispatcher, cpu_target
 from numba.core.runtime import rtsys
 
 _OPTIONS = {"nopython": True, "no_cfunc_wrapper": True, "nogil": True}
@@ -364,10 +364,14 @@ _POINTERS: dict[str, ctypes.c_void_p] = {}     # symbol -> the pointer's memory
 
 
 def stage_pointer(name: str) -> ctypes.c_void_p:
-    """The pointer ``name`` (a null one, registered with LLVM, the first time)."""
+    """The pointer ``name``, registered with LLVM the first time; until the stage
+    is loaded it leads to numba's function for unresolved calls, which raises
+    ``RuntimeError`` in its caller."""
     pointer = _POINTERS.get(name)
     if pointer is None:
-        pointer = _POINTERS[name] = ctypes.c_void_p(0)
+        rtsys.initialize(cpu_target.target_context)     # (done already when compiling or loading)
+        unresolved = rtsys.library.get_pointer_to_function("nrt_unresolved_abort")
+        pointer = _POINTERS[name] = ctypes.c_void_p(unresolved)
         ll.add_symbol(name, ctypes.addressof(pointer))
     return pointer
 
@@ -421,15 +425,16 @@ class LateStage:
         stand-in; its pointer then leads to it."""
         if self.loaded:
             return
-        self.loaded = True
         kernel, args = self.kernel, self.args
         if kernel.overloads.get(args) is self:
             del kernel.overloads[args]
+        # (if this raises, the stand-in stays in LATE: no entry is published)
         kernel.compile(args)
         got = kernel.overloads[args].signature.return_type
         if got != kernel.returns:
             raise TypeError(f"{kernel.py_func.__qualname__} returns {got}, not its declared "
                             f"returns={kernel.returns}")
+        self.loaded = True
 
 
 # stages linked late and not loaded yet
@@ -439,7 +444,8 @@ LATE: list[LateStage] = []
 def load_late_stages() -> None:
     """Load every stage linked late (before code that calls one runs)."""
     while LATE:
-        LATE.pop(0).load()
+        LATE[0].load()
+        LATE.pop(0)
 
 
 LOCK_NAME = "cdt_plugin.lock"

@@ -283,6 +283,42 @@ def test_stage_the_helper_is_compiling_is_linked_late_and_loaded_before_its_call
     assert second["value"] == 12.0 and second["hits"] == [1, 1] and second["misses"] == [0, 0]
 
 
+FAILED_LOAD = '''
+import json, numpy as np
+import apart_kernels as m
+from cdt_plugin._core import jit
+jit.helper_compiling = lambda kernel, args: kernel is m.total    # (as while a helper compiles it)
+def fail(sig):
+    raise RuntimeError("no stage")
+m.total.compile = fail                  # (the stage cannot be loaded or compiled)
+said = []
+for _ in range(2):
+    try:
+        m.twice_total(np.arange(4.0))
+    except RuntimeError as exc:
+        said.append(str(exc))
+del m.total.compile
+print(json.dumps({"said": said, "value": m.twice_total(np.arange(4.0)), "left": len(jit.LATE)}))
+'''
+
+
+def test_callers_of_a_stage_that_fails_to_load_do_not_run(tmp_path):
+    """While a stage linked late cannot be loaded, no entry compiled meanwhile is
+    published: each call raises the error again (none runs a caller whose pointer
+    leads nowhere); once it loads, they run."""
+    out = _run_apart(tmp_path, FAILED_LOAD)
+    assert out["said"] == ["no stage", "no stage"]
+    assert out["value"] == 12.0 and out["left"] == 0
+
+
+def test_stage_pointer_leads_to_an_error_until_the_stage_is_loaded():
+    """A stage's pointer is never null: until the stage is loaded it leads to
+    numba's function for unresolved calls (a call raises), then to the stage."""
+    from numba.core.runtime import rtsys
+    pointer = jit.stage_pointer(jit.pointer_name(__name__, "nothing", (types.int64,)))
+    assert pointer.value == rtsys.library.get_pointer_to_function("nrt_unresolved_abort")
+
+
 def test_stage_linked_late_must_return_what_it_declares(tmp_path):
     """A stage whose declared ``returns`` is not the type numba infers is refused when
     it is loaded (its callers were typed against the declaration)."""
@@ -319,6 +355,7 @@ def test_routes_come_from_the_cache_without_numbas_compiler_set_up():
     import json
     import subprocess
     import sys
+
     from cdt_plugin import compiling
     compiling.compile_routes()          # (the cache filled, as by `cdt-plugin compile`)
     code = ("import json, sys\nfrom cdt_plugin import compiling\ncompiling.compile_routes()\n"
