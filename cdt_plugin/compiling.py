@@ -149,10 +149,11 @@ event.register("numba:compile", _notice)
 # instead of compiling it (a stage compiled apart: nothing of it is compiled again),
 # links late the one it is compiling (typed against its declared return type, called
 # through a pointer that is filled when it is loaded, before the route first runs:
-# :class:`~cdt_plugin._core.jit.LateStage`) or waits for it where it cannot, and
+# :class:`~cdt_plugin._core.jit.LateStage`), or waits for it if it declares none, and
 # claims the rest, which the helper then skips. Each stage declares the argument
-# types the route gives it (``ahead=``); a caller with other types compiles it itself. The helper starts at a first ``delaunay`` as
-# well: most scripts triangulate next, and the cache keeps what it compiled.
+# types the route gives it (``ahead=``); a caller with other types compiles it
+# itself. The helper starts at a first ``delaunay`` as well: most scripts
+# triangulate next, and the cache keeps what it compiled.
 HELPER_ENV = "CDT_PLUGIN_COMPILE_HELPER"       # "0": no helper process
 # The helper's order. The exact predicates' circle-test and crossing stages first: a
 # first ``delaunay`` needs the circle test a few seconds in (it compiles orient2d's
