@@ -428,7 +428,6 @@ class LateStage:
         kernel, args = self.kernel, self.args
         if kernel.overloads.get(args) is self:
             del kernel.overloads[args]
-        # (if this raises, the stand-in stays in LATE: no entry is published)
         kernel.compile(args)
         got = kernel.overloads[args].signature.return_type
         if got != kernel.returns:
@@ -442,10 +441,15 @@ LATE: list[LateStage] = []
 
 
 def load_late_stages() -> None:
-    """Load every stage linked late (before code that calls one runs)."""
+    """Load every stage linked late (before code that calls one runs). A stage
+    compiled here may publish entries it calls meanwhile: they load the others."""
     while LATE:
-        LATE[0].load()
-        LATE.pop(0)
+        stage = LATE.pop(0)
+        try:
+            stage.load()
+        except BaseException:
+            LATE.insert(0, stage)         # (still pending: no entry is published)
+            raise
 
 
 LOCK_NAME = "cdt_plugin.lock"

@@ -311,6 +311,33 @@ def test_callers_of_a_stage_that_fails_to_load_do_not_run(tmp_path):
     assert out["value"] == 12.0 and out["left"] == 0
 
 
+def test_stage_linked_late_that_compiles_here_may_publish_the_entries_it_calls(tmp_path):
+    """When the helper fails, the route compiles the stage linked late itself, just
+    before its own entry is published; an entry the stage calls is published in
+    that compilation, and must not load the stage again (numba would refuse to
+    compile it re-entrantly)."""
+    nested = APART_MODULE.replace('''    s = 0.0
+    for v in a:''', '''    s = first(a) - a[0]
+    for v in a:''') + '''
+
+@entry
+def first(a):
+    return a[0]
+'''
+    (tmp_path / "nested").mkdir()
+    (tmp_path / "nested" / "apart_kernels.py").write_text(nested)
+    code = LATE_REPORT.replace("import json,", "import sys; sys.path.insert(0, sys.argv[1])\nimport json,")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    import subprocess
+    import sys
+    proc = subprocess.run([sys.executable, "-c", code, str(tmp_path / "nested")], env=env,
+                          capture_output=True, text=True, timeout=300, check=False)
+    assert proc.returncode == 0, proc.stderr
+    import json
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert out["value"] == 12.0 and out["late"] == [["total", False, "LateStage"]] and out["left"] == 0
+
+
 def test_stage_pointer_leads_to_an_error_until_the_stage_is_loaded():
     """A stage's pointer is never null: until the stage is loaded it leads to
     numba's function for unresolved calls (a call raises), then to the stage."""
