@@ -262,10 +262,10 @@ class _Helper:
         """Before ``kernel`` compiles here for ``sig``: if the helper is compiling
         it, wait until it has (numba then loads it from the cache); if the helper has
         not begun it, claim it."""
-        name = _stage_name(kernel)
         args = tuple(getattr(sig, "args", sig))                  # (a declared signature: its arguments)
-        if name not in self.state or os.getpid() != self.pid or args != kernel.ahead:
-            return                                               # (not the helper's; a fork)
+        if not self._has(kernel, args):
+            return
+        name = _stage_name(kernel)
         t0 = time.perf_counter()
         with self.changed:
             while self.state[name] == "start" and not self.ended:
@@ -291,8 +291,13 @@ class _Helper:
         """Whether the helper is compiling ``kernel`` for ``args`` now: a route that
         reaches it links it late instead of waiting (:class:`~cdt_plugin._core.jit.LateStage`)."""
         with self.changed:
-            return (os.getpid() == self.pid and args == kernel.ahead
-                    and self.state.get(_stage_name(kernel)) == "start")
+            return self._has(kernel, args) and self.state[_stage_name(kernel)] == "start"
+
+    def _has(self, kernel, args: tuple) -> bool:
+        """Whether ``kernel`` for ``args`` is one of this process's helper's stages
+        (not in a fork of it, not for other argument types)."""
+        return (os.getpid() == self.pid and args == kernel.ahead
+                and _stage_name(kernel) in self.state)
 
     def stop(self) -> None:
         if self.proc is not None and self.proc.poll() is None:

@@ -202,15 +202,22 @@ print(json.dumps({"value": value, "uid": stage.fndesc.uid,
 '''
 
 
-def _run_apart(tmp_path, code):
-    import json
+def _run_child(tmp_path, code, module=APART_MODULE):
+    """``code`` run in a new process that imports ``module`` as ``apart_kernels``,
+    with its own numba cache (kept between runs in ``tmp_path``)."""
     import subprocess
     import sys
-    (tmp_path / "apart_kernels.py").write_text(APART_MODULE)
+    (tmp_path / "apart_kernels.py").write_text(module)
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
            "PYTHONPATH": os.pathsep.join([str(tmp_path), *sys.path])}
-    proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
-                          timeout=300)
+    return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                          timeout=300, check=False)
+
+
+def _run_apart(tmp_path, code, module=APART_MODULE):
+    """The JSON ``code`` prints last, run by :func:`_run_child` (which must succeed)."""
+    import json
+    proc = _run_child(tmp_path, code, module)
     assert proc.returncode == 0, proc.stderr
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
@@ -324,17 +331,7 @@ def test_stage_linked_late_that_compiles_here_may_publish_the_entries_it_calls(t
 def first(a):
     return a[0]
 '''
-    (tmp_path / "nested").mkdir()
-    (tmp_path / "nested" / "apart_kernels.py").write_text(nested)
-    code = LATE_REPORT.replace("import json,", "import sys; sys.path.insert(0, sys.argv[1])\nimport json,")
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
-    import subprocess
-    import sys
-    proc = subprocess.run([sys.executable, "-c", code, str(tmp_path / "nested")], env=env,
-                          capture_output=True, text=True, timeout=300, check=False)
-    assert proc.returncode == 0, proc.stderr
-    import json
-    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    out = _run_apart(tmp_path, LATE_REPORT, nested)
     assert out["value"] == 12.0 and out["late"] == [["total", False, "LateStage"]] and out["left"] == 0
 
 
@@ -349,16 +346,11 @@ def test_stage_pointer_leads_to_an_error_until_the_stage_is_loaded():
 def test_stage_linked_late_must_return_what_it_declares(tmp_path):
     """A stage whose declared ``returns`` is not the type numba infers is refused when
     it is loaded (its callers were typed against the declaration)."""
-    import subprocess
-    import sys
-    (tmp_path / "apart_kernels.py").write_text(APART_MODULE.replace("returns=f8", "returns=types.int64")
-                                               .replace("import numpy as np", "import numpy as np\nfrom numba import types"))
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
-           "PYTHONPATH": os.pathsep.join([str(tmp_path), *sys.path])}
+    wrong = (APART_MODULE.replace("returns=f8", "returns=types.int64")
+             .replace("import numpy as np", "import numpy as np\nfrom numba import types"))
     code = ("import numpy as np, apart_kernels as m\nfrom cdt_plugin._core import jit\n"
             "jit.helper_compiling = lambda kernel, args: True\nm.twice_total(np.arange(4.0))\n")
-    proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300,
-                          check=False)
+    proc = _run_child(tmp_path, code, wrong)
     assert proc.returncode != 0 and "total returns float64, not its declared returns=int64" in proc.stderr
 
 
