@@ -450,7 +450,10 @@ def _batch():
 def _voronoi():
     from . import delaunay
     tri = delaunay(np.random.default_rng(0).uniform(size=(20, 2)))
-    tri.voronoi(clip=(0.0, 0.0, 1.0, 1.0))      # the subdivision, the cells, a box clip
+    tri.voronoi(clip=(0.0, 0.0, 1.0, 1.0))      # from the store: the cells, a box clip
+    tri.delaunay_subdivision().indices          # the faces of triangles
+    grid = delaunay(np.array([[x, y] for x in range(3) for y in range(3)], float))
+    grid.voronoi()                               # ties: the faces fused, the general route
 
 
 def _query():

@@ -18,21 +18,21 @@ clipped corners) are floating point, computed near unit scale.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Iterator
+from typing import TYPE_CHECKING, Any, Iterator, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core.dual import (cell_rings, clip_cells, face_centres, fuse_ties, mark_close, pack_cells,
-                         redo_centres, ring_offsets, subdivision_faces, triangle_faces, unfused_cells,
-                         vertex_rings)
+                         redo_centres, ring_offsets, solid_rows, store_cells, store_rings, store_ties,
+                         subdivision_faces, triangle_centres, triangle_faces, vertex_rings)
 from .errors import ClipRegionError, CollinearPointsError, NotDelaunayError
 from .optional import require
 from .parallel import check_workers, map_ordered, mapped_empty, resolve_workers
 from .validate import exact_range
 
 if TYPE_CHECKING:
-    from .triangulation import Triangulation
+    from .triangulation import MeshStore, Triangulation
 
 Box = tuple[float, float, float, float]
 
@@ -55,11 +55,46 @@ class Subdivision:
 
     def __init__(self, offsets: NDArray[np.int64], indices: NDArray[np.int64],
                  face_of_triangle: NDArray[np.int64]) -> None:
-        self.offsets = offsets
-        self.indices = indices
-        self.face_of_triangle = face_of_triangle
+        self._arrays: tuple[NDArray[np.int64], ...] | None = (offsets, indices, face_of_triangle)
+        self._triangles: NDArray[np.int64] | None = None
+
+    @classmethod
+    def of_triangles(cls, triangles: NDArray[np.int64]) -> Subdivision:
+        """The subdivision where no triangles are fused: face ``t`` is triangle
+        ``t``. Its arrays are made on first access (the cells do not need them)."""
+        sub = cls.__new__(cls)
+        sub._arrays = None
+        sub._triangles = triangles
+        return sub
+
+    def _made(self) -> tuple[NDArray[np.int64], ...]:
+        if self._arrays is None:
+            T = self._triangles
+            assert T is not None
+            k = len(T)
+            ring = np.empty(3 * k, np.int64)
+            triangle_faces(T, ring, np.int64(0), np.int64(k))
+            self._arrays = (np.arange(0, 3 * k + 1, 3), ring, np.arange(k))
+        return self._arrays
+
+    @property
+    def offsets(self) -> NDArray[np.int64]:
+        """(f + 1,) where each face starts in ``indices``."""
+        return self._made()[0]
+
+    @property
+    def indices(self) -> NDArray[np.int64]:
+        """The vertex ids of every face, one after the other."""
+        return self._made()[1]
+
+    @property
+    def face_of_triangle(self) -> NDArray[np.int64]:
+        """(k,) the face each triangle belongs to."""
+        return self._made()[2]
 
     def __len__(self) -> int:
+        if self._arrays is None and self._triangles is not None:
+            return len(self._triangles)
         return len(self.offsets) - 1
 
     def __getitem__(self, i: int) -> NDArray[np.int64]:
@@ -118,7 +153,7 @@ class Voronoi:
     first access (see their docstrings).
     """
 
-    def __init__(self, tri: Triangulation, fused: NDArray[np.bool_], subdivision: Subdivision,
+    def __init__(self, tri: Triangulation, fused: NDArray[np.bool_] | None, subdivision: Subdivision,
                  vertices: NDArray[np.float64], region_offsets: NDArray[np.int64],
                  region_indices: NDArray[np.int64], unbounded: NDArray[np.bool_],
                  rings: tuple[NDArray[np.int64], NDArray[np.int64]], threads: int = 1) -> None:
@@ -161,7 +196,8 @@ class Voronoi:
     def _make_ridges(self) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
         if self._ridges is None:
             t, nb = self._tri.triangles, self._tri.neighbors
-            k, j = np.nonzero((nb < 0) | ((np.arange(len(t))[:, None] < nb) & ~self._fused))
+            once = np.arange(len(t))[:, None] < nb
+            k, j = np.nonzero((nb < 0) | (once if self._fused is None else once & ~self._fused))
             a, b = t[k, (j + 1) % 3], t[k, (j + 2) % 3]
             m = nb[k, j]
             face = self.subdivision.face_of_triangle
@@ -226,7 +262,7 @@ class Voronoi:
         inside = ((pts[:, 0] >= xmin) & (pts[:, 0] <= xmax) & (pts[:, 1] >= ymin) & (pts[:, 1] <= ymax))
         if not inside.any():
             raise ClipRegionError(f"the clip box {box} contains none of the {len(pts)} points")
-        x, y, w, e = _near_unit(pts, self.weights, np.array(box), self.vertices)
+        x, y, w, e = _near_unit(self._tri, np.array(box), self.vertices)
         offsets, ring = self._rings
         centres = np.ldexp(self.vertices, -e) if e else self.vertices
         b = np.ldexp(np.array(box), -e)
@@ -262,7 +298,7 @@ class Voronoi:
 
 def delaunay_subdivision(tri: Triangulation) -> Subdivision:
     """The faces of the Delaunay subdivision of ``tri`` (see :class:`Subdivision`)."""
-    return _dual(tri, resolve_workers(None, 2))[1]
+    return _fuse(tri, _predicate_range(tri), resolve_workers(None, 2))[1]
 
 
 def voronoi(tri: Triangulation, clip: Any = None, *, workers: int | None = None) -> Voronoi:
@@ -270,50 +306,105 @@ def voronoi(tri: Triangulation, clip: Any = None, *, workers: int | None = None)
     (see :meth:`cdt_plugin.Triangulation.voronoi`)."""
     check_clip(clip)                     # options first, before any work
     threads = resolve_workers(check_workers(workers), 2)
-    fused, sub, x, y = _dual(tri, threads)
-    pts, T, nv = tri.vertices, tri.triangles, len(tri.vertices)
-    offsets, first = ring_offsets(T, np.int64(nv))
+    scaled = _predicate_range(tri)
+    mesh = tri._mesh
+    dual = _store_dual(tri, mesh, scaled, threads) if mesh is not None else None
+    if dual is None:                     # no store, or cocircular triangles to fuse
+        dual = _general_dual(tri, scaled, threads)
+    vor = Voronoi(tri, *dual, threads=threads)
+    return vor if clip is None else vor.clipped(clip)
+
+
+class _Dual(NamedTuple):
+    """What :class:`Voronoi` is made of: the fused edge flags (None: none
+    fused), the subdivision, the face centres, each vertex's ring of
+    triangles (a hull vertex's ending with -1) and its cell, and the hull flags."""
+    fused: NDArray[np.bool_] | None
+    subdivision: Subdivision
+    centres: NDArray[np.float64]
+    region_offsets: NDArray[np.int64]
+    region_indices: NDArray[np.int64]
+    unbounded: NDArray[np.bool_]
+    rings: tuple[NDArray[np.int64], NDArray[np.int64]]
+
+
+def _store_dual(tri: Triangulation, mesh: MeshStore, scaled: _Scaled, threads: int) -> _Dual | None:
+    """The dual read straight off a Delaunay result's half-edge store, where
+    no triangles are fused (each face one triangle, each cell the ring of
+    triangles round its vertex); None if some are (cocircular points: the
+    general route fuses them)."""
+    store, twin, _, ntri, inf = mesh
+    x, y, w, _ = scaled
+    T, nv, k = tri.triangles, len(tri.vertices), len(tri.triangles)
+    ux, uy, uw, e = _near_unit(tri, scaled=scaled)
+    centres, err = mapped_empty((k, 2)), mapped_empty(k)
+    redo = mapped_empty(k, bool, fill=False)
+
+    def rows_and_centres() -> NDArray[np.int64]:
+        triangle_centres(ux, uy, uw, w is not None, T, centres, err, np.int64(0), np.int64(k))
+        return solid_rows(store, ntri, inf)
+
+    # the counting pass (one thread) beside the centres and rows
+    (offsets, start), tid = map_ordered(lambda f: f(), [lambda: store_rings(store, ntri, inf, np.int64(nv)),
+                                                        rows_and_centres], threads)
+    found = _in_ranges(threads, ntri, lambda lo, hi: store_ties(
+        x, y, x if w is None else w, w is not None, store, twin, tid, centres, err, redo, lo, hi))
+    bad = [int(b) for b, _ in found if b >= 0]
+    if bad:                              # (half-edge b runs from store[b] to the next of its triangle)
+        b = bad[0]
+        _not_locally_delaunay(tri, int(tid[b // 3]), [int(store[b]), int(store[b - b % 3 + (b + 1) % 3])])
+    if sum(int(ties) for _, ties in found):
+        return None
+    cells, hull = mapped_empty(offsets[-1], np.int64), mapped_empty(nv, bool)
+    wrong = min(_in_ranges(threads, nv, lambda lo, hi: store_cells(
+        x, y, store, twin, tid, offsets, start, cells, hull, lo, hi)))
+    if wrong < nv:
+        _not_convex(tri, wrong, start[wrong] == -1)
+    sub = Subdivision.of_triangles(T)
+    if redo.any():
+        redo_centres(ux, uy, uw, sub.offsets, sub.indices, centres, redo, np.int64(0), np.int64(k))
+    return _Dual(None, sub, np.ldexp(centres, e) if e else centres, offsets, cells, hull, (offsets, cells))
+
+
+def _general_dual(tri: Triangulation, scaled: _Scaled, threads: int) -> _Dual:
+    """The dual from the triangles and their neighbours: cocircular
+    triangles fused into the subdivision's faces, each cell the faces round
+    its vertex."""
+    fused, sub = _fuse(tri, scaled, threads)
+    x, y = scaled.x, scaled.y
+    T, N, nv = tri.triangles, tri.neighbors, len(tri.vertices)
+    offsets, first, hull, pinched = ring_offsets(T, N, np.int64(nv))
     lonely = np.flatnonzero(first < 0)
     if len(lonely):
-        raise NotDelaunayError(f"vertex {lonely[0]} {pts[lonely[0]].tolist()} is in no triangle: "
-                               "not the Delaunay triangulation of its vertices")
-    ring = mapped_empty(3 * len(T), np.int64)
-    hull = mapped_empty(nv, bool, fill=False)
+        _not_convex(tri, int(lonely[0]), True)
+    if pinched < nv:
+        _not_convex(tri, int(pinched), False)
+    ring = mapped_empty(offsets[-1], np.int64)
     reflex = min(_in_ranges(threads, len(T), lambda lo, hi: vertex_rings(
-        x, y, T, tri.neighbors, offsets, first, ring, hull, lo, hi)))
+        x, y, T, N, offsets, first, ring, hull, lo, hi)))
     if reflex < nv:
-        raise NotDelaunayError(f"the triangulation's boundary turns inwards at vertex {reflex} "
-                               f"{pts[reflex].tolist()}: not the Delaunay triangulation of its vertices "
-                               "(its domain is not their convex hull)")
-    ux, uy, uw, e = _near_unit(pts, tri.weights)
+        _not_convex(tri, reflex, False)
+    ux, uy, uw, e = _near_unit(tri, scaled=scaled)
     centres = mapped_empty((len(sub), 2))
     err = mapped_empty(len(sub))
     redo = mapped_empty(len(sub), bool, fill=False)
     _in_ranges(threads, len(sub), lambda lo, hi: face_centres(
         ux, uy, uw, sub.offsets, sub.indices, centres, err, lo, hi))
     _in_ranges(threads, len(T), lambda lo, hi: mark_close(
-        T, tri.neighbors, sub.face_of_triangle, centres, err, redo, lo, hi))
+        T, N, sub.face_of_triangle, centres, err, redo, lo, hi))
     _in_ranges(threads, len(sub), lambda lo, hi: redo_centres(
         ux, uy, uw, sub.offsets, sub.indices, centres, redo, lo, hi))
-    # each cell in one pass into room for its ring (and a hull cell's -1): the
-    # cells themselves unless cocircular triangles were fused, then packed
-    slots = offsets + np.concatenate([[0], np.cumsum(hull)])
-    cells = mapped_empty(slots[-1], np.int64)
-    region_offsets, region_indices = slots, cells
-    if len(sub) == len(T):               # nothing fused: face t is triangle t
-        _in_ranges(threads, nv, lambda lo, hi: unfused_cells(
-            offsets, ring, hull, sub.face_of_triangle, slots, cells, lo, hi))
-    else:
-        sizes = mapped_empty(nv, np.int64)
+    region_offsets, region_indices = offsets, ring     # nothing fused: face t is triangle t
+    if fused is not None:                # each cell into the room of its ring, then packed
+        cells, sizes = mapped_empty(offsets[-1], np.int64), mapped_empty(nv, np.int64)
         _in_ranges(threads, nv, lambda lo, hi: cell_rings(
-            T, offsets, ring, hull, sub.face_of_triangle, slots, cells, sizes, lo, hi))
+            T, offsets, ring, hull, sub.face_of_triangle, cells, sizes, lo, hi))
         region_offsets = np.concatenate([[0], np.cumsum(sizes)])
         region_indices = mapped_empty(region_offsets[-1], np.int64)
         _in_ranges(threads, nv, lambda lo, hi: pack_cells(
-            slots, cells, sizes, region_offsets, region_indices, lo, hi))
-    vor = Voronoi(tri, fused, sub, np.ldexp(centres, e) if e else centres, region_offsets,
-                  region_indices, hull, (offsets, ring), threads)
-    return vor if clip is None else vor.clipped(clip)
+            offsets, cells, sizes, region_offsets, region_indices, lo, hi))
+    return _Dual(fused, sub, np.ldexp(centres, e) if e else centres, region_offsets, region_indices,
+                 hull, (offsets, ring))
 
 
 #: From this many triangles the kernels run on two threads (each on half the range)
@@ -328,39 +419,61 @@ def _in_ranges(threads: int, n: int, fn: Any) -> list[Any]:
     return map_ordered(lambda i: fn(np.int64(bounds[i]), np.int64(bounds[i + 1])), range(pieces), pieces)
 
 
-def _dual(tri: Triangulation, threads: int = 1) -> tuple[NDArray[np.bool_], Subdivision, NDArray[np.float64],
-                                                         NDArray[np.float64]]:
-    """Check that ``tri`` is a (weighted) Delaunay triangulation and fuse its
-    cocircular triangles: (both sides' fused edge flags, the subdivision, and
-    the coordinates scaled into the exact predicates' range)."""
+class _Scaled(NamedTuple):
+    """The vertices (and weights) times ``2**shift``, in the exact predicates' range."""
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    w: NDArray[np.float64] | None
+    shift: int
+
+
+def _predicate_range(tri: Triangulation) -> _Scaled:
+    """Check that ``tri`` can have a dual (triangles, no segments) and scale
+    its vertices (and weights) into the exact predicates' range."""
     if len(tri.triangles) == 0:
         raise CollinearPointsError(
             f"{len(tri.vertices)} point(s), all on one line or fewer than three: no triangle, "
             "so no Voronoi vertex and no Delaunay subdivision")
-    if len(tri.segments) or tri.constrained.any():
+    # (a half-edge store is a Delaunay result's: never constrained)
+    if len(tri.segments) or (tri._mesh is None and tri.constrained.any()):
         raise NotDelaunayError("the triangulation has segments: the Voronoi diagram and the Delaunay "
                                "subdivision are defined for Delaunay triangulations of points; "
                                "use cdt_plugin.delaunay(tri.vertices)")
     pts = tri.vertices
-    x, y, w, _ = exact_range(pts[:, 0], pts[:, 1], tri.weights, "vertices")
-    weighted = w is not None
-    fused = mapped_empty(tri.triangles.shape, bool, fill=False)
-    found = [b for b in _in_ranges(threads, len(tri.triangles), lambda lo, hi: fuse_ties(
-        x, y, w if weighted else x, weighted, tri.triangles, tri.neighbors, fused, lo, hi)) if b >= 0]
+    return _Scaled(*exact_range(pts[:, 0], pts[:, 1], tri.weights, "vertices"))
+
+
+def _fuse(tri: Triangulation, scaled: _Scaled, threads: int) -> tuple[NDArray[np.bool_] | None, Subdivision]:
+    """Check that ``tri`` is a (weighted) Delaunay triangulation and fuse its
+    cocircular triangles: (both sides' fused edge flags, None if none are;
+    the subdivision)."""
+    x, y, w, _ = scaled
+    T, weighted = tri.triangles, w is not None
+    fused = mapped_empty(T.shape, bool, fill=False)
+    found = [b for b in _in_ranges(threads, len(T), lambda lo, hi: fuse_ties(
+        x, y, w if weighted else x, weighted, T, tri.neighbors, fused, lo, hi)) if b >= 0]
     if found:
         t, j = divmod(int(found[0]), 3)
-        edge = [int(tri.triangles[t, (j + 1) % 3]), int(tri.triangles[t, (j + 2) % 3])]
-        raise NotDelaunayError(f"edge {edge} of triangle {t} is not locally "
-                               f"{'regular' if weighted else 'Delaunay'}: not a "
-                               f"{'weighted ' if weighted else ''}Delaunay triangulation")
-    T = tri.triangles
-    if fused.any():
-        face_of, offsets, ring = subdivision_faces(T, tri.neighbors, fused)
-    else:                                # face t is triangle t
-        face_of, offsets = np.arange(len(T)), np.arange(0, 3 * len(T) + 1, 3)
-        ring = mapped_empty(3 * len(T), np.int64)
-        _in_ranges(threads, len(T), lambda lo, hi: triangle_faces(T, ring, lo, hi))
-    return fused, Subdivision(offsets, ring, face_of), x, y
+        _not_locally_delaunay(tri, t, [int(T[t, (j + 1) % 3]), int(T[t, (j + 2) % 3])])
+    if not fused.any():                  # face t is triangle t
+        return None, Subdivision.of_triangles(T)
+    face_of, offsets, ring = subdivision_faces(T, tri.neighbors, fused)
+    return fused, Subdivision(offsets, ring, face_of)
+
+
+def _not_locally_delaunay(tri: Triangulation, t: int, edge: list[int]) -> None:
+    weighted = tri.weights is not None
+    raise NotDelaunayError(f"edge {edge} of triangle {t} is not locally "
+                           f"{'regular' if weighted else 'Delaunay'}: not a "
+                           f"{'weighted ' if weighted else ''}Delaunay triangulation")
+
+
+def _not_convex(tri: Triangulation, v: int, lonely: bool) -> None:
+    where = f"vertex {v} {tri.vertices[v].tolist()}"
+    if lonely:
+        raise NotDelaunayError(f"{where} is in no triangle: not the Delaunay triangulation of its vertices")
+    raise NotDelaunayError(f"the triangulation's boundary turns inwards at {where}: not the Delaunay "
+                           "triangulation of its vertices (its domain is not their convex hull)")
 
 
 def check_clip(clip: Any) -> None:
@@ -396,19 +509,22 @@ def check_box(clip: ArrayLike) -> Box:
     return (float(box[0]), float(box[1]), float(box[2]), float(box[3]))
 
 
-def _near_unit(pts: NDArray[np.float64], weights: NDArray[np.float64] | None,
-               *more: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64],
-                                                    NDArray[np.float64], int]:
-    """x, y, weights (zeros if None) times ``2**-e``, ``4**-e`` for the
-    constructions, with ``e`` chosen from the points and ``more`` so that
-    squares of differences neither overflow nor underflow (0 at ordinary scales)."""
+def _near_unit(tri: Triangulation, *more: NDArray[np.float64], scaled: _Scaled | None = None
+               ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int]:
+    """The vertices' x, y, weights (zeros if None) times ``2**-e``, ``4**-e``
+    for the constructions, with ``e`` chosen from the points and ``more`` so
+    that squares of differences neither overflow nor underflow (0 at ordinary
+    scales, where the predicates' copies ``scaled`` are used if not scaled)."""
+    pts, weights = tri.vertices, tri.weights
     top = max([float(np.abs(pts).max())] + [float(np.abs(m).max()) for m in more])
     e = int(np.frexp(top)[1])
     e = 0 if -64 <= e <= 64 else e
-    x = np.ldexp(pts[:, 0], -e) if e else np.ascontiguousarray(pts[:, 0])
-    y = np.ldexp(pts[:, 1], -e) if e else np.ascontiguousarray(pts[:, 1])
+    if e == 0 and scaled is not None and scaled.shift == 0:
+        ux, uy = scaled.x, scaled.y
+    else:
+        ux, uy = np.ldexp(pts[:, 0], -e), np.ldexp(pts[:, 1], -e)
     w = np.zeros(len(pts)) if weights is None else np.ldexp(weights, -2 * e)
-    return x, y, w, e
+    return ux, uy, w, e
 
 
 __all__ = ["Subdivision", "Voronoi", "check_box", "check_clip", "delaunay_subdivision", "voronoi"]

@@ -421,33 +421,62 @@ def test_threads_give_the_arrays_of_one(kind, monkeypatch):
     assert np.array_equal(one.subdivision.indices, two.subdivision.indices)
 
 
-@pytest.mark.parametrize("kind", ["uniform", "grid"])
-def test_unfused_cells_equal_the_general_walk(kind):
-    """Where no triangles are fused, the cells are read straight off each
-    vertex's ring of triangles; they equal what the general walk round each
-    vertex (which merges fused faces) gives. On the grid every square is fused,
-    so the walk is taken there, and its cells are packed to their lengths."""
-    from cdt_plugin._core.dual import cell_rings, unfused_cells
+@pytest.mark.parametrize("kind", ["uniform", "weighted", "duplicates", "huge", "few"])
+def test_store_route_equals_the_general_route(kind):
+    """A Delaunay result's dual is read straight off its half-edge store
+    (centres, the exact ties test, each vertex's ring); the general route
+    walks the triangles and their neighbours. Both give the same arrays, bit
+    for bit, on generic points (no ties: nothing fused), with weights,
+    duplicates, scaled far from unit scale and on a few points (every vertex
+    on the hull)."""
     rng = np.random.default_rng(5)
-    P = (rng.random((2000, 2)) if kind == "uniform"
-         else np.array([(x, y) for y in range(30) for x in range(40)], float))
-    tri = _delaunay(P)
-    vor = tri.voronoi()
-    offsets, ring = vor._rings                   # each vertex's triangles, counter-clockwise
-    face_of, hull = vor.subdivision.face_of_triangle, vor.unbounded
-    nv = len(tri.vertices)
-    slots = offsets + np.concatenate([[0], np.cumsum(hull)])
-    walked, sizes = np.empty(slots[-1], np.int64), np.empty(nv, np.int64)
-    cell_rings(tri.triangles, offsets, ring, hull, face_of, slots, walked, sizes, np.int64(0), np.int64(nv))
-    for v in range(nv):
-        assert np.array_equal(vor.region_indices[vor.region_offsets[v]:vor.region_offsets[v + 1]],
-                              walked[slots[v]:slots[v] + sizes[v]]), v
+    w = None
     if kind == "uniform":
-        read = np.empty(slots[-1], np.int64)
-        unfused_cells(offsets, ring, hull, face_of, slots, read, np.int64(0), np.int64(nv))
-        assert np.array_equal(read, walked) and np.array_equal(sizes, np.diff(slots))
+        P = rng.random((2000, 2))
+    elif kind == "weighted":
+        P, w = rng.random((2000, 2)), rng.random(2000) * 1e-3
+    elif kind == "duplicates":
+        P = np.repeat(rng.random((500, 2)), 2, axis=0)
+    elif kind == "huge":
+        P = rng.random((500, 2)) * 2.0 ** 900
     else:
-        assert (sizes < np.diff(slots)).any()
+        P = np.array([[0, 0], [3, 0.2], [1.4, 2.9], [-0.5, 1.3]])
+    tri = _delaunay(P, w)
+    assert tri._mesh is not None
+    plain = Triangulation(tri.vertices, tri.triangles, tri.neighbors, tri.vertex_map, {}, tri.weights)
+    lo, hi = P.min(axis=0), P.max(axis=0)
+    box = tuple(np.r_[lo + 0.1 * (hi - lo), hi - 0.2 * (hi - lo)] if kind != "few" else np.r_[lo - 1, hi + 1])
+    ours, general = tri.voronoi(clip=box), plain.voronoi(clip=box)
+    assert len(tri.delaunay_subdivision()) == len(tri.triangles)      # nothing fused
+    for name in ("vertices", "region_offsets", "region_indices", "unbounded", "cell_offsets", "cell_xy",
+                 "ridge_points", "ridge_vertices", "ridge_directions"):
+        assert np.array_equal(getattr(ours, name), getattr(general, name)), name
+    for name in ("offsets", "indices", "face_of_triangle"):
+        assert np.array_equal(getattr(ours.subdivision, name), getattr(general.subdivision, name)), name
+    on_hull = np.zeros(len(tri.vertices), bool)
+    t, j = np.nonzero(tri.neighbors < 0)
+    on_hull[tri.triangles[t, (j + 1) % 3]] = True
+    assert np.array_equal(ours.unbounded, on_hull)
+
+
+def test_store_route_refuses_what_is_not_delaunay():
+    """The store route checks what the general route checks: each interior
+    edge locally Delaunay (exact), the boundary convex. A result whose
+    vertices were moved after it was made fails both ways, with the same
+    named errors."""
+    import copy
+    tri = _delaunay(np.array([[0, 0], [1, 0], [1, 1], [0, 0.9]]))      # diagonal 1-3
+    moved = copy.copy(tri)
+    moved.vertices = np.array([[0, 0], [1, 0], [1, 1], [0, 1.1]])    # now 0-2 is Delaunay
+    assert moved._mesh is not None
+    with pytest.raises(NotDelaunayError, match=r"edge \[\d, \d\] of triangle \d is not locally Delaunay"):
+        moved.voronoi()
+    tri = _delaunay(np.array([[0, 0], [2, -1], [4, 0], [2, 3]]))     # a kite: diagonal 1-3
+    assert sorted(map(sorted, tri.triangles.tolist())) == [[0, 1, 3], [1, 2, 3]]
+    dart = copy.copy(tri)
+    dart.vertices = np.array([[0, 0], [2, 1], [4, 0], [2, 3]])      # vertex 1 pushed in: reflex
+    with pytest.raises(NotDelaunayError, match="turns inwards at vertex 1"):
+        dart.voronoi()
 
 
 def test_unfused_faces_equal_the_general_walk():
