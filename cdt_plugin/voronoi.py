@@ -340,13 +340,12 @@ def _store_dual(tri: Triangulation, mesh: MeshStore, scaled: _Scaled, threads: i
     centres, err = mapped_empty((k, 2)), mapped_empty(k)
     redo = mapped_empty(k, bool, fill=False)
 
-    def rows_and_centres() -> NDArray[np.int64]:
-        triangle_centres(ux, uy, uw, w is not None, T, centres, err, np.int64(0), np.int64(k))
-        return solid_rows(store, ntri, inf)
+    def rings_and_rows() -> tuple[NDArray[np.int64], NDArray[np.int32], NDArray[np.int32]]:
+        return (*store_rings(store, ntri, inf, np.int64(nv)), solid_rows(store, ntri, inf))
 
-    # the counting pass (one thread) beside the centres and rows
-    (offsets, start), tid = map_ordered(lambda f: f(), [lambda: store_rings(store, ntri, inf, np.int64(nv)),
-                                                        rows_and_centres], threads)
+    # the counting passes (one thread) beside the centres
+    (offsets, start, tid), _ = map_ordered(lambda f: f(), [rings_and_rows, lambda: triangle_centres(
+        ux, uy, uw, w is not None, T, centres, err, np.int64(0), np.int64(k))], threads)
     found = _in_ranges(threads, ntri, lambda lo, hi: store_ties(
         x, y, x if w is None else w, w is not None, store, twin, tid, centres, err, redo, lo, hi))
     bad = [int(b) for b, _ in found if b >= 0]
@@ -516,7 +515,7 @@ def _near_unit(tri: Triangulation, *more: NDArray[np.float64], scaled: _Scaled |
     that squares of differences neither overflow nor underflow (0 at ordinary
     scales, where the predicates' copies ``scaled`` are used if not scaled)."""
     pts, weights = tri.vertices, tri.weights
-    top = max([float(np.abs(pts).max())] + [float(np.abs(m).max()) for m in more])
+    top = max(max(-float(a.min()), float(a.max())) for a in (pts, *more))   # (no |a| made)
     e = int(np.frexp(top)[1])
     e = 0 if -64 <= e <= 64 else e
     if e == 0 and scaled is not None and scaled.shift == 0:

@@ -421,20 +421,23 @@ def test_threads_give_the_arrays_of_one(kind, monkeypatch):
     assert np.array_equal(one.subdivision.indices, two.subdivision.indices)
 
 
-@pytest.mark.parametrize("kind", ["uniform", "weighted", "duplicates", "huge", "few"])
+@pytest.mark.parametrize("kind", ["uniform", "weighted", "submerged", "duplicates", "huge", "few", "moved"])
 def test_store_route_equals_the_general_route(kind):
     """A Delaunay result's dual is read straight off its half-edge store
     (centres, the exact ties test, each vertex's ring); the general route
     walks the triangles and their neighbours. Both give the same arrays, bit
-    for bit, on generic points (no ties: nothing fused), with weights,
-    duplicates, scaled far from unit scale and on a few points (every vertex
-    on the hull)."""
+    for bit, on generic points (no ties: nothing fused), with weights (heavy
+    ones submerge points: the store keeps dead triangles), duplicates, scaled
+    far from unit scale, on a few points (every vertex on the hull) and after
+    ``move_vertices`` (the store flipped again)."""
     rng = np.random.default_rng(5)
     w = None
-    if kind == "uniform":
+    if kind in ("uniform", "moved"):
         P = rng.random((2000, 2))
     elif kind == "weighted":
         P, w = rng.random((2000, 2)), rng.random(2000) * 1e-3
+    elif kind == "submerged":
+        P, w = rng.random((2000, 2)), rng.random(2000) * 0.05
     elif kind == "duplicates":
         P = np.repeat(rng.random((500, 2)), 2, axis=0)
     elif kind == "huge":
@@ -442,6 +445,12 @@ def test_store_route_equals_the_general_route(kind):
     else:
         P = np.array([[0, 0], [3, 0.2], [1.4, 2.9], [-0.5, 1.3]])
     tri = _delaunay(P, w)
+    if kind == "submerged":
+        assert (tri._mesh[0][::3] == -2).any() and (tri.vertex_map < 0).any()
+    if kind == "moved":
+        P = P + rng.normal(0, 0.01, P.shape)
+        tri.move_vertices(P)
+        verify(P, tri)
     assert tri._mesh is not None
     plain = Triangulation(tri.vertices, tri.triangles, tri.neighbors, tri.vertex_map, {}, tri.weights)
     lo, hi = P.min(axis=0), P.max(axis=0)
