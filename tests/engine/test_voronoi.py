@@ -380,6 +380,10 @@ def test_not_delaunay_and_not_convex_raise():
     assert dart.is_delaunay()
     with pytest.raises(NotDelaunayError, match="turns inwards at vertex 1"):
         dart.voronoi()
+    V = np.array([[0, 0], [1, 0], [0.5, 0.5], [1, 1], [0, 1]], float)   # a bowtie: pinched at 2
+    bowtie = Triangulation(V, np.array([[0, 1, 2], [2, 3, 4]]), np.full((2, 3), -1), np.arange(5), {})
+    with pytest.raises(NotDelaunayError, match="turns inwards at vertex 2"):
+        bowtie.voronoi()
 
 
 @pytest.mark.parametrize("clip", [(0, 0, 1), (0, 0, np.nan, 1), (1, 0, 0, 1), (0, 1, 1, 1), "box"])
