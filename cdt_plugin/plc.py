@@ -85,6 +85,9 @@ def _read_geometry(obj, required):
     """The PLC of a geometry: a shapely-style polygon through its coordinate
     arrays, anything else through its GeoJSON-like mapping. None for input
     that is no geometry, unless ``required``."""
+    plc = _hole_free_polygon(obj)
+    if plc is not None:
+        return plc
     builder = _Builder()
     if not builder.add_geometry(obj):
         gi = _mapping(obj, required)
@@ -92,6 +95,40 @@ def _read_geometry(obj, required):
             return None
         builder.add(gi)
     return builder.finish()
+
+
+def _hole_free_polygon(obj):
+    """The PLC of a 2D shapely Polygon without holes (the common small call),
+    its ring read in one GEOS call without the builder's bookkeeping: what the
+    builder makes of it. None for anything else."""
+    shapely = _shapely_of(obj)
+    if shapely is None or type(obj) is not shapely.Polygon or obj.has_z or shapely.get_num_interior_rings(obj):
+        return None
+    coords = shapely.get_coordinates(obj)      # (the ring, closed: its last point is its first)
+    if len(coords) == 0:
+        return None
+    xy = np.ascontiguousarray(coords[:-1])
+    return _ring_plc(xy, np.zeros(1, np.int64), np.array([len(xy)]), np.zeros(1, np.int64),
+                     np.zeros(1, bool), [(0, 0)])[0]
+
+
+def _ring_plc(xy, begin, end, ring_polygon, ring_is_hole, ring_name, z=None):
+    """The PLC of rings ``xy[begin[r]:end[r]]`` (polygon ``ring_polygon[r]``,
+    a hole or not; ``ring_name[r]`` names it in errors): their segments in one
+    compiled pass, a degenerate ring's points kept as isolated vertices and
+    named; :class:`NonFiniteCoordinateError` for NaN or infinite coordinates."""
+    bad, degenerate, n_degenerate, segs, seg_ring = polygon_rings(xy, begin, end)
+    if bad >= 0:
+        rows = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
+        raise NonFiniteCoordinateError(f"geometry has NaN or infinite coordinates at vertex "
+                                       f"position(s) {rows[:5].tolist()}")
+    names = []
+    if n_degenerate:
+        kept = ~degenerate
+        names = [ring_name[r] for r in np.flatnonzero(degenerate)]
+        ring_polygon, ring_is_hole = ring_polygon[kept], ring_is_hole[kept]
+    return PLC(xy, segs, segment_ring=seg_ring, ring_polygon=ring_polygon, ring_is_hole=ring_is_hole,
+               z=z, degenerate_rings=names), degenerate
 
 
 def _shapely_of(geometry):
@@ -237,27 +274,17 @@ class _Builder:
             xy = np.ascontiguousarray(self.xy[0] if len(self.xy) == 1 else np.concatenate(self.xy))
         begin = np.array(self.ring_begin, np.int64)
         end = np.array(self.ring_end, np.int64)
-        bad, degenerate, n_degenerate, segs, seg_ring = polygon_rings(xy, begin, end)
-        if bad >= 0:
-            rows = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
-            raise NonFiniteCoordinateError(f"geometry has NaN or infinite coordinates at vertex "
-                                           f"position(s) {rows[:5].tolist()}")
         z = None
         if self.z:
             z = np.full(len(xy), np.nan)
             for start, values in self.z:
                 z[start:start + len(values)] = values
-        ring_polygon = np.array(self.ring_polygon, np.int64)
-        ring_is_hole = np.array(self.ring_is_hole, bool)
-        names = []
-        if n_degenerate:
-            kept = ~degenerate
-            names = [self.ring_name[r] for r in np.flatnonzero(degenerate)]
-            ring_polygon, ring_is_hole = ring_polygon[kept], ring_is_hole[kept]
+        plc, degenerate = _ring_plc(xy, begin, end, np.array(self.ring_polygon, np.int64),
+                                    np.array(self.ring_is_hole, bool), self.ring_name, z)
         if self.has_lines:
-            segs, seg_ring = self._in_input_order(segs, seg_ring, ~degenerate, begin, end)
-        return PLC(xy, segs, segment_ring=seg_ring, ring_polygon=ring_polygon,
-                   ring_is_hole=ring_is_hole, z=z, degenerate_rings=names)
+            plc.segments, plc.segment_ring = self._in_input_order(plc.segments, plc.segment_ring,
+                                                                  ~degenerate, begin, end)
+        return plc
 
     def _in_input_order(self, ring_segs, ring_of, kept, begin, end):
         """Rings' and lines' segments interleaved as the input gave them."""

@@ -67,7 +67,9 @@ def _reader_cases():
             shapely.Polygon([(0, 0, 1), (1, 0, 2), (1, 1, 3), (0, 1, 4)]),
             shapely.Polygon(_circle(0, 0, 1, 9, cw=True)),
             shapely.Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(1, 1), (2, 2), (3, 3), (1, 1)]]),
-            shapely.MultiPolygon([shapely.Polygon(), shapely.box(0, 0, 1, 1)])]
+            shapely.MultiPolygon([shapely.Polygon(), shapely.box(0, 0, 1, 1)]),
+            shapely.box(0, 0, 4, 3),                                   # hole-free: read in one call
+            shapely.Polygon([(0, 0), (1, 1), (2, 2)])]                 # hole-free and degenerate
 
 
 def _assert_same_plc(a, b):
@@ -84,9 +86,14 @@ def test_coordinate_reader_equals_geo_interface():
     # GeoJSON mapping must give the very same PLC
     for g in _reader_cases():
         _assert_same_plc(PLC.from_geo_interface(g), PLC.from_geo_interface(g.__geo_interface__))
-    # a Polygon without holes is read in one call (its coordinates): an empty one has none
+    # a Polygon without holes is read in one call (its coordinates): an empty one has none,
+    # a degenerate one keeps its points, a NaN is named
     with pytest.raises(cdt_plugin.TooFewPointsError, match="no vertices"):
         cdt_plugin.triangulate(shapely.Polygon())
+    with pytest.raises(cdt_plugin.InvalidGeometryError, match="ring 0 of polygon 0 has fewer than three"):
+        cdt_plugin.triangulate(shapely.Polygon([(0, 0), (1, 1), (2, 2)]))
+    with pytest.raises(cdt_plugin.NonFiniteCoordinateError, match=r"vertex position\(s\) \[2\]"):
+        cdt_plugin.triangulate(shapely.Polygon([(0, 0), (1, 0), (np.nan, 1), (0, 1)]))
 
 
 def test_flat_ring_reader_equals_geo_interface():
