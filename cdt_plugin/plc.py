@@ -113,10 +113,11 @@ def _hole_free_polygon(obj):
 
 
 def _ring_plc(xy, begin, end, ring_polygon, ring_is_hole, ring_name, z=None):
-    """The PLC of rings ``xy[begin[r]:end[r]]`` (polygon ``ring_polygon[r]``,
-    a hole or not; ``ring_name[r]`` names it in errors): their segments in one
-    compiled pass, a degenerate ring's points kept as isolated vertices and
-    named; :class:`NonFiniteCoordinateError` for NaN or infinite coordinates."""
+    """``(plc, degenerate)``: the PLC of rings ``xy[begin[r]:end[r]]``
+    (polygon ``ring_polygon[r]``, a hole or not; ``ring_name[r]`` names it in
+    errors), their segments made in one compiled pass, a degenerate ring's
+    points kept as isolated vertices and named; and which rings were
+    degenerate. :class:`NonFiniteCoordinateError` for NaN or infinite coordinates."""
     bad, degenerate, n_degenerate, segs, seg_ring = polygon_rings(xy, begin, end)
     if bad >= 0:
         rows = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
