@@ -31,7 +31,9 @@ if TYPE_CHECKING:
     from .voronoi import Subdivision, Voronoi
 
 #: The counts of a result, or a function that makes them on first access.
-Stats = Union[Dict[str, Any], Callable[[], Dict[str, Any]]]
+#: A result's counts, or a function of the result that makes them on first access
+#: (it takes the result rather than holding it: no reference cycle to collect).
+Stats = Union[Dict[str, Any], Callable[["Triangulation"], Dict[str, Any]]]
 #: The half-edge store in output ids: ``(tri, twin, cons, ntri, inf)``.
 MeshStore = Tuple[NDArray[np.int32], NDArray[np.int32], NDArray[np.int32], int, int]
 
@@ -188,8 +190,7 @@ class Triangulation:
         out.vertex_map = vertex_map
         out.weights = None if w_in is None else _kept_rows(w_in, kept)
         # the counts are made on first access: most callers never look
-        out._stats = functools.partial(_finished_stats, stats, n, vertex_map, duplicates,
-                                       len(out.triangles), time.perf_counter() - t0)
+        out._stats = functools.partial(_finished_stats, stats, n, duplicates, time.perf_counter() - t0)
         out.segments, out.segment_ids, out.steiner = _NO_SEGMENTS, _NO_IDS, _NO_IDS
         out.below_min_angle, out.region_attributes = _NO_IDS, None
         out._edges = None
@@ -214,11 +215,11 @@ class Triangulation:
         vertex_map, kept, duplicates = _vertex_map(n, dup_of, submerged)
         edges = np.column_stack([vertex_map[line[:-1]], vertex_map[line[1:]]]).astype(np.int64)
         empty = np.empty((0, 3), np.int64)
-        _finished_stats(stats, n, vertex_map, duplicates, 0, time.perf_counter() - t0)
         stats["collinear"] = True
         weights = None if w_in is None else _kept_rows(w_in, kept)
-        return cls(_kept_rows(pts, kept), empty, empty.copy(), vertex_map, stats, weights,
-                   edges=edges.reshape(-1, 2))
+        return cls(_kept_rows(pts, kept), empty, empty.copy(), vertex_map,
+                   functools.partial(_finished_stats, stats, n, duplicates, time.perf_counter() - t0),
+                   weights, edges=edges.reshape(-1, 2))
 
     @classmethod
     def from_route(cls, ints: NDArray[np.int64], vertices: NDArray[np.float64], plc: PLC,
@@ -235,7 +236,7 @@ class Triangulation:
         tri.vertices = vertices
         tri.triangles = ints[PACK_ARRAYS:PACK_ARRAYS + 3 * k].reshape(k, 3)
         tri.weights = None
-        tri._stats = functools.partial(stats, tri) if callable(stats) else stats
+        tri._stats = stats
         tri._edges = None
         tri._mesh = None
         tri._lazy = functools.partial(_route_attributes, ints, vertices, plc)
@@ -305,7 +306,7 @@ class Triangulation:
     def stats(self) -> dict[str, Any]:
         """Counts (``flips``, ``duplicates``, ``steiner``...) and ``seconds``."""
         if callable(self._stats):        # made on first access: most callers never look
-            self._stats = self._stats()
+            self._stats = self._stats(self)
         return self._stats
 
     @stats.setter
@@ -621,12 +622,12 @@ def _kept_rows(a, kept):
     return a.copy() if kept is None else a[kept]
 
 
-def _finished_stats(stats, n, vertex_map, duplicates, ntriangles, seconds) -> dict:
-    """``stats`` with the counts of a finished triangulation added."""
+def _finished_stats(stats, n, duplicates, seconds, tri) -> dict:
+    """``stats`` with the counts of ``tri``, a finished triangulation, added."""
     stats["duplicates"] = int(duplicates)
-    stats["submerged"] = int((vertex_map < 0).sum())
-    stats["vertices"] = int(vertex_map.max() + 1) if n else 0
-    stats["triangles"] = int(ntriangles)
+    stats["submerged"] = int((tri.vertex_map < 0).sum())
+    stats["vertices"] = int(tri.vertex_map.max() + 1) if n else 0
+    stats["triangles"] = len(tri.triangles)
     stats["seconds"] = seconds
     return stats
 

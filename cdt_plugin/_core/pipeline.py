@@ -22,6 +22,7 @@ import math
 import numpy as np
 
 from .arrays import copy_rows
+from .borrow import unowned
 from .construct import (DIVIDE, FLIP, build_mesh, gather_coords, horizontal_order, seed_first, seed_triangle,
                         store_room, to_input_ids)
 from .flips import flip_to_delaunay
@@ -700,6 +701,13 @@ def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, 
     numba hands each returned array to Python on its own, about a microsecond
     apiece: for a small polygon the twelve arrays of :func:`cdt_route` were a
     quarter of the call."""
+    px, py, segs, seg_ring = unowned(px), unowned(py), unowned(segs), unowned(seg_ring)
+    ring_polygon, ring_is_hole = unowned(ring_polygon), unowned(ring_is_hole)
+    holes, regions = unowned(holes), unowned(regions)
+    order_in, horizontal_in = unowned(order_in), unowned(horizontal_in)
+    snapped = (unowned(snapped[0]), unowned(snapped[1]), unowned(snapped[2]))
+    prebuilt = (unowned(prebuilt[0]), unowned(prebuilt[1]), unowned(prebuilt[2]), unowned(prebuilt[3]),
+                prebuilt[4])
     status, info, counts, out = cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole,
                                           holes, regions, use_seeds, algorithm, order_in,
                                           horizontal_in, split, keep_hull, max_steiner, snapped,
