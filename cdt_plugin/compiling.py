@@ -420,8 +420,11 @@ def _triangulate():
     import importlib
 
     from . import triangulate
+    from ._core.rings import open_rings, polygon_rings
     tri = triangulate(*_square())
     tri.is_delaunay()
+    xy, bounds = open_rings(np.zeros((4, 2)), np.zeros(0, np.int64))    # the reader of shapely Polygons
+    polygon_rings(xy, bounds[:-1], bounds[1:])
     n = importlib.import_module(".cdt", __package__).PARALLEL_VERTICES
     t = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
     ring = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])

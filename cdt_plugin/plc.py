@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from .errors import (CDTError, InputShapeError, NonFiniteCoordinateError, SegmentIndexError,
                      TooFewPointsError)
 from ._core.checks import first_segment_out_of_range
-from ._core.rings import polygon_rings
+from ._core.rings import open_rings, polygon_rings
 from .validate import as_array, as_points, raise_nonfinite, real_array
 
 
@@ -85,7 +85,7 @@ def _read_geometry(obj, required):
     """The PLC of a geometry: a shapely-style polygon through its coordinate
     arrays, anything else through its GeoJSON-like mapping. None for input
     that is no geometry, unless ``required``."""
-    plc = _hole_free_polygon(obj)
+    plc = _shapely_polygon(obj)
     if plc is not None:
         return plc
     builder = _Builder()
@@ -97,19 +97,30 @@ def _read_geometry(obj, required):
     return builder.finish()
 
 
-def _hole_free_polygon(obj):
-    """The PLC of a 2D shapely Polygon without holes (the common small call),
-    its ring read in one GEOS call without the builder's bookkeeping: what the
-    builder makes of it. None for anything else."""
+def _shapely_polygon(obj):
+    """The PLC of a 2D shapely Polygon (the common small call), its rings
+    read in one GEOS call (the holes' sizes in one more) without the
+    builder's bookkeeping: what the builder makes of it. None for anything
+    else."""
     shapely = _shapely_of(obj)
-    if shapely is None or type(obj) is not shapely.Polygon or obj.has_z or shapely.get_num_interior_rings(obj):
+    if shapely is None or type(obj) is not shapely.Polygon or obj.has_z:
         return None
-    coords = shapely.get_coordinates(obj)      # (the ring, closed: its last point is its first)
+    holes = int(shapely.get_num_interior_rings(obj))
+    coords = shapely.get_coordinates(obj)      # (each ring closed: its last point is its first)
     if len(coords) == 0:
         return None
-    xy = np.ascontiguousarray(coords[:-1])
-    return _ring_plc(xy, np.zeros(1, np.int64), np.array([len(xy)]), np.zeros(1, np.int64),
-                     np.zeros(1, bool), [(0, 0)])[0]
+    if holes == 0:
+        xy = np.ascontiguousarray(coords[:-1])
+        return _ring_plc(xy, np.zeros(1, np.int64), np.array([len(xy)]), np.zeros(1, np.int64),
+                         np.zeros(1, bool), [(0, 0)])[0]
+    sizes = shapely.get_num_coordinates(shapely.get_interior_ring(obj, np.arange(holes)))
+    xy, bounds = open_rings(coords, sizes.astype(np.int64))
+    if len(bounds) == 0:
+        return None
+    is_hole = np.ones(holes + 1, bool)
+    is_hole[0] = False
+    return _ring_plc(xy, bounds[:-1], bounds[1:], np.zeros(holes + 1, np.int64), is_hole,
+                     [(0, r) for r in range(holes + 1)])[0]
 
 
 def _ring_plc(xy, begin, end, ring_polygon, ring_is_hole, ring_name, z=None):

@@ -87,3 +87,32 @@ def polygon_rings(xy, begin, end):
             n_degenerate += degenerate[r]
     segs, ring_of = segments_of_rings(begin, end, ~degenerate, 0)
     return bad, degenerate, n_degenerate, segs, ring_of
+
+
+@entry(ahead=(F8_2, I64))
+def open_rings(coords, hole_sizes):
+    """The rings of one polygon as its coordinates come, closed (each ring's
+    last point repeats its first; the shell, then holes of ``hole_sizes``
+    points, closing points counted), with the closing points dropped:
+    ``(xy, bounds)``, ring ``r`` being ``xy[bounds[r]:bounds[r + 1]]``. An
+    empty ``bounds`` if the sizes do not add up or a ring is not closed."""
+    h = hole_sizes.shape[0]
+    shell = coords.shape[0]
+    for r in range(h):
+        shell -= hole_sizes[r]
+    xy = np.empty((max(coords.shape[0] - h - 1, 0), 2))
+    bounds = np.empty(h + 2, np.int64)
+    bounds[0] = 0
+    start = 0
+    for r in range(h + 1):
+        size = shell if r == 0 else hole_sizes[r - 1]
+        last = start + size - 1
+        if size < 2 or last >= coords.shape[0] or coords[last, 0] != coords[start, 0] \
+                or coords[last, 1] != coords[start, 1]:
+            return xy, np.empty(0, np.int64)
+        for k in range(start, last):
+            xy[k - start + bounds[r], 0] = coords[k, 0]
+            xy[k - start + bounds[r], 1] = coords[k, 1]
+        bounds[r + 1] = bounds[r] + size - 1
+        start += size
+    return xy, bounds

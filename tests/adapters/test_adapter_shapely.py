@@ -69,7 +69,11 @@ def _reader_cases():
             shapely.Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(1, 1), (2, 2), (3, 3), (1, 1)]]),
             shapely.MultiPolygon([shapely.Polygon(), shapely.box(0, 0, 1, 1)]),
             shapely.box(0, 0, 4, 3),                                   # hole-free: read in one call
-            shapely.Polygon([(0, 0), (1, 1), (2, 2)])]                 # hole-free and degenerate
+            shapely.Polygon([(0, 0), (1, 1), (2, 2)]),                 # hole-free and degenerate
+            shapely.Polygon(_circle(0, 0, 5, 12), [_circle(-2, 0, 1, 8, cw=True), _circle(2, 0, 1, 5),
+                                                   [(0, 3), (0.5, 3.5), (0, 4)]]),   # holes: one more call
+            shapely.Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(0, 0), (1, 2), (2, 1)]]),   # hole at a corner
+            shapely.Polygon([(0, 0), (2, 0), (1, 1), (0, 0), (0, 2), (-1, 1)], [[(0.5, 0.2), (1, 0.5), (1.5, 0.2)]])]
 
 
 def _assert_same_plc(a, b):
@@ -94,6 +98,15 @@ def test_coordinate_reader_equals_geo_interface():
         cdt_plugin.triangulate(shapely.Polygon([(0, 0), (1, 1), (2, 2)]))
     with pytest.raises(cdt_plugin.NonFiniteCoordinateError, match=r"vertex position\(s\) \[2\]"):
         cdt_plugin.triangulate(shapely.Polygon([(0, 0), (1, 0), (np.nan, 1), (0, 1)]))
+    # a Polygon with holes: its coordinates, cut at its holes' sizes; the exact checker on the result
+    holed = _holed()
+    tri = cdt_plugin.triangulate(holed)
+    assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
+    _assert_covers(tri, holed)
+    with pytest.raises(cdt_plugin.InvalidGeometryError, match="ring 2 of polygon 0 has fewer than three"):
+        cdt_plugin.triangulate(shapely.Polygon(_circle(0, 0, 5, 12), [_circle(2, 0, 1, 5), [(0, 3), (0, 4), (0, 3.5)]]))
+    with pytest.raises(cdt_plugin.NonFiniteCoordinateError, match=r"vertex position\(s\) \[14\]"):
+        cdt_plugin.triangulate(shapely.Polygon(_circle(0, 0, 5, 12), [[(0, 0), (1, 0), (np.nan, 1)]]))
 
 
 def test_flat_ring_reader_equals_geo_interface():

@@ -11,7 +11,7 @@ import pytest
 from cdt_plugin._core.output import (cdt_arrays, cdt_vertices, first_defect, rotate_min_first,
                                      solid_triangles)
 from cdt_plugin._core.pipeline import solid_with_flags
-from cdt_plugin._core.rings import (polygon_rings, ring_is_degenerate, ring_segments,
+from cdt_plugin._core.rings import (open_rings, polygon_rings, ring_is_degenerate, ring_segments,
                                     segments_of_rings)
 from checker import assert_valid, canonical_triangles
 from core_stores import add_segments, delaunay_store
@@ -92,6 +92,25 @@ def test_polygon_rings_drops_degenerate_rings():
     assert degenerate.tolist() == [False, True, True, False]
     assert segs.tolist() == [[0, 1], [1, 2], [2, 3], [3, 0], [9, 10], [10, 11], [11, 9]]
     assert ring_of.tolist() == [0] * 4 + [1] * 3
+
+
+def test_open_rings_drops_each_closing_point():
+    shell = [(0, 0), (4, 0), (4, 4), (0, 4), (0, 0)]
+    hole1 = [(1, 1), (1, 2), (2, 2), (1, 1)]
+    hole2 = [(3, 3), (3, 3.5), (3.5, 3.5), (3.5, 3), (3, 3)]
+    coords = np.array(shell + hole1 + hole2, float)
+    xy, bounds = open_rings(coords, np.array([4, 5]))
+    assert bounds.tolist() == [0, 4, 7, 11]
+    assert xy.tolist() == [list(p) for p in shell[:-1] + hole1[:-1] + hole2[:-1]]
+
+
+@pytest.mark.parametrize("hole_sizes", [[3, 5], [5, 4], [4], [4, 10], [4, 4, 0], [1, 8]])
+def test_open_rings_refuses_sizes_that_do_not_close_the_rings(hole_sizes):
+    """(the reader then takes the polygon ring by ring)"""
+    coords = np.array([(0, 0), (4, 0), (4, 4), (0, 4), (0, 0),
+                       (1, 1), (1, 2), (2, 2), (1, 1), (3, 3), (3, 4), (4, 3), (3, 3)], float)
+    assert open_rings(coords, np.array([4, 4]))[1].tolist() == [0, 4, 7, 10]
+    assert open_rings(coords, np.array(hole_sizes))[1].size == 0
 
 
 def test_polygon_rings_finds_the_first_non_finite_vertex():
