@@ -265,8 +265,8 @@ def _release_freed_memory(m: int) -> None:
     points, from :data:`TRIM_POINTS` on (where what was freed is tens of MB).
     Below, the few MB freed stay for the next allocations, which would
     otherwise fault in fresh pages: at 100,000 points, the trims and the
-    faults after them were 4-8 ms of an 80 ms ``delaunay(P).voronoi()``, for
-    3 MB less peak memory."""
+    faults after them were 4-8 ms of an 80 ms ``delaunay(P).voronoi()``; they
+    saved about 3 MB of peak memory."""
     if m >= TRIM_POINTS:
         release_freed_memory()
 

@@ -30,7 +30,6 @@ if TYPE_CHECKING:
     from .report import MeshLike, Report
     from .voronoi import Subdivision, Voronoi
 
-#: The counts of a result, or a function that makes them on first access.
 #: A result's counts, or a function of the result that makes them on first access
 #: (it takes the result rather than holding it: no reference cycle to collect).
 Stats = Union[Dict[str, Any], Callable[["Triangulation"], Dict[str, Any]]]

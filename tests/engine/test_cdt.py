@@ -534,11 +534,15 @@ def test_a_result_leaves_no_reference_cycle(call):
     finally:
         if enabled:
             gc.enable()
+
+
+def test_counts_made_on_first_access_read_the_result():
     tri = cdt_plugin.triangulate(SQUARE, ring(SQUARE))
     verify_cdt(SQUARE, ring(SQUARE), tri)
     assert tri.stats["triangles"] == 2 and tri.stats["vertices"] == 4
     line = cdt_plugin.delaunay([[0, 0], [1, 1], [2, 2], [1, 1]])
     assert line.stats["collinear"] and line.stats["duplicates"] == 1 and line.stats["vertices"] == 3
+    assert line.stats["triangles"] == 0 and line.stats["submerged"] == 0
 
 
 @pytest.mark.parametrize("option", [{"min_angle": "30"}, {"max_area": "1"}, {"max_steiner": "3"},
