@@ -97,19 +97,25 @@ def open_rings(coords, hole_sizes):
     ``(xy, bounds)``, ring ``r`` being ``xy[bounds[r]:bounds[r + 1]]``. An
     empty ``bounds`` if the sizes do not add up or a ring is not closed."""
     h = hole_sizes.shape[0]
+    refused = np.empty(0, np.int64)
+    # the sizes before anything is written: each ring of at least two points, all of them
+    # the coordinates (then the open rings fill ``xy`` exactly)
     shell = coords.shape[0]
     for r in range(h):
+        if hole_sizes[r] < 2:
+            return np.empty((0, 2)), refused
         shell -= hole_sizes[r]
-    xy = np.empty((max(coords.shape[0] - h - 1, 0), 2))
+    if shell < 2:
+        return np.empty((0, 2)), refused
+    xy = np.empty((coords.shape[0] - h - 1, 2))
     bounds = np.empty(h + 2, np.int64)
     bounds[0] = 0
     start = 0
     for r in range(h + 1):
         size = shell if r == 0 else hole_sizes[r - 1]
         last = start + size - 1
-        if size < 2 or last >= coords.shape[0] or coords[last, 0] != coords[start, 0] \
-                or coords[last, 1] != coords[start, 1]:
-            return xy, np.empty(0, np.int64)
+        if coords[last, 0] != coords[start, 0] or coords[last, 1] != coords[start, 1]:
+            return xy, refused
         for k in range(start, last):
             xy[k - start + bounds[r], 0] = coords[k, 0]
             xy[k - start + bounds[r], 1] = coords[k, 1]

@@ -104,9 +104,12 @@ def test_open_rings_drops_each_closing_point():
     assert xy.tolist() == [list(p) for p in shell[:-1] + hole1[:-1] + hole2[:-1]]
 
 
-@pytest.mark.parametrize("hole_sizes", [[3, 5], [5, 4], [4], [4, 10], [4, 4, 0], [1, 8]])
+@pytest.mark.parametrize("hole_sizes", [[3, 5], [5, 4], [4], [4, 10], [4, 4, 0], [1, 8], [4, 5, -1],
+                                        [0, 0, 4, 4], [11, 0]])
 def test_open_rings_refuses_sizes_that_do_not_close_the_rings(hole_sizes):
-    """(the reader then takes the polygon ring by ring)"""
+    """(the reader then takes the polygon ring by ring; a ring of no points was
+    refused only after the rings before it had overrun ``xy``: the sizes are
+    checked first)"""
     coords = np.array([(0, 0), (4, 0), (4, 4), (0, 4), (0, 0),
                        (1, 1), (1, 2), (2, 2), (1, 1), (3, 3), (3, 4), (4, 3), (3, 3)], float)
     assert open_rings(coords, np.array([4, 4]))[1].tolist() == [0, 4, 7, 10]
