@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .borrow import unowned
 from .jit import entry, kernel
 from .mesh import DEAD, is_ghost, nxt, prv
 from .predicates import incircle, incircle_weighted, orient2d
@@ -434,6 +435,9 @@ def cell_ring(triangles, offsets, ring, hull, face_of, v, faces, across):
     next (the ridge it lies on; not made when ``across`` is empty). An interior
     vertex's cell starts where a face starts, so its last face is not the
     first again. Returns ``m``."""
+    # (borrowed views: the helper in the loop's branches counted references per vertex)
+    triangles, offsets, ring, hull = unowned(triangles), unowned(offsets), unowned(ring), unowned(hull)
+    face_of, faces, across = unowned(face_of), unowned(faces), unowned(across)
     lo = offsets[v]
     d = offsets[v + 1] - lo - (1 if hull[v] else 0)      # (a hull ring ends with -1)
     s0 = 0
@@ -464,6 +468,7 @@ def cell_rings(triangles, offsets, ring, hull, face_of, cells, sizes, lo, hi):
     """The cell of each vertex ``v`` in ``lo:hi`` (:func:`cell_ring`) into
     ``cells`` from ``offsets[v]`` (room for its ring: at least its length),
     and its length into ``sizes``."""
+    cells = unowned(cells)               # (its slices then count no references)
     no_ridges = np.empty(0, np.int64)
     for v in range(lo, hi):
         sizes[v] = cell_ring(triangles, offsets, ring, hull, face_of, v, cells[offsets[v]:],

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .arrays import append
+from .borrow import unowned
 from .jit import entry, kernel
 from .kernel import edge_is_illegal, lifted_test, orient
 from .locate import locate
@@ -23,6 +23,10 @@ def legalize(tri, twin, cons, x, y, w, weighted, inf, p, stack, sp, hull_only, s
     flip pops one edge and pushes two, and a vertex gains one edge per flip, so
     ``sp <= 4 + number of vertices``. (A fixed array avoids the reference
     counting that returning a grown array costs in the hot loop.)"""
+    # (borrowed views: in a caller that counts references, the helpers inlined
+    # in this loop counted them on every edge popped)
+    tri, twin, cons, stack = unowned(tri), unowned(twin), unowned(cons), unowned(stack)
+    x, y, w, submerged, counts = unowned(x), unowned(y), unowned(w), unowned(submerged), unowned(counts)
     while sp > 0:
         sp -= 1
         e = stack[sp]
@@ -73,6 +77,7 @@ def submerged_at(tri, twin, x, y, w, inf, code, e, q):
     """For weighted input: whether ``q``, located at ``(code, e)``, lies on or
     above the lifted triangulation (Sec. 2.8), so that it is not a vertex of the
     weighted Delaunay triangulation. Points outside the hull never are."""
+    tri, twin, x, y, w = unowned(tri), unowned(twin), unowned(x), unowned(y), unowned(w)   # (see legalize)
     t = 3 * (e // 3)
     a = tri[t]
     b = tri[t + 1]
@@ -166,10 +171,14 @@ def redundant_vertices(tri, twin, x, y, w, inf, ntri):
     of a non-convex quadrilateral, or (after a 3-1 flip) an illegal edge with a
     convex quadrilateral. The last kind is flipped here (2-2 flip); the first two
     are redundant vertices (their lifted point lies above the lifted plane of the
-    surrounding triangle, Sec. 2.8) for the caller to leave out.
+    surrounding triangle, Sec. 2.8) for the caller to leave out. The
+    vertices are ``0..inf - 1``.
     Returns ``(redundant vertex ids, flips done, illegal edges no rule explains)``.
     """
-    out = np.empty(16, np.int64)
+    tri, twin, x, y, w = unowned(tri), unowned(twin), unowned(x), unowned(y), unowned(w)   # (see legalize)
+    # (room for every vertex, allocated once: an array reassigned in the loop,
+    # as a growing one is, counted references on every edge)
+    out = np.empty(inf, np.int64)
     n = 0
     unexplained = 0
     flips = 0
@@ -204,5 +213,6 @@ def redundant_vertices(tri, twin, x, y, w, inf, ntri):
                 else:
                     unexplained += 1
         if v >= 0:
-            out, n = append(out, n, v)
+            out[n] = v
+            n += 1
     return np.unique(out[:n]), flips, unexplained

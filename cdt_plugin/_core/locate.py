@@ -1,6 +1,7 @@
 """Point location by walking (visibility walk over real and ghost triangles)."""
 from __future__ import annotations
 
+from .borrow import unowned
 from .jit import kernel
 from .kernel import orient
 from .mesh import DEAD, ghost_hull_edge, is_ghost, nxt, prv
@@ -85,6 +86,7 @@ def locate(tri, twin, x, y, inf, q, start, ntri):
     (it cannot cycle in a Delaunay triangulation, but the fallback makes the
     routine safe on any valid triangulation).
     """
+    tri, twin, x, y = unowned(tri), unowned(twin), unowned(x), unowned(y)   # (see insertion.legalize)
     t = start
     came = -1
     limit = 64 + 4 * ntri

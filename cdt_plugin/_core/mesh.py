@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .arrays import copy_rows
+from .borrow import unowned
 from .jit import entry, kernel
 from .ordering import sort_ids
 
@@ -56,6 +57,14 @@ def set_triangle(tri, t, a, b, c):
 def is_ghost(tri, t, inf):
     """Whether triangle ``t`` has the infinite vertex."""
     return tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf
+
+
+@kernel(forceinline=True)
+def is_solid(a, b, c, inf):
+    """Whether the store's triangle ``a, b, c`` is live and not a ghost. (It
+    takes the vertices, not the store: in a loop, a call that takes an array
+    costs a reference count each time.)"""
+    return a != DEAD and a != inf and b != inf and c != inf
 
 
 @kernel(inline='always')
@@ -139,6 +148,7 @@ def split_triangle(tri, twin, cons, t, p, ntri):
     half-edges opposite ``p`` are ``3t``, ``3 ntri`` and ``3 (ntri+1)``.
     Returns the new triangle count.
     """
+    tri, twin, cons = unowned(tri), unowned(twin), unowned(cons)   # (see legalize)
     e = 3 * t
     a = tri[e]
     b = tri[e + 1]
@@ -172,6 +182,7 @@ def split_edge(tri, twin, cons, e, p, ntri):
     has ``p`` in slot 2, so the half-edge opposite ``p`` is slot 0. Returns the
     new triangle count.
     """
+    tri, twin, cons = unowned(tri), unowned(twin), unowned(cons)   # (see legalize)
     f = twin[e]
     t1 = e // 3
     t2 = f // 3

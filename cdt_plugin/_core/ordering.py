@@ -129,17 +129,29 @@ def lexicographic_order_compiled(x, y):
 def sort_ties(x, y, order):
     """Sort each run of equal ``x[order]`` by ``y``, then by index, in place."""
     n = order.shape[0]
-    tmp = np.empty(0, np.int64)
-    lo = np.int64(0)
+    lo = next_run(x, order, np.int64(0))
+    if lo == n:
+        return
+    # (allocated once, before the loop: an array reassigned inside it cost
+    # two reference counts per point)
+    tmp = np.empty(n, np.int64)
     while lo < n:
         hi = lo + 1
         while hi < n and x[order[hi]] == x[order[lo]]:
             hi += 1
-        if hi - lo > 1:
-            if tmp.shape[0] < hi:
-                tmp = np.empty(n, np.int64)
-            sort_ids(order, lo, hi, x, y, tmp)
-        lo = hi
+        sort_ids(order, lo, hi, x, y, tmp)
+        lo = next_run(x, order, hi)
+
+
+@kernel
+def next_run(x, order, lo):
+    """The first slot from ``lo`` on that begins a run of two or more equal
+    ``x[order]`` (``len(order)``: none)."""
+    n = order.shape[0]
+    for i in range(lo, n - 1):
+        if x[order[i + 1]] == x[order[i]]:
+            return i
+    return n
 
 
 @kernel

@@ -16,7 +16,7 @@ import numpy as np
 
 from .jit import B1, B1_2, I64, I64_2, Tuple, entry, kernel
 from .kernel import edge_is_illegal, orient
-from .mesh import DEAD, is_ghost, nxt, prv
+from .mesh import DEAD, is_ghost, is_solid, nxt, prv
 
 
 @kernel
@@ -67,14 +67,16 @@ def store_triangles(tri, ntri, inf):
     million points)."""
     k = 0
     for t in range(ntri):
-        if tri[3 * t] != DEAD and not is_ghost(tri, t, inf):
-            k += 1
+        k += is_solid(tri[3 * t], tri[3 * t + 1], tri[3 * t + 2], inf)
     triangles = np.empty((k, 3), np.int64)
     i = 0
     for t in range(ntri):
-        if tri[3 * t] == DEAD or is_ghost(tri, t, inf):
+        a = tri[3 * t]
+        b = tri[3 * t + 1]
+        c = tri[3 * t + 2]
+        if not is_solid(a, b, c, inf):
             continue
-        r = min_first(tri[3 * t], tri[3 * t + 1], tri[3 * t + 2])
+        r = min_first(a, b, c)
         for j in range(3):
             triangles[i, j] = tri[3 * t + (j + r) % 3]
         i += 1
