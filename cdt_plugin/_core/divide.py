@@ -122,49 +122,54 @@ def in_circle(x, y, w, a, b, c, d):
 def select(a, b, lo, hi, k):
     """Reorder slots ``lo..hi-1`` of ``a`` (and ``b`` along with it) so that the
     values before slot ``k`` are smaller than those from ``k`` on (quickselect
-    with median-of-three pivots; the values are distinct)."""
+    with median-of-three pivots; the values are distinct). Only which values
+    end up on each side matters to the subdivision, not their order there.
+
+    The partition is Lomuto's without branches: every slot is swapped, and
+    the boundary moves by the comparison. Hoare's, with a branch on each
+    comparison that the processor mispredicted half the time, made this
+    the largest part of divide and conquer after the merges (a quarter of
+    its time); this one takes about half as long."""
     hi -= 1
-    while hi - lo > 2:
+    while hi - lo > 8:
         mid = (lo + hi) // 2
-        # median of three to lo + 1, the smaller to lo, the larger to hi
+        # the median of a[lo], a[mid] and a[hi] to hi: the pivot
         if a[mid] < a[lo]:
-            a[mid], a[lo] = a[lo], a[mid]
-            b[mid], b[lo] = b[lo], b[mid]
+            swap_slots(a, b, mid, lo)
         if a[hi] < a[lo]:
-            a[hi], a[lo] = a[lo], a[hi]
-            b[hi], b[lo] = b[lo], b[hi]
-        if a[hi] < a[mid]:
-            a[hi], a[mid] = a[mid], a[hi]
-            b[hi], b[mid] = b[mid], b[hi]
-        a[mid], a[lo + 1] = a[lo + 1], a[mid]
-        b[mid], b[lo + 1] = b[lo + 1], b[mid]
-        pivot = a[lo + 1]
-        i = lo + 1
-        j = hi
-        while True:
-            i += 1
-            while a[i] < pivot:
-                i += 1
-            j -= 1
-            while pivot < a[j]:
-                j -= 1
-            if j < i:
-                break
-            a[i], a[j] = a[j], a[i]
-            b[i], b[j] = b[j], b[i]
-        a[lo + 1], a[j] = a[j], a[lo + 1]
-        b[lo + 1], b[j] = b[j], b[lo + 1]
-        if j >= k:
+            swap_slots(a, b, hi, lo)
+        if a[mid] < a[hi]:
+            swap_slots(a, b, mid, hi)
+        pivot = a[hi]
+        j = lo
+        for i in range(lo, hi):          # a[lo:j] < pivot <= a[j:i]
+            u = a[i]
+            v = b[i]
+            a[i] = a[j]
+            b[i] = b[j]
+            a[j] = u
+            b[j] = v
+            j += u < pivot
+        swap_slots(a, b, hi, j)
+        if j > k:
             hi = j - 1
-        if j <= k:
+        elif j < k:
             lo = j + 1
-    # two or three slots left: sort them
+        else:
+            return
+    # at most nine slots left: sort them
     for i in range(lo + 1, hi + 1):
         j = i
         while j > lo and a[j] < a[j - 1]:
-            a[j], a[j - 1] = a[j - 1], a[j]
-            b[j], b[j - 1] = b[j - 1], b[j]
+            swap_slots(a, b, j, j - 1)
             j -= 1
+
+
+@kernel(forceinline=True)
+def swap_slots(a, b, i, j):
+    """Swap slots ``i`` and ``j`` of ``a`` and of ``b``."""
+    a[i], a[j] = a[j], a[i]
+    b[i], b[j] = b[j], b[i]
 
 
 @kernel(forceinline=True)

@@ -1,9 +1,11 @@
-"""Unit tests of the insertion orders and their sort (cdt_plugin._core.ordering)
-and of the array copy the kernels share (cdt_plugin._core.arrays)."""
+"""Unit tests of the insertion orders and their sort (cdt_plugin._core.ordering),
+of divide and conquer's selection (cdt_plugin._core.divide.select) and of the
+array copy the kernels share (cdt_plugin._core.arrays)."""
 import numpy as np
 import pytest
 
 from cdt_plugin._core.arrays import copy_rows
+from cdt_plugin._core.divide import select
 from cdt_plugin._core.ordering import (HILBERT_BITS, SMALL_SORT, brio_sort, hilbert_keys,
                                        lexicographic_order, lexicographic_order_compiled,
                                        sort_ids, sort_ties)
@@ -66,6 +68,23 @@ def test_brio_sort_rounds(n):
         assert out[lo:hi].tolist() == chunk[np.argsort(keys, kind="stable")].tolist()
         hi = lo
     assert out[:hi].tolist() == perm[:hi].tolist()
+
+
+@pytest.mark.parametrize("size", [1, 2, 3, 4, 9, 10, 11, 12, 50, 1000])
+def test_select_puts_the_k_smallest_first_and_moves_b_along(size):
+    rng = np.random.default_rng(size)
+    lo = 5                               # a slice of a longer array: the rest stays
+    ks = range(size) if size <= 50 else [0, 1, size // 2, size - 2, size - 1, 317]
+    for k in ks:
+        a = rng.permutation(size + 10).astype(np.int32)
+        b = (a * 7 + 1).astype(np.int32)
+        before = a.copy()
+        select(a, b, np.int64(lo), np.int64(lo + size), np.int64(lo + k))
+        part = a[lo:lo + size]
+        assert sorted(part.tolist()) == sorted(before[lo:lo + size].tolist())
+        assert (a[:lo] == before[:lo]).all() and (a[lo + size:] == before[lo + size:]).all()
+        assert (b == a * 7 + 1).all()
+        assert k == 0 or part[:k].max() < part[k:].min()
 
 
 def test_copy_rows():
