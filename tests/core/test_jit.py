@@ -11,6 +11,7 @@ import cdt_plugin
 from cdt_plugin._core import predicates
 from cdt_plugin._core import jit
 from cdt_plugin._core.jit import DeclaredKernel, Kernel, entry, kernel
+from cdt_plugin._core.prefetch import PREFETCH, prefetch
 
 
 @kernel("int64(int64)")
@@ -384,3 +385,20 @@ def test_routes_come_from_the_cache_without_numbas_compiler_set_up():
     assert proc.returncode == 0, proc.stderr
     assert "compiling" not in proc.stderr, proc.stderr        # every route loaded
     assert json.loads(proc.stdout.strip().splitlines()[-1]) == []
+
+
+@njit
+def prefetch_then_sum(a):
+    total = 0.0
+    for i in range(a.shape[0]):
+        prefetch(a, min(i + 8, a.shape[0] - 1))
+        total += a[i]
+    return total
+
+
+def test_prefetch_is_a_hint_that_changes_no_value():
+    a = np.arange(100.0)
+    assert prefetch_then_sum(a) == 4950.0 and (a == np.arange(100.0)).all()
+    if PREFETCH is not None:             # (this LLVM emits it: it is in the code)
+        llvm = next(iter(prefetch_then_sum.inspect_llvm().values()))
+        assert "llvm.prefetch" in llvm
