@@ -17,7 +17,7 @@ import numpy as np
 
 from .borrow import unowned
 from .jit import entry, kernel
-from .mesh import DEAD, is_ghost, nxt, prv
+from .mesh import DEAD, is_ghost, is_solid, nxt, prv
 from .predicates import incircle, incircle_weighted, orient2d
 
 
@@ -340,7 +340,7 @@ def solid_rows(tri, ntri, inf):
     tid = np.empty(ntri, tri.dtype)
     k = 0
     for t in range(ntri):
-        if tri[3 * t] == DEAD or is_ghost(tri, t, inf):
+        if not is_solid(tri[3 * t], tri[3 * t + 1], tri[3 * t + 2], inf):
             tid[t] = -1
         else:
             tid[t] = k

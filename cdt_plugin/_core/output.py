@@ -26,7 +26,7 @@ def solid_ids(tri, ntri, inf):
     tid = np.full(ntri, -1, np.int64)
     k = 0
     for t in range(ntri):
-        if tri[3 * t] == DEAD or is_ghost(tri, t, inf):
+        if not is_solid(tri[3 * t], tri[3 * t + 1], tri[3 * t + 2], inf):
             continue
         tid[t] = k
         k += 1
