@@ -418,8 +418,9 @@ def _log(msg: str) -> None:
 
 
 def measure_times(suite: Suite, wl: Workload, impls: list[Impl], repeats: dict[str, int],
-                  timeout: float, setup_timeout: float) -> dict[str, Cell]:
-    """Interleaved rounds: impl ``name`` runs in the first ``repeats[name]`` rounds."""
+                  timeout: float, setup_timeout: float, env: dict | None = None) -> dict[str, Cell]:
+    """Interleaved rounds: impl ``name`` runs in the first ``repeats[name]`` rounds
+    (in worker processes with the environment ``env``; default this one's)."""
     cells = {i.name: Cell() for i in impls}
     remaining = {i.name: repeats[i.name] for i in impls}
 
@@ -442,7 +443,7 @@ def measure_times(suite: Suite, wl: Workload, impls: list[Impl], repeats: dict[s
 
     while remaining:
         spec = {"mode": "time", "workload": wl.name, "remaining": dict(remaining)}
-        failed, reason = _run_worker(suite, spec, on_event, timeout, setup_timeout)
+        failed, reason = _run_worker(suite, spec, on_event, timeout, setup_timeout, env)
         if failed is None and not reason:
             break
         victims = [failed] if failed in remaining else list(remaining)
