@@ -102,7 +102,7 @@ def summary_table() -> str:
 
 def with_summary(text: str) -> str:
     """``text`` (the README) with the summary rows between its markers."""
-    pattern = re.compile(re.escape(START) + r".*?" + re.escape(END), re.S)
+    pattern = re.compile(re.escape(START) + r".*?" + re.escape(END), re.DOTALL)
     if len(pattern.findall(text)) != 1:
         raise SystemExit(f"README.md must hold {START} ... {END} once")
     return pattern.sub(lambda _m: f"{START}\n{summary_table()}{END}", text)

@@ -9,7 +9,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-import summary  # noqa: E402
+import summary
 
 
 def test_readme_summary_is_generated():
