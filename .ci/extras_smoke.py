@@ -141,7 +141,9 @@ def docs():
         with open(os.path.join(site, "api", "adapters.shapely", "index.html"), encoding="utf-8") as f:
             page = f.read()
         assert 'id="cdt_plugin.adapters.shapely.triangulate"' in page   # adapters/ documented as installed
-        assert os.path.exists(os.path.join(site, "quickstart", "index.html"))
+        for page in ("getting-started", "guides/quality", "gallery", "benchmarks/delaunay",
+                     "development"):
+            assert os.path.exists(os.path.join(site, *page.split("/"), "index.html")), page
 
 
 def test():

@@ -51,7 +51,7 @@ Usage (from the repository root)::
 
     python benchmarks/bench_cdt.py --quick            # smoke test (no 100k workload), ~1.5 minutes
     python benchmarks/bench_cdt.py                    # full run, 3 rounds, ~3.5 minutes on 2 cores
-    python benchmarks/bench_cdt.py --write-readme     # full run + README table
+    python benchmarks/bench_cdt.py --write-readme     # full run + the README summary rows
     python benchmarks/bench_cdt.py --only ours,triangle --workloads c1-1e5
 
 Options: ``--repeat R``, ``--slow-repeat R`` (rounds for GEOS and manifold3d on the 100k
@@ -525,7 +525,6 @@ SUITE = Suite(
     quick_max_size=100_000,
     columns=[("min_angle", "min angle deg", ".4g")],
     checks=checks,
-    readme_after="delaunay",
     notes=[
         "C1: the outer ring has 10k / 100k vertices, the 200 holes 64 each. C2: the per-call "
         "time summed over the files (mean of 50 back-to-back passes per round); GEOS, earcut "

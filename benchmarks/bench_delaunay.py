@@ -23,7 +23,7 @@ Usage (from the repository root)::
 
     python benchmarks/bench_delaunay.py --quick            # smoke test, 2-3 minutes (mostly the cold compile)
     python benchmarks/bench_delaunay.py                    # full run, 3 rounds
-    python benchmarks/bench_delaunay.py --write-readme     # full run + README table
+    python benchmarks/bench_delaunay.py --write-readme     # full run + the README summary rows
     python benchmarks/bench_delaunay.py --only ours,triangle --workloads d1-1e5
 
 Options: ``--repeat R``, ``--slow-repeat R`` (rounds for Qhull/GEOS on the 1e6 workloads,

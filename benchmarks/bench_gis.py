@@ -35,7 +35,7 @@ table times the GeoJSON writer against ``json.dump`` of geopandas' feature dicts
 Usage (from the repository root)::
 
     python benchmarks/bench_gis.py                    # ~6 minutes on 2 cores
-    python benchmarks/bench_gis.py --write-readme     # and regenerate the README table
+    python benchmarks/bench_gis.py --write-readme     # and the README summary rows
     python benchmarks/bench_gis.py --polygons 20000   # a quicker, smaller run
 """
 from __future__ import annotations
@@ -313,9 +313,8 @@ def main(argv=None) -> int:
     print(table)
     if args.write_readme:
         sys.path.insert(0, str(HERE))
-        from harness import replace_between_markers
-        readme = ROOT / "README.md"
-        readme.write_text(replace_between_markers(readme.read_text(), "gis", table))
+        from summary import write_readme
+        write_readme()                   # the README's summary rows, from results/
     return 0
 
 

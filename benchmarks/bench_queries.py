@@ -52,7 +52,7 @@ Usage (from the repository root)::
 
     python benchmarks/bench_queries.py --quick --no-cold     # smoke test: q-1e5 + edit, 1 round, ~1-2 min
     python benchmarks/bench_queries.py                       # full run: q-1e6 + edit, 3 rounds, 5-8 minutes
-    python benchmarks/bench_queries.py --write-readme        # full run + README block (bench:queries markers)
+    python benchmarks/bench_queries.py --write-readme        # full run + the README summary rows
     python benchmarks/bench_queries.py --only ours_insert,rebuild_insert --workloads edit --no-memory
 
 Options: ``--repeat R`` (rounds, default 3; 1 with ``--quick``), ``--slow-repeat R``
@@ -671,14 +671,6 @@ def _log(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
 
 
-MARKERS = (f"<!-- bench:{SUITE.name}:start -->", f"<!-- bench:{SUITE.name}:end -->")
-
-
-def _readme_has_markers() -> bool:
-    text = README.read_text()
-    return all(text.count(m) == 1 for m in MARKERS) and text.index(MARKERS[0]) < text.index(MARKERS[1])
-
-
 def _parse(argv: list[str]) -> argparse.Namespace:
     p = argparse.ArgumentParser(description=SUITE.title)
     p.add_argument("--quick", action="store_true",
@@ -700,7 +692,7 @@ def _parse(argv: list[str]) -> argparse.Namespace:
                    help="markdown output (a .json with raw numbers is written beside it); "
                    "default benchmarks/results/queries.md (queries-quick.md with --quick)")
     p.add_argument("--write-readme", action="store_true",
-                   help="regenerate the README block between <!-- bench:queries:start/end --> markers")
+                   help="regenerate the README's benchmark summary rows from the stored results")
     return p.parse_args(argv)
 
 
@@ -709,12 +701,6 @@ def main(argv: list[str] | None = None) -> int:
     if argv[:1] == [WORKER_FLAG]:                 # a timing / memory / cold worker (harness.py)
         return harness_main(SUITE, argv)
     args = _parse(argv)
-    if args.write_readme and not _readme_has_markers():
-        # checked first: a full run is minutes long
-        _log(f"README.md has no {MARKERS[0]} ... {MARKERS[1]} markers (each once, in this order). Add these "
-             "two lines where the table belongs (the Benchmarks section), then run again:\n"
-             f"{MARKERS[0]}\n{MARKERS[1]}")
-        return 2
     t_start = time.perf_counter()
     repeat = args.repeat if args.repeat is not None else (1 if args.quick else 3)
     slow_repeat = min(repeat, max(args.slow_repeat, 1))

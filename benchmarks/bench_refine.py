@@ -20,7 +20,7 @@ cdt_plugin reports it (an input angle below the bound) and meets the area bound.
 Usage (from the repository root)::
 
     python benchmarks/bench_refine.py                 # 5 rounds, ~1 minute
-    python benchmarks/bench_refine.py --write-readme  # and regenerate the README table
+    python benchmarks/bench_refine.py --write-readme  # and the README summary rows
 """
 from __future__ import annotations
 
@@ -175,9 +175,9 @@ def main(argv=None) -> int:
     Path(args.out).write_text(table)
     print(table)
     if args.write_readme:
-        from harness import replace_between_markers
-        readme = ROOT / "README.md"
-        readme.write_text(replace_between_markers(readme.read_text(), "refine", table))
+        sys.path.insert(0, str(HERE))
+        from summary import write_readme
+        write_readme()                   # the README's summary rows, from results/
     return 1 if any(r["problems"] for r in rows) else 0
 
 

@@ -62,7 +62,7 @@ Usage (from the repository root)::
 
     python benchmarks/bench_small.py --quick          # smoke: 3 rounds, first use all-in-one + cached, ~3 min
     python benchmarks/bench_small.py                  # full run, ~8 minutes on 2 cores (6 of them compiling)
-    python benchmarks/bench_small.py --write-readme   # full run + README block (bench:small markers)
+    python benchmarks/bench_small.py --write-readme   # full run + the README summary rows
     python benchmarks/bench_small.py --only ours,triangle --workloads square --no-cold
 
 Options: ``--repeat R`` (rounds, default 15; 3 with ``--quick``), ``--only``,
@@ -257,13 +257,12 @@ IMPLS = [
 ]
 
 SUITE = Suite(
-    name="small",                    # README markers: <!-- bench:small:start --> ... <!-- bench:small:end -->
+    name="small",                    # results/small.md, included by docs/benchmarks/small.md
     title="Small polygons, one per call: warm per-call time and first use",
     workloads=WORKLOADS,
     impls=IMPLS,
     reference="triangle",
     script=os.path.abspath(__file__),
-    readme_after="gis",
 )
 
 GOAL_TRIANGLE = 1.0        # every row at most Triangle's time
@@ -565,7 +564,7 @@ def _parse(argv: list[str]) -> argparse.Namespace:
                    help="markdown output (a .json with raw numbers is written beside it); "
                    "default benchmarks/results/small.md (small-quick.md with --quick)")
     p.add_argument("--write-readme", action="store_true",
-                   help="regenerate the README block between <!-- bench:small:start/end --> markers")
+                   help="regenerate the README's benchmark summary rows from the stored results")
     return p.parse_args(argv)
 
 

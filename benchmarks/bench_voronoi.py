@@ -39,7 +39,7 @@ Usage (from the repository root)::
 
     python benchmarks/bench_voronoi.py --quick --no-cold     # smoke test: 1e5 only, 1 round, ~20 s
     python benchmarks/bench_voronoi.py                       # full run, 3 rounds, 3-5 minutes on 2 cores
-    python benchmarks/bench_voronoi.py --write-readme        # full run + README block (bench:voronoi markers)
+    python benchmarks/bench_voronoi.py --write-readme        # full run + the README summary rows
     python benchmarks/bench_voronoi.py --only ours,geos --workloads u-1e5 --no-memory
 
 Options: ``--repeat R`` (rounds, default 3; 1 with ``--quick``), ``--slow-repeat R``
@@ -254,7 +254,6 @@ SUITE = Suite(
     reference="geos",
     script=os.path.abspath(__file__),
     cold_workload="u-1e5",
-    readme_after="small",
 )
 
 # ----------------------------------------------------------------------------- checks
@@ -446,7 +445,7 @@ def _parse(argv: list[str]) -> argparse.Namespace:
                    help="markdown output (a .json with raw numbers is written beside it); "
                    "default benchmarks/results/voronoi.md (voronoi-quick.md with --quick)")
     p.add_argument("--write-readme", action="store_true",
-                   help="regenerate the README block between <!-- bench:voronoi:start/end --> markers")
+                   help="regenerate the README's benchmark summary rows from the stored results")
     return p.parse_args(argv)
 
 

@@ -52,7 +52,6 @@ import gc
 import json
 import os
 import platform
-import re
 import resource
 import selectors
 import shutil
@@ -66,6 +65,8 @@ from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
 from typing import Any, Callable
+
+from summary import write_readme as write_summary
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 README = REPO_ROOT / "README.md"
@@ -110,7 +111,7 @@ class Impl:
 
 @dataclass
 class Suite:
-    name: str                                   # also the README marker: bench:<name>:start
+    name: str                                   # also the results file: results/<name>.md
     title: str
     workloads: list[Workload]
     impls: list[Impl]
@@ -121,7 +122,6 @@ class Suite:
     extra_versions: list[str] = field(default_factory=list)
     columns: list[tuple[str, str, str]] = field(default_factory=list)  # (extras key, header, format)
     checks: Callable[[dict], list[str]] | None = None  # results -> warning lines
-    readme_after: str | None = None             # suite whose end marker new markers follow
     notes: list[str] = field(default_factory=list)  # fixed lines printed under the table
 
     def workload(self, name: str) -> Workload:
@@ -659,19 +659,6 @@ def _fmt_extra(extras: dict | None, key: str, fmt: str) -> str:
     return format(value, fmt) if isinstance(value, (int, float)) else str(value)
 
 
-def replace_between_markers(text: str, name: str, block: str, after: str | None = None) -> str:
-    """Put ``block`` between the ``bench:<name>`` markers. When they are missing and
-    ``after`` names another suite whose end marker is present, insert them after it."""
-    start, end = f"<!-- bench:{name}:start -->", f"<!-- bench:{name}:end -->"
-    pat = re.compile(re.escape(start) + r".*?" + re.escape(end), re.S)
-    anchor = f"<!-- bench:{after}:end -->" if after else None
-    if not pat.search(text) and anchor and text.count(anchor) == 1:
-        text = text.replace(anchor, f"{anchor}\n\n{start}\n{end}", 1)
-    if not pat.search(text):
-        raise SystemExit(f"README.md has no {start} ... {end} markers")
-    return pat.sub(lambda _m: f"{start}\n{block.rstrip()}\n{end}", text, count=1)
-
-
 # ----------------------------------------------------------------------------- driver
 
 
@@ -699,7 +686,7 @@ def _parse(suite: Suite, argv: list[str]) -> argparse.Namespace:
                    help=f"markdown output (a .json with raw numbers is written beside it); "
                    f"default benchmarks/results/{suite.name}.md (…-quick.md with --quick)")
     p.add_argument("--write-readme", action="store_true",
-                   help=f"regenerate the README table between <!-- bench:{suite.name}:start/end --> markers")
+                   help="regenerate the README's benchmark summary rows from the stored results")
     return p.parse_args(argv)
 
 
@@ -797,9 +784,10 @@ def command_line(suite: Suite, argv: list[str]) -> str:
 
 
 def write_results(suite: Suite, results: dict, md: str, args: argparse.Namespace) -> int:
-    """Write ``results/<suite>.md`` and ``.json`` (``-quick`` with ``--quick``), and
-    with ``--write-readme`` the README block between the suite's markers, unless
-    cdt_plugin's own column failed somewhere. Returns the exit status."""
+    """Write ``results/<suite>.md`` and ``.json`` (``-quick`` with ``--quick``; the
+    documentation's benchmark pages include the .md), and with ``--write-readme`` the
+    README's summary rows (``summary.py``), unless cdt_plugin's own column failed
+    somewhere. Returns the exit status."""
     out = Path(args.out) if args.out else (
         REPO_ROOT / "benchmarks" / "results" / (suite.name + ("-quick" if args.quick else "") + ".md"))
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -813,8 +801,8 @@ def write_results(suite: Suite, results: dict, md: str, args: argparse.Namespace
         _log(f"NOT updating {README}: cdt_plugin failed on {', '.join(ours_failed)}")
         return 1
     if args.write_readme:
-        README.write_text(replace_between_markers(README.read_text(), suite.name, md, suite.readme_after))
-        _log(f"updated {README} between the bench:{suite.name} markers")
+        write_summary()
+        _log(f"updated the benchmark summary in {README} (benchmarks/summary.py)")
     print(md)
     _log(f"total {results['elapsed_s']:.0f} s")
     return 0

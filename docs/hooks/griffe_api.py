@@ -53,7 +53,7 @@ def visit_file(loader: griffe.GriffeLoader, name: str, path: Path, parent: griff
 
 
 def attach_mapped_subpackages(pkg: griffe.Module, loader: griffe.GriffeLoader) -> None:
-    """Attach the package-dir-mapped subpackages (one level of modules) to ``pkg``."""
+    """Attach the package-dir-mapped subpackages (their modules and subpackages) to ``pkg``."""
     for installed, folder in sorted(mapped_subpackages(pkg.name).items()):
         *parents, name = installed.split(".")[1:]
         parent = pkg
@@ -61,10 +61,18 @@ def attach_mapped_subpackages(pkg: griffe.Module, loader: griffe.GriffeLoader) -
             parent = parent.get_member(part)
         if name in parent.members:
             continue
-        subpackage = visit_file(loader, name, folder / "__init__.py", parent)
-        for path in sorted(folder.glob("*.py")):
-            if path.stem != "__init__":
-                visit_file(loader, path.stem, path, subpackage)
+        visit_folder(loader, name, folder, parent)
+
+
+def visit_folder(loader: griffe.GriffeLoader, name: str, folder: Path, parent: griffe.Module) -> None:
+    """Visit a package folder as the module ``name`` of ``parent``: its modules, and its
+    subpackages (folders with an ``__init__.py``) in turn."""
+    package = visit_file(loader, name, folder / "__init__.py", parent)
+    for path in sorted(folder.glob("*.py")):
+        if path.stem != "__init__":
+            visit_file(loader, path.stem, path, package)
+    for sub in sorted(p for p in folder.iterdir() if (p / "__init__.py").is_file()):
+        visit_folder(loader, sub.name, sub, package)
 
 
 def cross_reference(obj: griffe.Object, match: re.Match) -> str:
