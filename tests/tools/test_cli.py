@@ -41,8 +41,8 @@ def run(*args, check=True):
 
 
 def test_docstring_examples():
-    result = doctest.testmod(cli)
-    assert result.attempted >= 3 and result.failed == 0
+    results = [doctest.testmod(module) for module in (cli, cli.meshing, cli.terminal)]
+    assert sum(r.attempted for r in results) >= 3 and not any(r.failed for r in results)
 
 
 def test_console_script_is_registered():
@@ -273,7 +273,7 @@ def test_usage_errors_exit_2(capsys):
 def test_geopackage_written_in_pieces_reads_back_whole(tmp_path, capsys, monkeypatch):
     gpd = pytest.importorskip("geopandas")
     src = CORPUS / "gis" / "naturalearth_lowres.geojson"
-    monkeypatch.setattr(cli, "LAYER_ROWS", 1000)
+    monkeypatch.setattr(cli.writers, "LAYER_ROWS", 1000)
     out = tmp_path / "pieces.gpkg"
     assert cli.main(["mesh", str(src), "-o", str(out), "--progress"]) == 0
     assert "writing: 100%" in capsys.readouterr().err

@@ -27,6 +27,14 @@ TYPED_MODULES = [
     "cdt_plugin.batch",
     "cdt_plugin.cdt",
     "cdt_plugin.cli",
+    "cdt_plugin.cli.commands",
+    "cdt_plugin.cli.formats",
+    "cdt_plugin.cli.layers",
+    "cdt_plugin.cli.meshing",
+    "cdt_plugin.cli.parser",
+    "cdt_plugin.cli.readers",
+    "cdt_plugin.cli.terminal",
+    "cdt_plugin.cli.writers",
     "cdt_plugin.compiling",
     "cdt_plugin.delaunay",
     "cdt_plugin.dynamic",
@@ -70,10 +78,14 @@ def test_every_public_module_is_typed():
     import cdt_plugin
     import cdt_plugin.adapters
     found = {"cdt_plugin"}
-    for package in (cdt_plugin, cdt_plugin.adapters):
+    packages = [cdt_plugin, cdt_plugin.adapters]
+    while packages:                     # subpackages too (cdt_plugin.cli)
+        package = packages.pop()
         for info in pkgutil.iter_modules(package.__path__, package.__name__ + "."):
             if not info.name.rsplit(".", 1)[1].startswith("_") and info.name != "cdt_plugin.adapters":
                 found.add(info.name)
+                if info.ispkg:
+                    packages.append(importlib.import_module(info.name))
     assert found == set(TYPED_MODULES), (found ^ set(TYPED_MODULES))
 
 
