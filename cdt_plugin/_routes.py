@@ -13,6 +13,8 @@ calls a public function.
   the weighted retries, duplicates and submerged points) or by divide and
   conquer on one or two threads (:func:`build_divide`,
   :func:`build_divide_two_threads`);
+* the chain of collinear points (:func:`collinear_chain`) and the flips that
+  repair a Delaunay triangulation whose vertices moved (:func:`flip_moved`);
 * the CDT route's packed output read into named arrays (:func:`route_arrays`);
 * the triangles of a domain's convex hull, through the CDT route
   (:func:`hull_triangles`).
@@ -32,11 +34,14 @@ from ._core.flips import flip_to_delaunay
 from ._core.insertion import redundant_vertices
 from ._core.mesh import IDX
 from ._core.ordering import SMALL_SORT, brio_order, lexicographic_order
+from ._core.output import first_defect
 from ._core.pipeline import PACK_ARRAYS, PACK_HEADER, cdt_route_packed, refinement_arg
+from ._core.predicates import incircle_weighted, orient2d
 from ._core.status import OK, ROUTE_OK
 from .errors import CDTError
 from .interrupts import deferred_interrupt
 from .parallel import map_ordered, release_freed_memory
+from .types import MeshStore
 from .validate import exact_range
 
 ALGORITHMS = ("auto", "divide", "incremental", "flip")
@@ -139,6 +144,78 @@ def build_delaunay(pts: NDArray[np.float64], w_in: NDArray[np.float64] | None, a
         order = seed_first(order, k1, k2)
     stats["flips"] = int(counts[0])
     return DelaunayBuild(tri, twin, cons, ntri, order, dup_of, submerged, stats)
+
+
+def collinear_chain(pts: NDArray[np.float64], order: NDArray[np.int64], w_in: NDArray[np.float64] | None,
+                    dup_of: NDArray[np.int64], submerged: NDArray[np.int8]) -> NDArray[np.int64]:
+    """All points on one line (Sec. 2.1): the input ids of the chain's vertices
+    along the line; repeated points are marked in ``dup_of`` (the first in
+    ``order`` kept) and, for weighted points, those above the lower chain in
+    ``submerged``."""
+    _mark_collinear_duplicates(pts, order, dup_of)
+    line = np.flatnonzero((dup_of < 0) & (submerged == 0))
+    line = line[np.lexsort((pts[line, 1], pts[line, 0]))]
+    if w_in is not None:
+        line = _lower_chain(pts, w_in, line, submerged)
+    return line
+
+
+def _mark_collinear_duplicates(pts, order, dup_of):
+    """Exact duplicates among unsorted points (collinear case): keep the first in
+    ``order``."""
+    act = order[dup_of[order] < 0]
+    srt = act[np.lexsort((pts[act, 1], pts[act, 0]))]
+    same = np.r_[False, (pts[srt[1:]] == pts[srt[:-1]]).all(axis=1)]
+    if same.any():
+        head = srt[np.maximum.accumulate(np.where(~same, np.arange(len(srt)), 0))]
+        dup_of[srt[same]] = head[same]
+
+
+def _lower_chain(pts, w, line, submerged):
+    """Weighted collinear points: keep those whose lifted points form the lower
+    chain (1D weighted Delaunay); the rest are submerged. The lifted test uses an
+    auxiliary point off the line, exact (its plane meets the line's vertical
+    plane in the lifted segment whatever the auxiliary point is)."""
+    if len(line) < 3:
+        return line
+    x, y, w, _ = exact_range(pts[:, 0], pts[:, 1], w)   # exact: a power of two
+    pts = np.column_stack([x, y])
+    a, b = pts[line[0]], pts[line[-1]]
+    c = np.array([a[0] - (b[1] - a[1]), a[1] + (b[0] - a[0])])
+    ccw = orient2d(a[0], a[1], b[0], b[1], c[0], c[1]) > 0
+    keep: list[np.integer[Any]] = []
+    for i in line:
+        while len(keep) >= 2:
+            p, m = keep[-2], keep[-1]
+            (u, v) = (p, i) if ccw else (i, p)
+            r = incircle_weighted(pts[u, 0], pts[u, 1], w[u], pts[v, 0], pts[v, 1], w[v],
+                                  c[0], c[1], 0.0, pts[m, 0], pts[m, 1], w[m])
+            if r > 0:
+                break
+            submerged[m] = 1  # on or above the lifted segment (ties: Sec. 2.9)
+            keep.pop()
+        keep.append(i)
+    return np.asarray(keep, np.int64)
+
+
+def flip_moved(mesh: MeshStore, new: NDArray[np.float64]) -> tuple[MeshStore, int, int]:
+    """A copy of the store ``mesh`` over the moved vertices ``new``, made Delaunay
+    again by flips (Sec. 2.5; ghost flips repair a hull that lost its
+    convexity): ``(store, flips, defect)``. The store is good when ``flips >= 0``
+    (the flips ended) and ``defect < 0``; else ``defect`` names a triangle of
+    it that the move inverted (-1: none named) and the points need a rebuild."""
+    tri, twin, cons, ntri, inf = mesh
+    tri, twin, cons = tri.copy(), twin.copy(), cons.copy()
+    sx, sy, _, _ = exact_range(new[:, 0], new[:, 1], None, "new_vertices")
+    x = np.append(sx, 0.0)
+    y = np.append(sy, 0.0)
+    flips = -1
+    defect = int(first_defect(tri, twin, ntri, x, y, inf, False))
+    if defect < 0:      # flip only from an embedded mesh, and accept only an embedded result
+        flips = int(flip_to_delaunay(tri, twin, cons, x, y, x, False, inf, ntri, 20 * ntri + 1000))
+        if flips >= 0:
+            defect = int(first_defect(tri, twin, ntri, x, y, inf, True))
+    return (tri, twin, cons, ntri, inf), flips, defect
 
 
 def _merge_weighted_duplicates(pts, w, dup_of, submerged):

@@ -9,12 +9,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core.certify import edge_lifted_values, orientation_signs, submerged_ok
-from ._core.flips import flip_to_delaunay
 from ._core.mesh import DEAD
-from ._core.output import (first_defect, relabel_store, rotate_min_first,
+from ._core.output import (relabel_store, rotate_min_first,
                            store_neighbors, store_triangles)
-from ._core.predicates import incircle_weighted, orient2d
-from ._routes import DelaunayBuild, build_delaunay, resolve_algorithm, route_arrays, route_triangles
+from ._routes import (DelaunayBuild, build_delaunay, collinear_chain, flip_moved, resolve_algorithm, route_arrays,
+                      route_triangles)
 from . import hooks, queries
 from .errors import CDTError, InputShapeError, InvertedTriangleError
 from .optional import require
@@ -191,11 +190,7 @@ class Triangulation:
                        submerged: NDArray[np.int8], stats: dict[str, Any], t0: float) -> Triangulation:
         """All points on one line (Sec. 2.1): no triangles, the chain of edges."""
         n = len(pts)
-        _mark_collinear_duplicates(pts, order, dup_of)
-        line = np.flatnonzero((dup_of < 0) & (submerged == 0))
-        line = line[np.lexsort((pts[line, 1], pts[line, 0]))]
-        if w_in is not None:
-            line = _lower_chain(pts, w_in, line, submerged)
+        line = collinear_chain(pts, order, w_in, dup_of, submerged)
         vertex_map, kept, duplicates = _vertex_map(n, dup_of, submerged)
         edges = np.column_stack([vertex_map[line[:-1]], vertex_map[line[1:]]]).astype(np.int64)
         empty = np.empty((0, 3), np.int64)
@@ -522,21 +517,9 @@ class Triangulation:
             raise CDTError("move_vertices supports unconstrained Delaunay triangulations only")
         if new.shape != self.vertices.shape:
             raise InputShapeError(f"new_vertices must have shape {self.vertices.shape}, got {new.shape}")
-        flips = -1
-        defect = -1
+        flips = defect = -1
         if self._mesh is not None and self.weights is None:
-            # Flip from the moved mesh if no triangle inverted; ghost flips repair
-            # a hull that lost its convexity. Accept only an embedded result.
-            tri, twin, cons, ntri, inf = self._mesh
-            tri, twin, cons = tri.copy(), twin.copy(), cons.copy()
-            sx, sy, _, _ = exact_range(new[:, 0], new[:, 1], None, "new_vertices")
-            x = np.append(sx, 0.0)
-            y = np.append(sy, 0.0)
-            defect = first_defect(tri, twin, ntri, x, y, inf, False)
-            if defect < 0:
-                flips = int(flip_to_delaunay(tri, twin, cons, x, y, x, False, inf, ntri, 20 * ntri + 1000))
-                if flips >= 0:
-                    defect = first_defect(tri, twin, ntri, x, y, inf, True)
+            (tri, twin, cons, ntri, inf), flips, defect = flip_moved(self._mesh, new)
         self.__dict__.pop("_walk", None)       # the queries' meshes follow the vertices
         self.__dict__.pop("_blocked", None)
         if flips >= 0 and defect < 0:
@@ -620,41 +603,3 @@ def _mesh_attributes(mesh) -> dict:
     k = len(neighbors)
     return {"neighbors": neighbors, "constrained": np.zeros((k, 3), bool),
             "regions": np.full(k, -1, np.int64)}
-
-
-def _mark_collinear_duplicates(pts, order, dup_of):
-    """Exact duplicates among unsorted points (collinear case): keep the first in
-    ``order``."""
-    act = order[dup_of[order] < 0]
-    srt = act[np.lexsort((pts[act, 1], pts[act, 0]))]
-    same = np.r_[False, (pts[srt[1:]] == pts[srt[:-1]]).all(axis=1)]
-    if same.any():
-        head = srt[np.maximum.accumulate(np.where(~same, np.arange(len(srt)), 0))]
-        dup_of[srt[same]] = head[same]
-
-
-def _lower_chain(pts, w, line, submerged):
-    """Weighted collinear points: keep those whose lifted points form the lower
-    chain (1D weighted Delaunay); the rest are submerged. The lifted test uses an
-    auxiliary point off the line, exact (its plane meets the line's vertical
-    plane in the lifted segment whatever the auxiliary point is)."""
-    if len(line) < 3:
-        return line
-    x, y, w, _ = exact_range(pts[:, 0], pts[:, 1], w)   # exact: a power of two
-    pts = np.column_stack([x, y])
-    a, b = pts[line[0]], pts[line[-1]]
-    c = np.array([a[0] - (b[1] - a[1]), a[1] + (b[0] - a[0])])
-    ccw = orient2d(a[0], a[1], b[0], b[1], c[0], c[1]) > 0
-    keep: list[np.integer[Any]] = []
-    for i in line:
-        while len(keep) >= 2:
-            p, m = keep[-2], keep[-1]
-            (u, v) = (p, i) if ccw else (i, p)
-            r = incircle_weighted(pts[u, 0], pts[u, 1], w[u], pts[v, 0], pts[v, 1], w[v],
-                                  c[0], c[1], 0.0, pts[m, 0], pts[m, 1], w[m])
-            if r > 0:
-                break
-            submerged[m] = 1  # on or above the lifted segment (ties: Sec. 2.9)
-            keep.pop()
-        keep.append(i)
-    return np.asarray(keep, np.int64)
