@@ -38,7 +38,7 @@ from ._core.certify import edge_lifted_values, orientation_signs
 from .errors import CDTError, InputShapeError
 from .optional import require
 from .types import GeometryLike, MeshLike, TriangulationLike
-from .validate import as_index, exact_range, near_unit
+from .validate import as_index, as_mesh, exact_range, near_unit
 
 __all__ = ["Report", "report", "compare", "mesh_report", "triangle_quality", "mesh_neighbors",
            "earcut", "ANGLE_BINS"]
@@ -318,7 +318,7 @@ def mesh_report(vertices: ArrayLike, triangles: ArrayLike, *, segments: ArrayLik
     >>> mesh_report([[0, 0], [4, 0], [4, 1], [0, 1]], [[0, 1, 3], [1, 2, 3]]).cocircular_edges
     1
     """
-    V, T = _as_arrays(vertices, triangles)
+    V, T = as_mesh(vertices, triangles)
     S = None if segments is None else as_index(segments, "segments", 2, len(V))
     used = np.unique(T)
     uniq, inverse = np.unique(V[used], axis=0, return_inverse=True)
@@ -460,23 +460,15 @@ def _open_ring(ring) -> np.ndarray:
 
 
 # ------------------------------------------------------------ input checks
-def _as_arrays(vertices, triangles) -> tuple[np.ndarray, np.ndarray]:
-    V = np.asarray(vertices, dtype=np.float64)
-    if V.ndim != 2 or V.shape[1] not in (2, 3):
-        raise InputShapeError(f"vertices must have shape (n, 2) or (n, 3), got {V.shape}")
-    T = as_index(triangles, "triangles", 3, len(V))
-    return np.ascontiguousarray(V[:, :2]), T
-
-
 def against_arrays(against: MeshLike) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """(vertices, triangles) of a pair, a Triangulation or a trimesh-like object."""
     if isinstance(against, (tuple, list)):
         if len(against) == 2:
-            return _as_arrays(*against)
+            return as_mesh(*against)
     elif hasattr(against, "triangles") and hasattr(against, "vertex_map"):
-        return _as_arrays(against.vertices, against.triangles)
+        return as_mesh(against.vertices, against.triangles)
     elif hasattr(against, "faces") and hasattr(against, "vertices"):
-        return _as_arrays(against.vertices, against.faces)
+        return as_mesh(against.vertices, against.faces)
     raise InputShapeError("against must be (vertices, triangles), a Triangulation or a mesh "
                           f"with vertices and faces, got {type(against).__name__}")
 

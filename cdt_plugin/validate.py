@@ -4,7 +4,7 @@ precise :class:`CDTError` subclass naming the offending rows.
 The one implementation of each check of the package: points (:func:`as_xy`,
 with :func:`as_points` and :func:`as_queries` its two common forms), weights
 (:func:`as_weights`), index arrays (:func:`as_index`), segments
-(:func:`as_segments`) and the coordinate range of the exact predicates
+(:func:`as_segments`), a mesh made elsewhere (:func:`as_mesh`) and the coordinate range of the exact predicates
 (:func:`exact_range`)."""
 from __future__ import annotations
 
@@ -146,6 +146,16 @@ def as_index(a: ArrayLike, what: str, cols: int, n: int | None = None) -> NDArra
             raise InputShapeError(f"{what} row {j} {arr[j].tolist()} refers to a vertex "
                                   f"out of range 0..{n - 1}")
     return arr
+
+
+def as_mesh(vertices: ArrayLike, triangles: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """A mesh made elsewhere: its vertices' (n, 2) float64 x, y (a z column is
+    dropped) and its (k, 3) int64 triangles, each naming vertices in ``0..n-1``."""
+    V = np.asarray(vertices, dtype=np.float64)
+    if V.ndim != 2 or V.shape[1] not in (2, 3):
+        raise InputShapeError(f"vertices must have shape (n, 2) or (n, 3), got {V.shape}")
+    T = as_index(triangles, "triangles", 3, len(V))
+    return np.ascontiguousarray(V[:, :2]), T
 
 
 def as_segments(segments: ArrayLike, n: int) -> NDArray[np.int64]:
