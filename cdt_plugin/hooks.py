@@ -1,7 +1,8 @@
 """The conversion hooks: THE one place where the engine calls the adapters.
 
-The engine (everything in ``cdt_plugin`` below the adapters) never imports
-``cdt_plugin.adapters``, with the exception of this module: the ``to_*``
+Nothing in ``cdt_plugin`` below the adapters imports ``cdt_plugin.adapters``
+(at module level or inside a function) except this module (the command line,
+on top of everything, may; ``tests/tools/test_layout.py`` holds both): the ``to_*``
 conversions of a result to a host library's object
 (:meth:`Triangulation.to_trimesh`, ``to_open3d``, ``to_shapely``) and the
 GEOS services the Voronoi diagram asks for (a cut to a polygon, cells as
