@@ -30,7 +30,7 @@ from ._core.snap import snap_route
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
                            ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT,
                            ROUTE_NEEDS_SNAP, ROUTE_STEINER_LIMIT, ROUTE_UNRESOLVED)
-from .delaunay import build_divide_two_threads, resolve_algorithm
+from ._routes import build_divide_two_threads, resolve_algorithm
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError, UnresolvedCrossingError)
 from .interrupts import deferred_interrupt

@@ -23,13 +23,15 @@ from ._core.mesh import grow_store
 from ._core.ordering import HILBERT_BITS, hilbert_keys, lexicographic_order
 from ._core.output import rotate_min_first
 from ._core.snap import snap_route
-from ._core.status import ALL_DONE, OK, ROUTE_OK, STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP
-from .delaunay import build_divide
-from .errors import CDTError, CoordinateRangeError, SegmentIndexError, UnknownIdError
+from ._core.status import (ALL_DONE, OK, ROUTE_CROSSING, ROUTE_OK, ROUTE_OVERLAP, STOP_CROSSING, STOP_LIMIT,
+                           STOP_OVERLAP)
+from ._routes import build_divide
+from .cdt import raise_intersection
+from .errors import (CDTError, CoordinateRangeError, InputShapeError, SegmentIndexError, UnknownIdError,
+                     UnresolvedCrossingError)
 from .parallel import resolve_workers
-from .queries import as_queries
 from .triangulation import Triangulation
-from .validate import exact_range
+from .validate import as_queries, exact_range
 
 INTERSECTIONS = ("raise", "split")
 DOMAINS = ("hull", "even-odd")
@@ -329,7 +331,6 @@ class DynamicCDT:
         idx = self._as_ids(ids, "vertex", self._alive)
         xy = _as_points(new_xy)
         if xy.shape != (len(idx), 2):
-            from .errors import InputShapeError
             raise InputShapeError(f"new_xy must have shape ({len(idx)}, 2), got {xy.shape}")
         if len(np.unique(idx)) != len(idx):
             raise CDTError("move_vertices: a vertex id is given twice")
@@ -534,12 +535,9 @@ class DynamicCDT:
 
     def _raise_segment_stop(self, status: int, info: NDArray[np.int64]) -> None:
         if status in (STOP_CROSSING, STOP_OVERLAP):
-            from ._core.status import ROUTE_CROSSING, ROUTE_OVERLAP
-            from .cdt import raise_intersection
             plc = SimpleNamespace(vertices=self._xy, segments=self._segs)
             raise_intersection(ROUTE_CROSSING if status == STOP_CROSSING else ROUTE_OVERLAP, info, plc)
         if status == STOP_LIMIT:
-            from .errors import UnresolvedCrossingError
             s, t = int(info[0]) - 1, int(info[1]) - 1
             raise UnresolvedCrossingError(
                 f"segments {s} and {t} still cross after the crossing points were inserted "
@@ -614,7 +612,6 @@ class DynamicCDT:
         if arr.size == 0:
             return np.empty((0, 2), np.int64)
         if arr.ndim != 2 or arr.shape[1] != 2:
-            from .errors import InputShapeError
             raise InputShapeError(f"segments must have shape (s, 2), got {arr.shape}")
         self._as_ids(arr, "vertex", self._alive)
         arr = arr.astype(np.int64)

@@ -8,10 +8,9 @@ turns into these exceptions.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Iterable
+from typing import Iterable
 
-if TYPE_CHECKING:                       # (triangulation imports this module)
-    from .triangulation import Triangulation
+from .types import TriangulationLike
 
 
 class CDTError(ValueError):
@@ -143,7 +142,7 @@ class RefinementLimitError(CDTError):
     ``stats["refinement_complete"]`` is False).
     """
 
-    def __init__(self, message: str, triangulation: Triangulation | None = None) -> None:
+    def __init__(self, message: str, triangulation: TriangulationLike | None = None) -> None:
         super().__init__(message)
         self.triangulation = triangulation
 

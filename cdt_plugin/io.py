@@ -40,16 +40,15 @@ import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, DTypeLike, NDArray
 
 from .errors import FileFormatError, InputShapeError, NonFiniteCoordinateError
-
-if TYPE_CHECKING:                       # (triangulation and plc are imported when used)
-    from .plc import PLC
-    from .triangulation import Triangulation
+from .plc import PLC, as_plc
+from .triangulation import Triangulation
+from .validate import as_index, as_xy
 
 __all__ = [
     "NodeData", "PolyData", "EleData", "EdgeData",
@@ -101,7 +100,6 @@ class PolyData:
         >>> len(tri.triangles), tri.is_delaunay()
         (2, True)
         """
-        from .plc import as_plc
         return as_plc(self.vertices, self.segments, self.holes,
                       self.regions if len(self.regions) else None)
 
@@ -499,36 +497,6 @@ def _fmt(x: float) -> str:
     return repr(float(x))
 
 
-def _as_points(a: ArrayLike, what: str, cols: int = 2) -> NDArray[np.float64]:
-    arr = np.asarray(a, dtype=np.float64)
-    if arr.ndim != 2 or arr.shape[1] != cols:
-        if arr.size == 0:
-            return np.zeros((0, cols), dtype=np.float64)
-        raise InputShapeError(f"{what} must have shape (n, {cols}), got {arr.shape}")
-    bad = ~np.isfinite(arr).all(axis=1)
-    if bad.any():
-        rows = np.flatnonzero(bad)[:10].tolist()
-        raise NonFiniteCoordinateError(f"{what}: rows {rows} are not finite")
-    return arr
-
-
-def as_index(a: ArrayLike, what: str, cols: int, n: int | None = None) -> NDArray[np.int64]:
-    arr = np.asarray(a)
-    if arr.size == 0:
-        return np.zeros((0, cols), dtype=np.int64)
-    if arr.ndim != 2 or arr.shape[1] != cols or not np.issubdtype(arr.dtype, np.integer):
-        raise InputShapeError(f"{what} must be an integer array of shape (m, {cols}), "
-                              f"got {arr.dtype} {arr.shape}")
-    arr = arr.astype(np.int64)
-    if n is not None:
-        bad = ((arr < 0) | (arr >= n)).any(axis=1)
-        if bad.any():
-            j = int(np.flatnonzero(bad)[0])
-            raise InputShapeError(f"{what} row {j} {arr[j].tolist()} refers to a vertex "
-                                  f"out of range 0..{n - 1}")
-    return arr
-
-
 def _opt_rows(a: ArrayLike | None, n: int, what: str, dtype: DTypeLike) -> NDArray[Any] | None:
     if a is None:
         return None
@@ -540,7 +508,7 @@ def _opt_rows(a: ArrayLike | None, n: int, what: str, dtype: DTypeLike) -> NDArr
 
 def _node_lines(vertices: ArrayLike, attributes: ArrayLike | None,
                 markers: ArrayLike | None) -> list[str]:
-    v = _as_points(vertices, "vertices")
+    v = as_xy(vertices, "vertices", empty=True)
     n = v.shape[0]
     attrs = _opt_rows(attributes, n, "attributes", np.float64)
     if attrs is not None and attrs.ndim == 1:
@@ -567,7 +535,6 @@ def _write(path: str | os.PathLike[str], lines: list[str], kind: str) -> None:
 
 def _mesh_array(data: ArrayLike | Triangulation, name: str) -> ArrayLike:
     """``data.<name>`` when ``data`` is a :class:`~cdt_plugin.Triangulation`, else ``data``."""
-    from .triangulation import Triangulation
     return getattr(data, name) if isinstance(data, Triangulation) else data
 
 
@@ -618,7 +585,7 @@ def write_poly(path: str | os.PathLike[str], vertices: ArrayLike | Triangulation
         if smarks is not None:
             row += f" {int(smarks[j])}"
         lines.append(row)
-    h = _as_points(holes if holes is not None else np.zeros((0, 2)), "holes")
+    h = as_xy(holes if holes is not None else np.zeros((0, 2)), "holes", empty=True)
     lines.append(str(h.shape[0]))
     for j in range(h.shape[0]):
         lines.append(f"{j + f0} {_fmt(h[j, 0])} {_fmt(h[j, 1])}")

@@ -17,20 +17,17 @@ Steiner vertices interpolated from them.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core.certify import locate_all
+from .cdt import triangulate
 from .errors import CDTError
+from .types import TriangulationLike
 from .validate import exact_range, near_unit
 
-if TYPE_CHECKING:
-    from .triangulation import Triangulation
 
-
-def lift_z(tri: Triangulation, plc_z: ArrayLike, plc_segments: ArrayLike) -> NDArray[np.float64]:
+def lift_z(tri: TriangulationLike, plc_z: ArrayLike, plc_segments: ArrayLike) -> NDArray[np.float64]:
     """The z of every vertex of ``tri``, a triangulation of a PLC whose input
     vertices have z ``plc_z`` and whose input segments are ``plc_segments``.
 
@@ -83,8 +80,6 @@ def _lift_on_segments(tri, V, z, plc_z, plc_segments):
 
 def _lift_inside(tri, V, z, inner):
     """Interior Steiner vertices: barycentric in the CDT of the known vertices."""
-    from .cdt import triangulate
-
     known = np.flatnonzero(~np.isnan(z))
     if len(known) < 3:          # no z to interpolate from (a 2D polygon in a 3D batch)
         return

@@ -12,27 +12,15 @@ from __future__ import annotations
 import dataclasses
 import sys
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Protocol, Union, cast
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import (CDTError, InputShapeError, NonFiniteCoordinateError, SegmentIndexError,
-                     TooFewPointsError)
-from ._core.checks import first_segment_out_of_range
 from ._core.rings import open_rings, polygon_rings
-from .validate import as_array, as_points, raise_nonfinite, real_array
-
-
-class SupportsGeoInterface(Protocol):
-    """Anything with ``__geo_interface__`` (shapely geometries, GeoJSON-like objects)."""
-
-    @property
-    def __geo_interface__(self) -> Mapping[str, Any]: ...
-
-
-#: A geometry: an object with ``__geo_interface__``, or the GeoJSON-like mapping itself.
-GeometryLike = Union[SupportsGeoInterface, Mapping[str, Any]]
+from .errors import CDTError, InputShapeError, NonFiniteCoordinateError, TooFewPointsError
+from .types import GeometryLike
+from .validate import as_points, as_segments, as_xy, raise_nonfinite, real_array
 
 
 @dataclass
@@ -325,7 +313,7 @@ def as_plc(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | None 
             raise CDTError("pass segments either inside the PLC/geometry or as an array, not both")
         pts = as_points(vertices.vertices, "vertices")
         plc = dataclasses.replace(vertices, vertices=pts,
-                                  segments=_as_segments(vertices.segments, len(pts)))
+                                  segments=as_segments(vertices.segments, len(pts)))
     else:
         plc = _read_geometry(vertices, required=False)   # its vertices checked, segments valid
         if plc is not None:
@@ -335,56 +323,16 @@ def as_plc(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | None 
                 raise TooFewPointsError("the input has no vertices")
         else:
             pts = as_points(cast(ArrayLike, vertices), "vertices")     # (no geometry: arrays)
-            segs = _NO_SEGMENTS if segments is None else _as_segments(segments, len(pts))
+            segs = _NO_SEGMENTS if segments is None else as_segments(segments, len(pts))
             plc = PLC(pts, segs, segment_ring=np.full(len(segs), -1, np.int64))
     if holes is not None:
-        plc.holes = _as_xy(holes, "holes")
+        plc.holes = as_xy(holes, "holes", "h", pair=True, empty=True)
     if regions is not None:
         plc.regions = _as_regions(regions)
     return plc
 
 
 _NO_SEGMENTS = np.empty((0, 2), np.int64)
-
-
-def _as_segments(segments, n) -> np.ndarray:
-    arr = as_array(segments, "segments")
-    if arr.size == 0:
-        return np.empty((0, 2), np.int64)
-    if arr.ndim != 2 or arr.shape[1] != 2:
-        raise InputShapeError(f"segments must have shape (m, 2), got {arr.shape}")
-    if arr.dtype.kind not in "iu":
-        arr = real_array(arr, "segments")
-        bad = np.flatnonzero((arr != np.round(arr)).any(axis=1) | ~np.isfinite(arr).all(axis=1))
-        if bad.size:
-            raise SegmentIndexError(f"segment {int(bad[0])} has non-integer vertex indices "
-                                    f"{arr[bad[0]].tolist()}")
-    # floats and unsigned integers are compared as given: int64 would wrap the largest
-    if arr.dtype.kind != "i" and ((arr < 0) | (arr >= n)).any():
-        _raise_out_of_range(arr, n)
-    arr = np.ascontiguousarray(arr, dtype=np.int64)
-    if first_segment_out_of_range(arr, n) >= 0:
-        _raise_out_of_range(arr, n)
-    return arr
-
-
-def _raise_out_of_range(arr, n):
-    bad = np.flatnonzero(((arr < 0) | (arr >= n)).any(axis=1))
-    i = int(bad[0])
-    raise SegmentIndexError(
-        f"segment {i} = {arr[i].tolist()} names a vertex outside 0..{n - 1}"
-        + (f" ({bad.size} such segments)" if bad.size > 1 else ""))
-
-
-def _as_xy(points, name) -> np.ndarray:
-    arr = real_array(points, name)
-    if arr.size == 0:
-        return np.empty((0, 2))
-    arr = arr.reshape(-1, 2) if arr.ndim == 1 and arr.size == 2 else arr
-    if arr.ndim != 2 or arr.shape[1] != 2:
-        raise InputShapeError(f"{name} must have shape (h, 2), got {arr.shape}")
-    raise_nonfinite(arr, name)
-    return arr
 
 
 def _as_regions(regions) -> np.ndarray:

@@ -32,14 +32,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .optional import require
-from .report import (ANGLE_BINS, MeshLike, Report, against_arrays, mesh_report, report as quality_report,
-                     triangle_quality)
+from .report import ANGLE_BINS, Report, against_arrays, mesh_report, report as quality_report, triangle_quality
+from .types import MeshLike, TriangulationLike
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
-
-    from .triangulation import Triangulation
 
 __all__ = ["plot", "histogram", "figure", "save"]
 
@@ -129,7 +127,7 @@ def _circumcenter(P) -> np.ndarray:
     return P[0] + np.array([c[1] * bb - b[1] * cc, b[0] * cc - c[0] * bb]) / d
 
 
-def histogram(tri_or_report: Union[Triangulation, Report, Tuple[ArrayLike, ArrayLike]],
+def histogram(tri_or_report: Union[TriangulationLike, Report, Tuple[ArrayLike, ArrayLike]],
               ax: Axes | None = None, *, against: MeshLike | None = None,
               against_name: str = "against", bins: ArrayLike = ANGLE_BINS) -> Axes:
     """Angle histogram (degrees, all three angles of every triangle) on ``ax``.
@@ -164,7 +162,7 @@ def _as_report(obj, against, against_name, bins) -> Report:
     return mesh_report(*obj, bins=bins)
 
 
-def figure(tri: Triangulation, *, against: MeshLike | None = None, against_name: str = "against",
+def figure(tri: TriangulationLike, *, against: MeshLike | None = None, against_name: str = "against",
            worst: int = 3, size: tuple[float, float] | None = None, **plot_kwargs: Any) -> Figure:
     """A Figure with the triangulation (left), the ``against`` triangulation (middle,
     when given, drawn the same way) and the angle histogram (right)."""
@@ -185,7 +183,7 @@ def figure(tri: Triangulation, *, against: MeshLike | None = None, against_name:
     return fig
 
 
-def save(tri: Triangulation, path: str | os.PathLike[str], *, against: MeshLike | None = None,
+def save(tri: TriangulationLike, path: str | os.PathLike[str], *, against: MeshLike | None = None,
          against_name: str = "against", dpi: int = 120, **kwargs: Any) -> None:
     """Write :func:`figure` to ``path`` (format from the extension: .png, .svg, .pdf)."""
     plt = _pyplot()

@@ -19,7 +19,7 @@ triangle). Queries in a filler triangle are outside the domain.
 from __future__ import annotations
 
 import warnings
-from typing import TYPE_CHECKING, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -31,11 +31,10 @@ from ._core.query import (
     interpolate_natural,
     locate_all,
 )
+from ._routes import hull_triangles
 from .errors import CDTError, InputShapeError, PrecisionWarning
-from .validate import exact_range, raise_nonfinite, real_array
-
-if TYPE_CHECKING:
-    from .triangulation import Triangulation
+from .types import TriangulationLike
+from .validate import as_queries, exact_range
 
 METHODS = ("linear", "natural")
 
@@ -50,7 +49,7 @@ class WalkMesh(NamedTuple):
     first_at: NDArray[np.int64]
 
 
-def walk_mesh(tri: Triangulation) -> WalkMesh:
+def walk_mesh(tri: TriangulationLike) -> WalkMesh:
     """The triangulation's :class:`WalkMesh` (made once, kept on ``tri``)."""
     cached = tri.__dict__.get("_walk")
     if cached is not None:
@@ -71,16 +70,13 @@ def walk_mesh(tri: Triangulation) -> WalkMesh:
     return mesh
 
 
-def _completed(tri: Triangulation) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
+def _completed(tri: TriangulationLike) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
     """Triangles of the convex hull: the constrained triangulation of the
     vertices with every edge of ``tri`` a segment (so it holds each triangle of
     ``tri``), and which of ``tri``'s triangles each one is."""
-    from .cdt import triangulate
-    full = triangulate(tri.vertices, tri.edges, keep_hull=True)
-    if len(full.vertices) != len(tri.vertices) or not (full.vertex_map == np.arange(len(tri.vertices))).all():
-        raise CDTError("the triangulation's edges cross or its vertices repeat: it cannot be queried")
+    triangles, neighbors = hull_triangles(np.ascontiguousarray(tri.vertices), tri.edges)
     ours = np.sort(tri.triangles, axis=1)
-    theirs = np.sort(full.triangles, axis=1)
+    theirs = np.sort(triangles, axis=1)
     both = np.concatenate([ours, theirs])
     order = np.lexsort(both.T[::-1])
     same = (both[order[1:]] == both[order[:-1]]).all(axis=1)
@@ -90,10 +86,10 @@ def _completed(tri: Triangulation) -> tuple[NDArray[np.int64], NDArray[np.int64]
     own[other - len(ours)] = mine
     if (own >= 0).sum() != len(ours):
         raise CDTError("the triangulation's triangles overlap: it cannot be queried")
-    return full.triangles, full.neighbors, own
+    return triangles, neighbors, own
 
 
-def _scaled_vertices(tri: Triangulation, qx: NDArray[np.float64] | None = None,
+def _scaled_vertices(tri: TriangulationLike, qx: NDArray[np.float64] | None = None,
                      qy: NDArray[np.float64] | None = None) -> tuple[NDArray[np.float64], ...]:
     """Vertex (and query) coordinates scaled by one power of two into the exact
     predicates' range."""
@@ -107,20 +103,7 @@ def _scaled_vertices(tri: Triangulation, qx: NDArray[np.float64] | None = None,
     return x[:n].copy(), y[:n].copy(), x[n:].copy(), y[n:].copy()
 
 
-def as_queries(points: ArrayLike) -> NDArray[np.float64]:
-    """Points as an (m, 2) float64 array (m may be 0; one point may be given as
-    a pair), all finite: else a named :class:`CDTError`."""
-    arr = real_array(points, "points")
-    if arr.ndim == 1 and arr.shape == (2,):
-        arr = arr[None, :]
-    if arr.ndim != 2 or arr.shape[1] != 2:
-        raise InputShapeError(f"points must have shape (m, 2), got {arr.shape}")
-    arr = np.ascontiguousarray(arr)
-    raise_nonfinite(arr, "points")
-    return arr
-
-
-def _located(tri: Triangulation, pts: NDArray[np.float64]):
+def _located(tri: TriangulationLike, pts: NDArray[np.float64]):
     """``(mesh, x, y, qx, qy, found, where, code, j, near)``: the walk over
     spatially sorted queries (see :func:`cdt_plugin._core.query.locate_all`)
     for the queries ``near`` (indices) in the vertices' bounding box; the others
@@ -142,7 +125,7 @@ def _located(tri: Triangulation, pts: NDArray[np.float64]):
     return mesh, x, y, qx, qy, found, where, code, j, near
 
 
-def locate(tri: Triangulation, points: ArrayLike) -> NDArray[np.int64]:
+def locate(tri: TriangulationLike, points: ArrayLike) -> NDArray[np.int64]:
     """See :meth:`Triangulation.locate`."""
     pts = as_queries(points)
     out = np.full(len(pts), -1, np.int64)
@@ -152,7 +135,7 @@ def locate(tri: Triangulation, points: ArrayLike) -> NDArray[np.int64]:
     return out
 
 
-def interpolate(tri: Triangulation, values: ArrayLike, points: ArrayLike,
+def interpolate(tri: TriangulationLike, values: ArrayLike, points: ArrayLike,
                 method: str = "linear") -> NDArray[np.float64]:
     """See :meth:`Triangulation.interpolate`."""
     if method not in METHODS:
@@ -184,7 +167,7 @@ def interpolate(tri: Triangulation, values: ArrayLike, points: ArrayLike,
     return out[:, 0].copy() if vals.ndim == 1 else out
 
 
-def _blocked(tri: Triangulation, mesh: WalkMesh) -> NDArray[np.bool_]:
+def _blocked(tri: TriangulationLike, mesh: WalkMesh) -> NDArray[np.bool_]:
     """Edges of the walk mesh a natural neighbour cavity does not cross: the
     boundary of the domain, segments, and edges that are not locally Delaunay."""
     cached = tri.__dict__.get("_blocked")

@@ -29,21 +29,16 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field, fields
-from typing import TYPE_CHECKING, Any, Iterator, Protocol, Tuple, Union
+from typing import Any, Iterator
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core.certify import edge_lifted_values, orientation_signs
 from .errors import CDTError, InputShapeError
-from .io import as_index
 from .optional import require
-from .validate import exact_range, near_unit
-from .plc import GeometryLike
-from .triangulation import mesh_neighbors
-
-if TYPE_CHECKING:
-    from .triangulation import Triangulation
+from .types import GeometryLike, MeshLike, TriangulationLike
+from .validate import as_index, as_mesh, exact_range, near_unit
 
 __all__ = ["Report", "report", "compare", "mesh_report", "triangle_quality", "mesh_neighbors",
            "earcut", "ANGLE_BINS"]
@@ -53,21 +48,6 @@ ANGLE_BINS = np.arange(0.0, 181.0, 10.0)
 
 #: Relative tolerance for the float rounding of a metric when comparing two meshes.
 RTOL = 1e-9
-
-
-class FacesMesh(Protocol):
-    """A mesh with ``vertices`` and ``faces`` (a ``trimesh.Trimesh``)."""
-
-    @property
-    def vertices(self) -> ArrayLike: ...
-
-    @property
-    def faces(self) -> ArrayLike: ...
-
-
-#: Another triangulation to compare with: a Triangulation, a mesh with ``vertices``
-#: and ``faces``, or a ``(vertices, triangles)`` pair.
-MeshLike = Union["Triangulation", FacesMesh, Tuple[ArrayLike, ArrayLike]]
 
 
 @dataclass
@@ -195,6 +175,33 @@ def triangle_quality(vertices: ArrayLike, triangles: ArrayLike) -> dict[str, NDA
             "inradius": inradius, "shortest_edge": shortest, "radius_edge_ratio": ratio}
 
 
+def mesh_neighbors(triangles: ArrayLike) -> tuple[NDArray[np.int64], int]:
+    """Neighbours of an indexed triangle mesh, vectorised: ``neighbors[t, j]`` is
+    the triangle sharing the edge opposite corner ``j`` of ``t`` (-1: boundary).
+    Edges in more than two triangles (non-manifold) get -1 on every side; their
+    number is returned too.
+
+    >>> nb, nonmanifold = mesh_neighbors([[0, 1, 2], [0, 2, 3]])
+    >>> nb.tolist(), nonmanifold
+    ([[-1, 1, -1], [-1, -1, 0]], 0)
+    """
+    T = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    k = len(T)
+    a, b = T[:, [1, 2, 0]].ravel(), T[:, [2, 0, 1]].ravel()   # half-edge 3t+j: opposite corner j
+    n = int(T.max(initial=-1)) + 1
+    key = np.minimum(a, b) * n + np.maximum(a, b)
+    order = np.argsort(key, kind="stable")
+    sk = key[order]
+    start = np.r_[True, sk[1:] != sk[:-1]] if len(sk) else np.zeros(0, bool)
+    run = np.cumsum(start) - 1
+    run_len = np.bincount(run) if len(run) else np.zeros(0, np.int64)
+    first = np.flatnonzero(start & (run_len[run] == 2))
+    h1, h2 = order[first], order[first + 1]
+    nb = np.full(3 * k, -1, np.int64)
+    nb[h1], nb[h2] = h2 // 3, h1 // 3
+    return nb.reshape(k, 3), int((run_len > 2).sum())
+
+
 def _lexicographic_corners(P) -> np.ndarray:
     """The corners (0, 1, 2) of each triangle of ``P`` (k, 3, 2) sorted by (x, y)."""
     by_y = np.argsort(P[..., 1], axis=1, kind="stable")
@@ -311,7 +318,7 @@ def mesh_report(vertices: ArrayLike, triangles: ArrayLike, *, segments: ArrayLik
     >>> mesh_report([[0, 0], [4, 0], [4, 1], [0, 1]], [[0, 1, 3], [1, 2, 3]]).cocircular_edges
     1
     """
-    V, T = _as_arrays(vertices, triangles)
+    V, T = as_mesh(vertices, triangles)
     S = None if segments is None else as_index(segments, "segments", 2, len(V))
     used = np.unique(T)
     uniq, inverse = np.unique(V[used], axis=0, return_inverse=True)
@@ -330,7 +337,7 @@ def mesh_report(vertices: ArrayLike, triangles: ArrayLike, *, segments: ArrayLik
         degenerate_triangles=flat, flips=None, seconds=None, **_figures(V, T, bins))
 
 
-def report(tri: Triangulation, against: MeshLike | None = None, *, name: str = "cdt_plugin",
+def report(tri: TriangulationLike, against: MeshLike | None = None, *, name: str = "cdt_plugin",
            against_name: str = "against", bins: ArrayLike = ANGLE_BINS) -> Report:
     """Quality report of a :class:`~cdt_plugin.Triangulation` (``tri.report()``).
 
@@ -367,7 +374,7 @@ def report(tri: Triangulation, against: MeshLike | None = None, *, name: str = "
     return ours
 
 
-def compare(tri: Triangulation, against: MeshLike, *, against_name: str = "against",
+def compare(tri: TriangulationLike, against: MeshLike, *, against_name: str = "against",
             **kwargs: Any) -> Report:
     """:func:`report` of ``tri`` side by side with ``against`` (required here)."""
     if against is None:
@@ -453,23 +460,15 @@ def _open_ring(ring) -> np.ndarray:
 
 
 # ------------------------------------------------------------ input checks
-def _as_arrays(vertices, triangles) -> tuple[np.ndarray, np.ndarray]:
-    V = np.asarray(vertices, dtype=np.float64)
-    if V.ndim != 2 or V.shape[1] not in (2, 3):
-        raise InputShapeError(f"vertices must have shape (n, 2) or (n, 3), got {V.shape}")
-    T = as_index(triangles, "triangles", 3, len(V))
-    return np.ascontiguousarray(V[:, :2]), T
-
-
 def against_arrays(against: MeshLike) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """(vertices, triangles) of a pair, a Triangulation or a trimesh-like object."""
     if isinstance(against, (tuple, list)):
         if len(against) == 2:
-            return _as_arrays(*against)
+            return as_mesh(*against)
     elif hasattr(against, "triangles") and hasattr(against, "vertex_map"):
-        return _as_arrays(against.vertices, against.triangles)
+        return as_mesh(against.vertices, against.triangles)
     elif hasattr(against, "faces") and hasattr(against, "vertices"):
-        return _as_arrays(against.vertices, against.faces)
+        return as_mesh(against.vertices, against.faces)
     raise InputShapeError("against must be (vertices, triangles), a Triangulation or a mesh "
                           f"with vertices and faces, got {type(against).__name__}")
 

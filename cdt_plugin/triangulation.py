@@ -3,20 +3,23 @@ from __future__ import annotations
 
 import functools
 import time
-from typing import TYPE_CHECKING, Any, Callable, Dict, Tuple, Union
+from typing import TYPE_CHECKING, Any, Callable, Dict, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core.certify import edge_lifted_values, orientation_signs, submerged_ok
-from ._core.flips import flip_to_delaunay
 from ._core.mesh import DEAD
-from ._core.output import (first_defect, relabel_store, rotate_min_first,
+from ._core.output import (relabel_store, rotate_min_first,
                            store_neighbors, store_triangles)
-from ._core.pipeline import PACK_ARRAYS, PACK_HEADER
-from ._core.predicates import incircle_weighted, orient2d
-from .errors import CDTError, InvertedTriangleError
+from ._routes import (DelaunayBuild, build_delaunay, collinear_chain, flip_moved, resolve_algorithm, route_arrays,
+                      route_triangles)
+from . import hooks, queries
+from .errors import CDTError, InputShapeError, InvertedTriangleError
 from .optional import require
+from .parallel import resolve_workers
+from .plc import PLC
+from .types import MeshLike, MeshStore
 from .validate import as_points, exact_range
 
 if TYPE_CHECKING:
@@ -26,15 +29,14 @@ if TYPE_CHECKING:
     import trimesh
     from matplotlib.axes import Axes
 
-    from .plc import PLC
-    from .report import MeshLike, Report
+    from .report import Report
     from .voronoi import Subdivision, Voronoi
+
+__all__ = ["MeshStore", "Stats", "Triangulation"]
 
 #: A result's counts, or a function of the result that makes them on first access
 #: (it takes the result rather than holding it: no reference cycle to collect).
 Stats = Union[Dict[str, Any], Callable[["Triangulation"], Dict[str, Any]]]
-#: The half-edge store in output ids: ``(tri, twin, cons, ntri, inf)``.
-MeshStore = Tuple[NDArray[np.int32], NDArray[np.int32], NDArray[np.int32], int, int]
 
 
 def _frozen_empty(shape: int | tuple[int, ...]) -> NDArray[np.int64]:
@@ -48,33 +50,6 @@ _NO_IDS = _frozen_empty(0)
 # the attributes of a route's result that are made on first access (Triangulation.from_route)
 _LAZY_ATTRIBUTES = frozenset({"neighbors", "vertex_map", "constrained", "regions", "segments",
                               "segment_ids", "steiner", "below_min_angle", "region_attributes"})
-
-
-def mesh_neighbors(triangles: ArrayLike) -> tuple[NDArray[np.int64], int]:
-    """Neighbours of an indexed triangle mesh, vectorised: ``neighbors[t, j]`` is
-    the triangle sharing the edge opposite corner ``j`` of ``t`` (-1: boundary).
-    Edges in more than two triangles (non-manifold) get -1 on every side; their
-    number is returned too.
-
-    >>> nb, nonmanifold = mesh_neighbors([[0, 1, 2], [0, 2, 3]])
-    >>> nb.tolist(), nonmanifold
-    ([[-1, 1, -1], [-1, -1, 0]], 0)
-    """
-    T = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
-    k = len(T)
-    a, b = T[:, [1, 2, 0]].ravel(), T[:, [2, 0, 1]].ravel()   # half-edge 3t+j: opposite corner j
-    n = int(T.max(initial=-1)) + 1
-    key = np.minimum(a, b) * n + np.maximum(a, b)
-    order = np.argsort(key, kind="stable")
-    sk = key[order]
-    start = np.r_[True, sk[1:] != sk[:-1]] if len(sk) else np.zeros(0, bool)
-    run = np.cumsum(start) - 1
-    run_len = np.bincount(run) if len(run) else np.zeros(0, np.int64)
-    first = np.flatnonzero(start & (run_len[run] == 2))
-    h1, h2 = order[first], order[first + 1]
-    nb = np.full(3 * k, -1, np.int64)
-    nb[h1], nb[h2] = h2 // 3, h1 // 3
-    return nb.reshape(k, 3), int((run_len > 2).sum())
 
 
 class Triangulation:
@@ -165,6 +140,15 @@ class Triangulation:
 
     # ---------------------------------------------------------------- builders
     @classmethod
+    def from_build(cls, pts: NDArray[np.float64], w_in: NDArray[np.float64] | None,
+                   build: DelaunayBuild, t0: float) -> Triangulation:
+        """Wrap a Delaunay triangulation of ``pts`` (:func:`~cdt_plugin._routes.build_delaunay`)."""
+        if build.tri is None or build.twin is None or build.cons is None:
+            return cls.from_collinear(pts, build.order, w_in, build.dup_of, build.submerged, build.stats, t0)
+        return cls.from_mesh(pts, w_in, build.tri, build.twin, build.cons, build.ntri, build.order,
+                             build.dup_of, build.submerged, build.stats, t0)
+
+    @classmethod
     def from_mesh(cls, pts: NDArray[np.float64], w_in: NDArray[np.float64] | None,
                   tri: NDArray[np.int32], twin: NDArray[np.int32], cons: NDArray[np.int32], ntri: int,
                   ids: NDArray[np.int64], dup_of: NDArray[np.int64], submerged: NDArray[np.int8],
@@ -206,11 +190,7 @@ class Triangulation:
                        submerged: NDArray[np.int8], stats: dict[str, Any], t0: float) -> Triangulation:
         """All points on one line (Sec. 2.1): no triangles, the chain of edges."""
         n = len(pts)
-        _mark_collinear_duplicates(pts, order, dup_of)
-        line = np.flatnonzero((dup_of < 0) & (submerged == 0))
-        line = line[np.lexsort((pts[line, 1], pts[line, 0]))]
-        if w_in is not None:
-            line = _lower_chain(pts, w_in, line, submerged)
+        line = collinear_chain(pts, order, w_in, dup_of, submerged)
         vertex_map, kept, duplicates = _vertex_map(n, dup_of, submerged)
         edges = np.column_stack([vertex_map[line[:-1]], vertex_map[line[1:]]]).astype(np.int64)
         empty = np.empty((0, 3), np.int64)
@@ -231,14 +211,14 @@ class Triangulation:
         few microseconds, and most callers use the triangles only. ``stats``
         may be a function of the result that makes the dict on first access."""
         tri = cls.__new__(cls)
-        k = int(ints[0])
         tri.vertices = vertices
-        tri.triangles = ints[PACK_ARRAYS:PACK_ARRAYS + 3 * k].reshape(k, 3)
+        tri.triangles = route_triangles(ints)
         tri.weights = None
         tri._stats = stats
         tri._edges = None
         tri._mesh = None
-        tri._lazy = functools.partial(_route_attributes, ints, vertices, plc)
+        tri._lazy = functools.partial(route_arrays, ints, vertices,
+                                      None if plc.regions is None else plc.regions[:, 2])
         return tri
 
     @classmethod
@@ -258,7 +238,6 @@ class Triangulation:
         >>> tri.triangles.tolist(), tri.neighbors.tolist()
         ([[0, 1, 2], [0, 2, 3]], [[-1, 1, -1], [-1, -1, 0]])
         """
-        from .errors import InputShapeError
         V = as_points(vertices, "vertices")
         n = len(V)
         raw = np.asarray(triangles)
@@ -283,6 +262,7 @@ class Triangulation:
             raise InvertedTriangleError(f"triangle {t} {T[t].tolist()} has no area (its corners are collinear)")
         T = np.where((signs < 0)[:, None], T[:, [0, 2, 1]], T)
         directed = T[:, [1, 2, 0]].ravel() * n + T[:, [2, 0, 1]].ravel()
+        from .report import mesh_neighbors     # (the services below load on first use)
         nb, nonmanifold = mesh_neighbors(T)
         if nonmanifold or len(np.unique(directed)) != len(directed):
             raise CDTError("the triangles overlap: an edge lies in more than two triangles "
@@ -337,20 +317,17 @@ class Triangulation:
     def to_trimesh(self, z: float = 0.0, **kwargs: Any) -> trimesh.Trimesh:
         """This triangulation as a flat ``trimesh.Trimesh`` at height ``z``
         (see :func:`cdt_plugin.adapters.trimesh.to_trimesh`; needs trimesh)."""
-        from cdt_plugin.adapters.trimesh import to_trimesh
-        return to_trimesh(self, z=z, **kwargs)
+        return hooks.to_trimesh(self, z=z, **kwargs)
 
     def to_open3d(self, z: ArrayLike = 0.0) -> open3d.geometry.TriangleMesh:
         """This triangulation as an ``open3d.geometry.TriangleMesh`` (needs Open3D);
         ``z``: one height for all vertices or one per vertex."""
-        from cdt_plugin.adapters.open3d import to_open3d
-        return to_open3d(self, z=z)
+        return hooks.to_open3d(self, z=z)
 
     def to_shapely(self) -> shapely.GeometryCollection:
         """The triangles as a shapely GeometryCollection of Polygons, in the form
         ``shapely.constrained_delaunay_triangles`` returns (needs shapely)."""
-        from cdt_plugin.adapters.shapely import to_shapely
-        return to_shapely(self)
+        return hooks.to_shapely(self)
 
     def to_matplotlib(self) -> matplotlib.tri.Triangulation:
         """This triangulation as a ``matplotlib.tri.Triangulation`` (needs
@@ -376,7 +353,7 @@ class Triangulation:
     def report(self, against: MeshLike | None = None, **kwargs: Any) -> Report:
         """Quality report (angles, circumdisks, certificate), optionally side by side
         with another triangulation of the same input (see :func:`cdt_plugin.report.report`)."""
-        from .report import report
+        from .report import report     # (loaded on first use: `import cdt_plugin` stays as fast)
         return report(self, against, **kwargs)
 
     def plot(self, ax: Axes | None = None, **kwargs: Any) -> Axes:
@@ -441,7 +418,7 @@ class Triangulation:
         >>> cdt_plugin.delaunay([[0, 0], [1, 0], [1, 1], [0, 1], [3, 0]]).delaunay_subdivision().tolist()
         [[0, 1, 2, 3], [1, 4, 2]]
         """
-        from .voronoi import delaunay_subdivision
+        from .voronoi import delaunay_subdivision   # (loaded with its kernels on first use)
         return delaunay_subdivision(self)
 
     def voronoi(self, clip: Any = None, *, workers: int | None = None) -> Voronoi:
@@ -471,7 +448,7 @@ class Triangulation:
         >>> vor.cell(4).round(4).tolist()   # cut to the box
         [[0.125, 1.0], [1.0, 0.4167], [1.875, 1.0], [1.375, 2.0], [0.625, 2.0]]
         """
-        from .voronoi import voronoi
+        from .voronoi import voronoi                 # (loaded with its kernels on first use)
         return voronoi(self, clip, workers=workers)
 
     # -------------------------------------------------------- moving vertices
@@ -490,8 +467,7 @@ class Triangulation:
         >>> tri.locate([[0.5, 0.2], [1, 1], [3, 3]]).tolist()     # (1, 1): on the diagonal of 0 and 1
         [1, 0, -1]
         """
-        from .queries import locate
-        return locate(self, points)
+        return queries.locate(self, points)
 
     def interpolate(self, values: ArrayLike, points: ArrayLike, method: str = "linear") -> NDArray[np.float64]:
         """Interpolate vertex ``values`` ((n,) or (n, k), one row per vertex) at
@@ -516,8 +492,7 @@ class Triangulation:
         >>> tri.interpolate(plane, [[2, 1], [1, 2], [9, 9]], method="natural").round(12).tolist()
         [4.0, 1.0, nan]
         """
-        from .queries import interpolate
-        return interpolate(self, values, points, method)
+        return queries.interpolate(self, values, points, method)
 
     def move_vertices(self, new_vertices: ArrayLike, *, rebuild: bool = True) -> int:
         """Move the vertices to ``new_vertices`` (same shape as ``vertices``) and
@@ -541,23 +516,10 @@ class Triangulation:
         if self.constrained.any() or len(self.segments):
             raise CDTError("move_vertices supports unconstrained Delaunay triangulations only")
         if new.shape != self.vertices.shape:
-            from .errors import InputShapeError
             raise InputShapeError(f"new_vertices must have shape {self.vertices.shape}, got {new.shape}")
-        flips = -1
-        defect = -1
+        flips = defect = -1
         if self._mesh is not None and self.weights is None:
-            # Flip from the moved mesh if no triangle inverted; ghost flips repair
-            # a hull that lost its convexity. Accept only an embedded result.
-            tri, twin, cons, ntri, inf = self._mesh
-            tri, twin, cons = tri.copy(), twin.copy(), cons.copy()
-            sx, sy, _, _ = exact_range(new[:, 0], new[:, 1], None, "new_vertices")
-            x = np.append(sx, 0.0)
-            y = np.append(sy, 0.0)
-            defect = first_defect(tri, twin, ntri, x, y, inf, False)
-            if defect < 0:
-                flips = int(flip_to_delaunay(tri, twin, cons, x, y, x, False, inf, ntri, 20 * ntri + 1000))
-                if flips >= 0:
-                    defect = first_defect(tri, twin, ntri, x, y, inf, True)
+            (tri, twin, cons, ntri, inf), flips, defect = flip_moved(self._mesh, new)
         self.__dict__.pop("_walk", None)       # the queries' meshes follow the vertices
         self.__dict__.pop("_blocked", None)
         if flips >= 0 and defect < 0:
@@ -577,8 +539,9 @@ class Triangulation:
                     "moving the vertices inverts triangle "
                     f"{_triangle_name(tri, defect, new) if defect >= 0 else '(after flips)'}; "
                     "pass rebuild=True to retriangulate")
-            from .delaunay import delaunay
-            fresh = delaunay(new, self.weights)
+            weighted = self.weights is not None
+            fresh = Triangulation.from_build(new, self.weights, build_delaunay(
+                new, self.weights, resolve_algorithm("auto", weighted), 0, resolve_workers(None, 2)), t0)
             old_map = self.vertex_map
             for name in _LAZY_ATTRIBUTES:        # the fresh result's are made on first access
                 self.__dict__.pop(name, None)
@@ -640,69 +603,3 @@ def _mesh_attributes(mesh) -> dict:
     k = len(neighbors)
     return {"neighbors": neighbors, "constrained": np.zeros((k, 3), bool),
             "regions": np.full(k, -1, np.int64)}
-
-
-def _mark_collinear_duplicates(pts, order, dup_of):
-    """Exact duplicates among unsorted points (collinear case): keep the first in
-    ``order``."""
-    act = order[dup_of[order] < 0]
-    srt = act[np.lexsort((pts[act, 1], pts[act, 0]))]
-    same = np.r_[False, (pts[srt[1:]] == pts[srt[:-1]]).all(axis=1)]
-    if same.any():
-        head = srt[np.maximum.accumulate(np.where(~same, np.arange(len(srt)), 0))]
-        dup_of[srt[same]] = head[same]
-
-
-def _lower_chain(pts, w, line, submerged):
-    """Weighted collinear points: keep those whose lifted points form the lower
-    chain (1D weighted Delaunay); the rest are submerged. The lifted test uses an
-    auxiliary point off the line, exact (its plane meets the line's vertical
-    plane in the lifted segment whatever the auxiliary point is)."""
-    if len(line) < 3:
-        return line
-    x, y, w, _ = exact_range(pts[:, 0], pts[:, 1], w)   # exact: a power of two
-    pts = np.column_stack([x, y])
-    a, b = pts[line[0]], pts[line[-1]]
-    c = np.array([a[0] - (b[1] - a[1]), a[1] + (b[0] - a[0])])
-    ccw = orient2d(a[0], a[1], b[0], b[1], c[0], c[1]) > 0
-    keep: list[np.integer[Any]] = []
-    for i in line:
-        while len(keep) >= 2:
-            p, m = keep[-2], keep[-1]
-            (u, v) = (p, i) if ccw else (i, p)
-            r = incircle_weighted(pts[u, 0], pts[u, 1], w[u], pts[v, 0], pts[v, 1], w[v],
-                                  c[0], c[1], 0.0, pts[m, 0], pts[m, 1], w[m])
-            if r > 0:
-                break
-            submerged[m] = 1  # on or above the lifted segment (ties: Sec. 2.9)
-            keep.pop()
-        keep.append(i)
-    return np.asarray(keep, np.int64)
-
-
-def _route_attributes(ints, vertices, plc) -> dict:
-    """The arrays of a route's result other than its vertices and triangles:
-    views of ``ints``, laid out by ``pipeline.cdt_route_packed`` (plain
-    slicing: a small call's budget is a few microseconds)."""
-    k, s, n, nk, nb = ints[:PACK_HEADER].tolist()
-    p = PACK_ARRAYS + 3 * k                     # after the triangles
-    per_triangle = ints[p:p + 6 * k].reshape(2, k, 3)     # neighbours, constrained flags
-    p += 6 * k
-    segments = ints[p:p + 2 * s].reshape(s, 2)
-    p += 2 * s
-    segment_ids = ints[p:p + s]
-    p += s
-    regions = ints[p:p + k]
-    p += k
-    vertex_map = ints[p:p + n]
-    p += n
-    below = ints[p + nk:p + nk + nb]
-    attributes = None
-    if plc.regions is not None:
-        attributes = np.full(k, np.nan)
-        painted = regions >= 0
-        attributes[painted] = plc.regions[regions[painted], 2]
-    return {"neighbors": per_triangle[0], "vertex_map": vertex_map,
-            "constrained": per_triangle[1] != 0, "regions": regions, "segments": segments,
-            "segment_ids": segment_ids, "steiner": np.arange(nk, len(vertices)),
-            "below_min_angle": below, "region_attributes": attributes}

@@ -1,5 +1,11 @@
 """Input validation: turn user arrays into clean float64 arrays or raise a
-precise :class:`CDTError` subclass naming the offending rows."""
+precise :class:`CDTError` subclass naming the offending rows.
+
+The one implementation of each check of the package: points (:func:`as_xy`,
+with :func:`as_points` and :func:`as_queries` its two common forms), weights
+(:func:`as_weights`), index arrays (:func:`as_index`), segments
+(:func:`as_segments`), a mesh made elsewhere (:func:`as_mesh`) and the coordinate range of the exact predicates
+(:func:`exact_range`)."""
 from __future__ import annotations
 
 import warnings
@@ -8,10 +14,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._core.checks import first_nonfinite_row
+from ._core.checks import first_nonfinite_row, first_segment_out_of_range
 from ._core.scaling import LOW, NO_FIT, TOP, exponents, fit_shift
 from .errors import (CoordinateRangeError, InputShapeError, NonFiniteCoordinateError, PrecisionWarning,
-                     TooFewPointsError)
+                     SegmentIndexError, TooFewPointsError)
 
 EXACT_INT = 2 ** 53     # every integer up to this is a float64, not every one beyond
 
@@ -91,15 +97,97 @@ def as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
     ...
     cdt_plugin.errors.NonFiniteCoordinateError: points has NaN or infinite coordinates at row(s) 1 (row 1 is (1.0, nan))
     """
-    arr = real_array(points, name)
-    if arr.ndim != 2 or arr.shape[1] != 2:
-        raise InputShapeError(f"{name} must have shape (n, 2), got {arr.shape}")
+    arr = as_xy(points, name)
     if arr.shape[0] == 0:
         raise TooFewPointsError(f"{name} is empty: at least one point is needed")
+    return arr
+
+
+def as_queries(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
+    """Points as an (m, 2) float64 array (m may be 0; one point may be given as
+    a pair), all finite: else a named :class:`CDTError`."""
+    return as_xy(points, name, "m", pair=True)
+
+
+def as_xy(points: ArrayLike, name: str, rows: str = "n", *, pair: bool = False,
+          empty: bool = False) -> NDArray[np.float64]:
+    """``points`` as a C-contiguous (m, 2) float64 array, all finite, else an
+    error naming ``name`` (and ``rows``, the letter of the expected shape
+    ``(rows, 2)``). ``pair``: one point may be given as a pair; ``empty``:
+    any empty input is no points."""
+    arr = real_array(points, name)
+    if empty and arr.size == 0:
+        return np.empty((0, 2))
+    if pair and arr.shape == (2,):
+        arr = arr[None, :]
+    if arr.ndim != 2 or arr.shape[1] != 2:
+        raise InputShapeError(f"{name} must have shape ({rows}, 2), got {arr.shape}")
     arr = np.ascontiguousarray(arr)
     if first_nonfinite_row(arr) >= 0:
         raise_nonfinite(arr, name)
     return arr
+
+
+def as_index(a: ArrayLike, what: str, cols: int, n: int | None = None) -> NDArray[np.int64]:
+    """``a`` as an (m, ``cols``) int64 array of vertex indices (any empty input:
+    none), each in ``0..n-1`` when ``n`` is given; else :class:`InputShapeError`
+    naming the first bad row."""
+    arr = np.asarray(a)
+    if arr.size == 0:
+        return np.zeros((0, cols), dtype=np.int64)
+    if arr.ndim != 2 or arr.shape[1] != cols or not np.issubdtype(arr.dtype, np.integer):
+        raise InputShapeError(f"{what} must be an integer array of shape (m, {cols}), "
+                              f"got {arr.dtype} {arr.shape}")
+    arr = arr.astype(np.int64)
+    if n is not None:
+        bad = ((arr < 0) | (arr >= n)).any(axis=1)
+        if bad.any():
+            j = int(np.flatnonzero(bad)[0])
+            raise InputShapeError(f"{what} row {j} {arr[j].tolist()} refers to a vertex "
+                                  f"out of range 0..{n - 1}")
+    return arr
+
+
+def as_mesh(vertices: ArrayLike, triangles: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """A mesh made elsewhere: its vertices' (n, 2) float64 x, y (a z column is
+    dropped) and its (k, 3) int64 triangles, each naming vertices in ``0..n-1``."""
+    V = np.asarray(vertices, dtype=np.float64)
+    if V.ndim != 2 or V.shape[1] not in (2, 3):
+        raise InputShapeError(f"vertices must have shape (n, 2) or (n, 3), got {V.shape}")
+    T = as_index(triangles, "triangles", 3, len(V))
+    return np.ascontiguousarray(V[:, :2]), T
+
+
+def as_segments(segments: ArrayLike, n: int) -> NDArray[np.int64]:
+    """Segments as a C-contiguous (m, 2) int64 array of vertex indices in
+    ``0..n-1``; whole numbers given as floats are taken. Else
+    :class:`InputShapeError` or :class:`SegmentIndexError` naming the segment."""
+    arr = as_array(segments, "segments")
+    if arr.size == 0:
+        return np.empty((0, 2), np.int64)
+    if arr.ndim != 2 or arr.shape[1] != 2:
+        raise InputShapeError(f"segments must have shape (m, 2), got {arr.shape}")
+    if arr.dtype.kind not in "iu":
+        arr = real_array(arr, "segments")
+        bad = np.flatnonzero((arr != np.round(arr)).any(axis=1) | ~np.isfinite(arr).all(axis=1))
+        if bad.size:
+            raise SegmentIndexError(f"segment {int(bad[0])} has non-integer vertex indices "
+                                    f"{arr[bad[0]].tolist()}")
+    # floats and unsigned integers are compared as given: int64 would wrap the largest
+    if arr.dtype.kind != "i" and ((arr < 0) | (arr >= n)).any():
+        _raise_segment_out_of_range(arr, n)
+    arr = np.ascontiguousarray(arr, dtype=np.int64)
+    if first_segment_out_of_range(arr, n) >= 0:
+        _raise_segment_out_of_range(arr, n)
+    return arr
+
+
+def _raise_segment_out_of_range(arr: NDArray[Any], n: int) -> None:
+    bad = np.flatnonzero(((arr < 0) | (arr >= n)).any(axis=1))
+    i = int(bad[0])
+    raise SegmentIndexError(
+        f"segment {i} = {arr[i].tolist()} names a vertex outside 0..{n - 1}"
+        + (f" ({bad.size} such segments)" if bad.size > 1 else ""))
 
 
 def raise_nonfinite(xy: NDArray[np.float64], name: str) -> None:

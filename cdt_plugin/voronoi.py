@@ -18,7 +18,7 @@ clipped corners) are floating point, computed near unit scale.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Iterator, NamedTuple
+from typing import Any, Iterator, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -26,13 +26,13 @@ from numpy.typing import ArrayLike, NDArray
 from ._core.dual import (cell_rings, clip_cells, face_centres, fuse_ties, mark_close, pack_cells,
                          redo_centres, ring_offsets, solid_rows, store_cells, store_rings, store_ties,
                          subdivision_faces, triangle_centres, triangle_faces, vertex_rings)
+from . import hooks
 from .errors import ClipRegionError, CollinearPointsError, NotDelaunayError
 from .optional import require
 from .parallel import check_workers, map_ordered, mapped_empty, resolve_workers
+from .types import MeshStore, TriangulationLike
 from .validate import exact_range
 
-if TYPE_CHECKING:
-    from .triangulation import MeshStore, Triangulation
 
 Box = tuple[float, float, float, float]
 
@@ -153,7 +153,7 @@ class Voronoi:
     first access (see their docstrings).
     """
 
-    def __init__(self, tri: Triangulation, fused: NDArray[np.bool_] | None, subdivision: Subdivision,
+    def __init__(self, tri: TriangulationLike, fused: NDArray[np.bool_] | None, subdivision: Subdivision,
                  vertices: NDArray[np.float64], region_offsets: NDArray[np.int64],
                  region_indices: NDArray[np.int64], unbounded: NDArray[np.bool_],
                  rings: tuple[NDArray[np.int64], NDArray[np.int64]], threads: int = 1) -> None:
@@ -250,8 +250,7 @@ class Voronoi:
             out.cell_offsets, out.cell_xy = self._box_cells(box)
             out._clipped = None
         else:
-            from cdt_plugin.adapters.shapely import clip_cells_to_polygon
-            out._clipped = clip_cells_to_polygon(self, clip)
+            out._clipped = hooks.clip_cells_to_polygon(self, clip)
             out.cell_offsets = out.cell_xy = None
         out.clip = clip
         return out
@@ -288,20 +287,19 @@ class Voronoi:
         """One shapely Polygon per site (needs shapely): the clipped cells, or,
         without a clip, every cell cut to :meth:`envelope` (as
         ``shapely.voronoi_polygons`` does); an empty Polygon where nothing is left."""
-        from cdt_plugin.adapters.shapely import cells_to_polygons
         if self._clipped is not None:
             return self._clipped
         if self.cell_offsets is None or self.cell_xy is None:
             return self.clipped(self.envelope()).to_shapely()
-        return cells_to_polygons(self.cell_offsets, self.cell_xy)
+        return hooks.cells_to_polygons(self.cell_offsets, self.cell_xy)
 
 
-def delaunay_subdivision(tri: Triangulation) -> Subdivision:
+def delaunay_subdivision(tri: TriangulationLike) -> Subdivision:
     """The faces of the Delaunay subdivision of ``tri`` (see :class:`Subdivision`)."""
     return _fuse(tri, _predicate_range(tri), resolve_workers(None, 2))[1]
 
 
-def voronoi(tri: Triangulation, clip: Any = None, *, workers: int | None = None) -> Voronoi:
+def voronoi(tri: TriangulationLike, clip: Any = None, *, workers: int | None = None) -> Voronoi:
     """The Voronoi diagram (power diagram) of ``tri``'s vertices, dual to it
     (see :meth:`cdt_plugin.Triangulation.voronoi`)."""
     check_clip(clip)                     # options first, before any work
@@ -328,7 +326,7 @@ class _Dual(NamedTuple):
     rings: tuple[NDArray[np.int64], NDArray[np.int64]]
 
 
-def _store_dual(tri: Triangulation, mesh: MeshStore, scaled: _Scaled, threads: int) -> _Dual | None:
+def _store_dual(tri: TriangulationLike, mesh: MeshStore, scaled: _Scaled, threads: int) -> _Dual | None:
     """The dual read straight off a Delaunay result's half-edge store, where
     no triangles are fused (each face one triangle, each cell the ring of
     triangles round its vertex); None if some are (cocircular points: the
@@ -365,7 +363,7 @@ def _store_dual(tri: Triangulation, mesh: MeshStore, scaled: _Scaled, threads: i
     return _Dual(None, sub, np.ldexp(centres, e) if e else centres, offsets, cells, hull, (offsets, cells))
 
 
-def _general_dual(tri: Triangulation, scaled: _Scaled, threads: int) -> _Dual:
+def _general_dual(tri: TriangulationLike, scaled: _Scaled, threads: int) -> _Dual:
     """The dual from the triangles and their neighbours: cocircular
     triangles fused into the subdivision's faces, each cell the faces round
     its vertex."""
@@ -426,7 +424,7 @@ class _Scaled(NamedTuple):
     shift: int
 
 
-def _predicate_range(tri: Triangulation) -> _Scaled:
+def _predicate_range(tri: TriangulationLike) -> _Scaled:
     """Check that ``tri`` can have a dual (triangles, no segments) and scale
     its vertices (and weights) into the exact predicates' range."""
     if len(tri.triangles) == 0:
@@ -442,7 +440,7 @@ def _predicate_range(tri: Triangulation) -> _Scaled:
     return _Scaled(*exact_range(pts[:, 0], pts[:, 1], tri.weights, "vertices"))
 
 
-def _fuse(tri: Triangulation, scaled: _Scaled, threads: int) -> tuple[NDArray[np.bool_] | None, Subdivision]:
+def _fuse(tri: TriangulationLike, scaled: _Scaled, threads: int) -> tuple[NDArray[np.bool_] | None, Subdivision]:
     """Check that ``tri`` is a (weighted) Delaunay triangulation and fuse its
     cocircular triangles: (both sides' fused edge flags, None if none are;
     the subdivision)."""
@@ -460,14 +458,14 @@ def _fuse(tri: Triangulation, scaled: _Scaled, threads: int) -> tuple[NDArray[np
     return fused, Subdivision(offsets, ring, face_of)
 
 
-def _not_locally_delaunay(tri: Triangulation, t: int, edge: list[int]) -> None:
+def _not_locally_delaunay(tri: TriangulationLike, t: int, edge: list[int]) -> None:
     weighted = tri.weights is not None
     raise NotDelaunayError(f"edge {edge} of triangle {t} is not locally "
                            f"{'regular' if weighted else 'Delaunay'}: not a "
                            f"{'weighted ' if weighted else ''}Delaunay triangulation")
 
 
-def _not_convex(tri: Triangulation, v: int, lonely: bool) -> None:
+def _not_convex(tri: TriangulationLike, v: int, lonely: bool) -> None:
     where = f"vertex {v} {tri.vertices[v].tolist()}"
     if lonely:
         raise NotDelaunayError(f"{where} is in no triangle: not the Delaunay triangulation of its vertices")
@@ -508,7 +506,7 @@ def check_box(clip: ArrayLike) -> Box:
     return (float(box[0]), float(box[1]), float(box[2]), float(box[3]))
 
 
-def _near_unit(tri: Triangulation, *more: NDArray[np.float64], scaled: _Scaled | None = None
+def _near_unit(tri: TriangulationLike, *more: NDArray[np.float64], scaled: _Scaled | None = None
                ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int]:
     """The vertices' x, y, weights (zeros if None) times ``2**-e``, ``4**-e``
     for the constructions, with ``e`` chosen from the points and ``more`` so

@@ -192,6 +192,15 @@ def test_from_triangles_and_queries():
         cdt_plugin.Triangulation.from_triangles(V, [[0, 1, 4], [0, 1, 2]])
 
 
+def test_overlapping_triangles_cannot_be_queried():
+    # two triangles whose edges cross (no edge shared: from_triangles takes them); the
+    # walk needs the hull completed (cdt_plugin._routes.hull_triangles), which cannot be
+    V = np.array([[0, 0], [4, 0], [0, 4], [1, 1], [5, 1], [1, 5]], float)
+    tri = cdt_plugin.Triangulation.from_triangles(V, [[0, 1, 2], [3, 4, 5]])
+    with pytest.raises(CDTError, match="edges cross or its vertices repeat: it cannot be queried"):
+        tri.locate([[0.5, 0.5]])
+
+
 def test_bad_queries_are_named():
     tri = cdt_plugin.delaunay([[0, 0], [1, 0], [0, 1]])
     with pytest.raises(CDTError, match="method"):

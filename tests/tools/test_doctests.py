@@ -24,6 +24,7 @@ OPTIONAL = {
     "cdt_plugin.report": ["mapbox_earcut"],
     "cdt_plugin.triangulation": ["matplotlib"],
     "cdt_plugin.cli": ["shapely", "trimesh"],
+    "cdt_plugin.hooks": ["shapely"],
     "cdt_plugin.adapters.shapely": ["shapely"],
     "cdt_plugin.adapters.trimesh": ["shapely", "trimesh"],
     "cdt_plugin.adapters.open3d": ["open3d"],

@@ -39,6 +39,7 @@ TYPED_MODULES = [
     "cdt_plugin.delaunay",
     "cdt_plugin.dynamic",
     "cdt_plugin.errors",
+    "cdt_plugin.hooks",
     "cdt_plugin.interrupts",
     "cdt_plugin.io",
     "cdt_plugin.lift",
@@ -50,6 +51,7 @@ TYPED_MODULES = [
     "cdt_plugin.report",
     "cdt_plugin.switches",
     "cdt_plugin.triangulation",
+    "cdt_plugin.types",
     "cdt_plugin.validate",
     "cdt_plugin.voronoi",
 ]
