@@ -20,6 +20,7 @@ ROOT = Path(__file__).resolve().parents[2]
 TYPED_MODULES = [
     "cdt_plugin",
     "cdt_plugin.adapters.geo",
+    "cdt_plugin.adapters.layers",
     "cdt_plugin.adapters.open3d",
     "cdt_plugin.adapters.shapely",
     "cdt_plugin.adapters.terrain",
