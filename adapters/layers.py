@@ -197,7 +197,7 @@ def _is_wgs84_lonlat(crs) -> bool:
     return crs.to_epsg() == 4326 or crs == pyproj.CRS("OGC:CRS84")
 
 
-def json_value(value):
+def json_value(value: Any) -> Any:
     """JSON for attribute values the json module does not know."""
     if isinstance(value, (datetime.date, datetime.time)):      # also pandas.Timestamp
         return value.isoformat()

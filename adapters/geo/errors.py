@@ -4,7 +4,7 @@ from __future__ import annotations
 import sys
 import warnings
 from types import FrameType
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
@@ -65,12 +65,12 @@ def relabel(e: CDTError, i: int, frame: GeoDataFrame, target: pyproj.CRS | None)
     return e
 
 
-def plain(value):
+def plain(value: Any) -> Any:
     """A NumPy scalar as the Python value (labels in messages and columns)."""
     return value.item() if isinstance(value, np.generic) else value
 
 
-def warn_skipped(failed: dict, frame) -> None:
+def warn_skipped(failed: dict, frame: GeoDataFrame) -> None:
     labels = [str(plain(frame.index[i])) for i in sorted(failed)]
     shown = ", ".join(labels[:10]) + (", ..." if len(labels) > 10 else "")
     warnings.warn(SkippedFeaturesWarning(
@@ -78,7 +78,7 @@ def warn_skipped(failed: dict, frame) -> None:
         'their errors are in result.attrs["cdt_errors"]'), stacklevel=caller_stacklevel())
 
 
-def is_geographic(crs) -> bool:
+def is_geographic(crs: Any) -> bool:
     return crs is not None and bool(crs.is_geographic)
 
 
@@ -93,7 +93,7 @@ def caller_stacklevel() -> int:
     return level
 
 
-def warn_geographic(crs) -> None:
+def warn_geographic(crs: Any) -> None:
     warnings.warn(GeographicCRSWarning(
         f"the layer's CRS ({crs.name}) is geographic: the triangulation is Delaunay, and "
         "min_angle / max_area are measured, in degrees of longitude and latitude (angles and "

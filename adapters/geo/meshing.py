@@ -137,7 +137,9 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
     return mesh.to_geodataframe()
 
 
-def mesh_layer(frame, *, project, repair, errors, progress, options, require_polygons, warn):
+def mesh_layer(frame: GeoDataFrame, *, project: ProjectLike, repair: Repair, errors: str,
+               progress: Any, options: dict[str, Any], require_polygons: bool,
+               warn: bool) -> GeoMesh:
     """Mesh the features of ``frame`` (one batch call) into a :class:`GeoMesh`."""
     check_batch_options(errors=errors, **options)
     geoms = np.asarray(frame.geometry.array, dtype=object)

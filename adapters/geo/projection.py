@@ -2,7 +2,7 @@
 layer into it, and the mesh back, input vertices bit for bit."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Union
+from typing import TYPE_CHECKING, Any, Union
 
 import numpy as np
 import shapely
@@ -11,6 +11,7 @@ from cdt_plugin.adapters.geo.errors import ProjectionError, plain
 
 if TYPE_CHECKING:
     import pyproj
+    from geopandas import GeoDataFrame
 
 #: What ``project=`` takes: None, "utm", "aeqd", or a projected CRS (a ``pyproj.CRS``
 #: or what ``pyproj.CRS.from_user_input`` reads: "EPSG:32633", 32633, WKT, ...).
@@ -66,12 +67,12 @@ def _centre(extent: np.ndarray, crs) -> tuple[float, float]:
     return float(lon), float(0.5 * (ymin + ymax))
 
 
-def centred(project) -> bool:
+def centred(project: ProjectLike) -> bool:
     """Whether ``project`` is centred on the data (``"utm"`` or ``"aeqd"``)."""
     return isinstance(project, str) and project in ("utm", "aeqd")
 
 
-def target_crs(project, crs, extent):
+def target_crs(project: ProjectLike, crs: Any, extent: np.ndarray | None) -> Any:
     """The projected CRS to mesh in (None: mesh in the layer's own CRS)."""
     if project is None:
         return None
@@ -131,7 +132,7 @@ def _xy_transform(transformer):
     return apply
 
 
-def project_geometries(geoms: np.ndarray, frame, target) -> np.ndarray:
+def project_geometries(geoms: np.ndarray, frame: GeoDataFrame, target: Any) -> np.ndarray:
     """The geometries in ``target`` (same coordinate count and order, z kept)."""
     import pyproj
 
@@ -147,8 +148,8 @@ def project_geometries(geoms: np.ndarray, frame, target) -> np.ndarray:
     return projected
 
 
-def restore(V: np.ndarray, T: np.ndarray, geoms: np.ndarray, projected: np.ndarray, target,
-             crs) -> np.ndarray:
+def restore(V: np.ndarray, T: np.ndarray, geoms: np.ndarray, projected: np.ndarray, target: Any,
+            crs: Any) -> np.ndarray:
     """Mesh vertices back in the layer's CRS. A vertex at the projected position of
     an input coordinate gets that input coordinate, exactly. A Steiner vertex on a
     boundary edge goes to the same fraction of the original edge (so the triangles

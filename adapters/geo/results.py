@@ -143,6 +143,7 @@ class GeoMesh:
         ``pyarrow.parquet.write_table`` writes it as a GeoParquet file.
 
         >>> import geopandas, shapely
+        >>> from cdt_plugin.adapters.geo import triangulate
         >>> layer = geopandas.GeoDataFrame({"id": [7]}, geometry=[shapely.box(0, 0, 2, 2)])
         >>> table = triangulate(layer, output="mesh").to_arrow()
         >>> table.column_names, table.num_rows

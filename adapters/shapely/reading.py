@@ -443,7 +443,7 @@ def _polygon_plcs(geoms: NDArray[np.object_]) -> list[PLC | None]:
             for g in range(len(geoms))]
 
 
-def layer_rings(geoms):
+def layer_rings(geoms: NDArray[np.object_]) -> tuple[Any, ...]:
     """Flat ring arrays of a 1-D array of Polygons / MultiPolygons (empty parts
     dropped), read by :func:`cdt_plugin.plc.shapely_polygon_rings`: ``xy, z,
     ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, has_z``.

@@ -20,9 +20,20 @@ ROOT = Path(__file__).resolve().parents[2]
 TYPED_MODULES = [
     "cdt_plugin",
     "cdt_plugin.adapters.geo",
+    "cdt_plugin.adapters.geo.accessor",
+    "cdt_plugin.adapters.geo.dask_frames",
+    "cdt_plugin.adapters.geo.errors",
+    "cdt_plugin.adapters.geo.meshing",
+    "cdt_plugin.adapters.geo.projection",
+    "cdt_plugin.adapters.geo.results",
+    "cdt_plugin.adapters.geo.voronoi_cells",
     "cdt_plugin.adapters.layers",
     "cdt_plugin.adapters.open3d",
     "cdt_plugin.adapters.shapely",
+    "cdt_plugin.adapters.shapely.building",
+    "cdt_plugin.adapters.shapely.cells",
+    "cdt_plugin.adapters.shapely.dropins",
+    "cdt_plugin.adapters.shapely.reading",
     "cdt_plugin.adapters.terrain",
     "cdt_plugin.adapters.trimesh",
     "cdt_plugin.batch",
@@ -71,10 +82,13 @@ def test_every_public_module_is_typed():
     import cdt_plugin
     import cdt_plugin.adapters
     found = {"cdt_plugin"}
-    for package in (cdt_plugin, cdt_plugin.adapters):
+    packages = [cdt_plugin, cdt_plugin.adapters]
+    for package in packages:
         for info in pkgutil.iter_modules(package.__path__, package.__name__ + "."):
             if not info.name.rsplit(".", 1)[1].startswith("_") and info.name != "cdt_plugin.adapters":
                 found.add(info.name)
+                if info.ispkg and package is cdt_plugin.adapters:     # (the adapters by concern)
+                    packages.append(importlib.import_module(info.name))
     assert found == set(TYPED_MODULES), (found ^ set(TYPED_MODULES))
 
 
