@@ -125,8 +125,8 @@ def shapely_polygon_rings(shapely: Any, geoms: Any) -> PolygonRings:
     (:func:`cdt_plugin._core.rings.drop_closing_points`)."""
     if type(geoms) is shapely.Polygon:
         return _one_polygon_rings(shapely, geoms)
-    if type(geoms) is not np.ndarray:
-        geoms = np.array([geoms], object)
+    if type(geoms) is shapely.MultiPolygon:
+        return _one_multipolygon_rings(shapely, geoms)
     coords = shapely.get_coordinates(geoms, include_z=bool(shapely.has_z(geoms).any()))
     ring_len, ring_geom, ring_polygon, ring_is_hole = _layer_layout(shapely, geoms)
     geom_ring_start = np.searchsorted(ring_geom, np.arange(len(geoms) + 1)).astype(np.int64)
@@ -155,6 +155,19 @@ def _one_polygon_rings(shapely, polygon):
     rings = len(ring_is_hole)
     return PolygonRings(np.ascontiguousarray(points[:, :2]), points[:, 2].copy() if has_z else None,
                         ring_start, np.array([0, rings]), np.zeros(rings, np.int64), ring_is_hole)
+
+
+def _one_multipolygon_rings(shapely, multipolygon):
+    """:func:`shapely_polygon_rings` of one MultiPolygon: its rings in one GEOS
+    call, their sizes in one more (an empty part has none, and no number)."""
+    has_z = multipolygon.has_z
+    coords = shapely.get_coordinates(multipolygon, include_z=has_z)
+    rings, ring_part = shapely.get_rings(shapely.get_parts(multipolygon), return_index=True)
+    ring_is_hole = np.zeros(len(rings), bool)
+    ring_is_hole[1:] = ring_part[1:] == ring_part[:-1]                   # exterior first
+    points, ring_start = drop_closing_points(coords, shapely.get_num_coordinates(rings).astype(np.int64))
+    return PolygonRings(np.ascontiguousarray(points[:, :2]), points[:, 2].copy() if has_z else None,
+                        ring_start, np.array([0, len(rings)]), np.cumsum(~ring_is_hole) - 1, ring_is_hole)
 
 
 def _layer_layout(shapely, geoms):

@@ -511,7 +511,7 @@ def test_workers_give_the_same_layer(countries, monkeypatch):
     assert len(one.attrs["cdt_errors"]) > 0       # one feature cannot meet 20 degrees in lon/lat
     # the triangle Polygons made on threads too (from 500 triangles a thread here), in
     # pieces of at most 700 triangles' rings
-    adapter = importlib.import_module("cdt_plugin.adapters.shapely")
+    adapter = importlib.import_module("cdt_plugin.adapters.shapely.building")
     monkeypatch.setattr(adapter, "POLYGONS_PER_THREAD", 500)
     monkeypatch.setattr(adapter, "POLYGON_PIECE", 700)
     for workers in (1, 2, 3, None):

@@ -656,7 +656,7 @@ def _mixed_layer(n=40, seed=0):
 def test_batch_reads_and_checks_the_geometries_on_its_threads(monkeypatch):
     """A large batch reads its rings and checks validity in slices on its
     threads; the joined arrays and the meshes equal one thread's."""
-    monkeypatch.setattr(sa, "CHUNK", 3)          # (slices on small inputs too)
+    monkeypatch.setattr(reading, "CHUNK", 3)     # (slices on small inputs too)
     arr = _mixed_layer()
     one = reading.layer_rings(arr)
     for workers in (2, 3, 5):
