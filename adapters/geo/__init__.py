@@ -17,6 +17,14 @@ Polygon with its holes, or a MultiPolygon's parts together) -> :class:`GeoMesh`
   a method of a GeoDataFrame or GeoSeries (:class:`CDTAccessor`, a pandas accessor
   registered when this module is imported).
 
+One module per job, the public names re-exported here: :mod:`.meshing`
+(:func:`triangulate`), :mod:`.voronoi_cells` (:func:`voronoi`), :mod:`.dask_frames`
+(:func:`triangulate_dask`), :mod:`.accessor` (``.cdt``), :mod:`.projection`
+(``project=``), :mod:`.results` (:class:`GeoMesh`, GeoArrow), :mod:`.errors` (the
+warnings and errors); reading and writing layers (:func:`read`,
+:func:`write_geojson`) is :mod:`cdt_plugin.adapters.layers`, shared with
+:mod:`cdt_plugin.adapters.terrain` (:func:`tin`, :func:`grid`).
+
 Coordinates. Projected CRSs (UTM: 1e5 to 1e7 metres) need nothing special: the
 engine decides every topological question with exact predicates on the coordinates
 as given, so they are neither shifted nor scaled (a shift ``x - x0`` rounds). In a
@@ -83,3 +91,15 @@ from cdt_plugin import CDTError, NoPolygonsError  # noqa: F401  (re-exported)
 __all__ = ["triangulate", "triangulate_dask", "voronoi", "read", "write_geojson", "GeoMesh",
            "GeographicCRSWarning", "SkippedFeaturesWarning", "NoPolygonsError", "ProjectionError",
            "NotGeographicError", "CDTAccessor"]
+
+
+def _belong_here() -> None:
+    """The public functions and classes of this package's modules name the package
+    as their module, as before the adapter was split into modules: their repr, pickling
+    and doctest's finder go by ``__module__``."""
+    for value in list(globals().values()):
+        if getattr(value, "__module__", "").startswith(__name__ + "."):
+            value.__module__ = __name__
+
+
+_belong_here()

@@ -27,8 +27,15 @@ The drop-ins are element-wise as shapely's functions are: an array of geometries
 in, an array of the same shape out (a pandas Series or GeoSeries keeps its index),
 ``None`` gives ``None``.
 
+One module per job, the public names re-exported here: :mod:`.reading` (shapely
+geometries in: validation, repair, :func:`triangulate`, :func:`triangulate_batch`),
+:mod:`.building` (geometries out: :func:`to_shapely`), :mod:`.cells` (the Voronoi
+cells as Polygons, which :class:`cdt_plugin.Voronoi` asks for) and :mod:`.dropins`
+(shapely's functions).
+
 Polygons and MultiPolygons (also in arrays) are read straight from GEOS coordinate
-arrays, vectorised over the whole input; other geometry types go through
+arrays, vectorised over the whole input, by the engine's one reader of them
+(:func:`cdt_plugin.plc.shapely_polygon_rings`); other geometry types go through
 ``__geo_interface__`` (:meth:`cdt_plugin.PLC.from_geo_interface`). Both give the same PLC.
 """
 from __future__ import annotations
@@ -53,3 +60,15 @@ from cdt_plugin.adapters.shapely.reading import (Repair, plc_from_shapely, trian
 
 __all__ = ["triangulate", "triangulate_batch", "to_shapely", "constrained_delaunay_triangles",
            "delaunay_triangles", "voronoi_polygons", "plc_from_shapely"]
+
+
+def _belong_here() -> None:
+    """The public functions and classes of this package's modules name the package
+    as their module, as before the adapter was split into modules: their repr, pickling
+    and doctest's finder go by ``__module__``."""
+    for value in list(globals().values()):
+        if getattr(value, "__module__", "").startswith(__name__ + "."):
+            value.__module__ = __name__
+
+
+_belong_here()

@@ -137,7 +137,7 @@ def _public_callables(module: types.ModuleType) -> Iterator[tuple[str, Callable[
         names = [n for n in vars(module) if not n.startswith("_")]
     for name in names:
         obj = getattr(module, name)
-        if inspect.isclass(obj) and obj.__module__ == module.__name__:
+        if inspect.isclass(obj):       # (its methods written in this module's file)
             yield from _methods(obj, module)
         elif inspect.isfunction(obj) and _defined_here(obj, module):
             yield name, obj
