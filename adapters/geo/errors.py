@@ -1,6 +1,7 @@
 """The warnings and errors of the GIS adapter, and how they name a feature."""
 from __future__ import annotations
 
+import os
 import sys
 import warnings
 from types import FrameType
@@ -82,13 +83,16 @@ def is_geographic(crs: Any) -> bool:
     return crs is not None and bool(crs.is_geographic)
 
 
+_PACKAGE_DIR = os.path.dirname(__file__)
+
+
 def caller_stacklevel() -> int:
     """The ``stacklevel`` (for ``warnings.warn`` called by the caller of this function)
-    that points at the first frame outside this module: the user's line, whether it
+    that points at the first frame outside this package: the user's line, whether it
     called :func:`triangulate`, :func:`triangulate_dask` or ``gdf.cdt.triangulate``."""
     frame: FrameType | None = sys._getframe(1)
     level = 1
-    while frame is not None and frame.f_code.co_filename == __file__:
+    while frame is not None and os.path.dirname(frame.f_code.co_filename) == _PACKAGE_DIR:
         frame, level = frame.f_back, level + 1
     return level
 
