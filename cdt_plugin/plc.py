@@ -158,16 +158,24 @@ def _one_polygon_rings(shapely, polygon):
 
 
 def _one_multipolygon_rings(shapely, multipolygon):
-    """:func:`shapely_polygon_rings` of one MultiPolygon: its rings in one GEOS
-    call, their sizes in one more (an empty part has none, and no number)."""
+    """:func:`shapely_polygon_rings` of one MultiPolygon."""
     has_z = multipolygon.has_z
     coords = shapely.get_coordinates(multipolygon, include_z=has_z)
-    rings, ring_part = shapely.get_rings(shapely.get_parts(multipolygon), return_index=True)
+    ring_len, _, ring_is_hole = _rings_of_polygons(shapely, shapely.get_parts(multipolygon))
+    points, ring_start = drop_closing_points(coords, ring_len)
+    return PolygonRings(np.ascontiguousarray(points[:, :2]), points[:, 2].copy() if has_z else None,
+                        ring_start, np.array([0, len(ring_len)]), np.cumsum(~ring_is_hole) - 1,
+                        ring_is_hole)
+
+
+def _rings_of_polygons(shapely, polygons):
+    """``(ring_len, ring_part, ring_is_hole)`` of an array of Polygons, in the
+    order of their coordinates: their rings in one GEOS call, the rings' sizes
+    in one more (an empty Polygon has none)."""
+    rings, ring_part = shapely.get_rings(polygons, return_index=True)
     ring_is_hole = np.zeros(len(rings), bool)
     ring_is_hole[1:] = ring_part[1:] == ring_part[:-1]                   # exterior first
-    points, ring_start = drop_closing_points(coords, shapely.get_num_coordinates(rings).astype(np.int64))
-    return PolygonRings(np.ascontiguousarray(points[:, :2]), points[:, 2].copy() if has_z else None,
-                        ring_start, np.array([0, len(rings)]), np.cumsum(~ring_is_hole) - 1, ring_is_hole)
+    return shapely.get_num_coordinates(rings).astype(np.int64), ring_part, ring_is_hole
 
 
 def _layer_layout(shapely, geoms):
@@ -179,23 +187,20 @@ def _layer_layout(shapely, geoms):
     objects (which GEOS makes one by one, holding the GIL: on a layer of
     100,000 polygons that was half of the reading time, and it did not run
     faster on threads)."""
-    n_coords = shapely.get_num_coordinates(geoms)
+    n_coords = shapely.get_num_coordinates(geoms).astype(np.int64)
     simple = (shapely.get_type_id(geoms) == 3) & (shapely.get_num_interior_rings(geoms) == 0)
     s_geom = np.flatnonzero(simple & (n_coords > 0))
     others = np.flatnonzero(~simple)
     parts, part_geom = shapely.get_parts(geoms[others], return_index=True)
-    keep = ~shapely.is_empty(parts)
-    parts, part_geom = parts[keep], others[part_geom[keep]]
-    part_start = np.searchsorted(part_geom, part_geom, side="left")
-    part_local = np.arange(len(parts)) - part_start                  # polygon number in its geometry
-    rings, ring_part = shapely.get_rings(parts, return_index=True)
-    ring_geom = np.concatenate([s_geom, part_geom[ring_part]])
+    o_len, ring_part, o_hole = _rings_of_polygons(shapely, parts)
+    o_geom = others[part_geom[ring_part]]
+    shells = np.cumsum(~o_hole)
+    o_polygon = shells - shells[np.searchsorted(o_geom, o_geom)]     # polygon number in its geometry
+    ring_geom = np.concatenate([s_geom, o_geom])
     by = np.argsort(ring_geom, kind="stable")                        # the order of the coordinates
-    ring_len = np.concatenate([n_coords[s_geom], shapely.get_num_coordinates(rings)])[by]
-    ring_is_hole = np.concatenate([np.zeros(len(s_geom), bool),
-                                   np.r_[False, ring_part[1:] == ring_part[:-1]]])[by]   # exterior first
-    ring_polygon = np.concatenate([np.zeros(len(s_geom), np.int64), part_local[ring_part]])[by]
-    return ring_len.astype(np.int64), ring_geom[by], ring_polygon.astype(np.int64), ring_is_hole
+    return (np.concatenate([n_coords[s_geom], o_len])[by], ring_geom[by],
+            np.concatenate([np.zeros(len(s_geom), np.int64), o_polygon])[by],
+            np.concatenate([np.zeros(len(s_geom), bool), o_hole])[by])
 
 
 def _ring_plc(xy, begin, end, ring_polygon, ring_is_hole, z=None):
