@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from .errors import (CDTError, InputShapeError, NonFiniteCoordinateError, SegmentIndexError,
                      TooFewPointsError)
 from ._core.checks import first_segment_out_of_range
-from ._core.rings import drop_closing_points, polygon_rings
+from ._core.rings import drop_closing_points, open_rings, polygon_rings
 from .validate import as_array, as_points, raise_nonfinite, real_array
 
 
@@ -145,16 +145,22 @@ def _one_polygon_rings(shapely, polygon):
     holes = int(shapely.get_num_interior_rings(polygon))
     if holes == 0 and len(coords):     # (the common case, without the compiled call: 1 µs less)
         points, ring_start, ring_is_hole = coords[:-1], np.array([0, len(coords) - 1]), np.zeros(1, bool)
+    elif len(coords):                  # (the shell's size is what the holes leave)
+        hole_sizes = shapely.get_num_coordinates(shapely.get_interior_ring(polygon, np.arange(holes)))
+        points, ring_start = open_rings(coords, hole_sizes.astype(np.int64))
+        ring_is_hole = np.ones(holes + 1, bool)
+        ring_is_hole[0] = False
     else:
-        ring_len = np.empty(holes + 1 if len(coords) else 0, np.int64)
-        if holes:
-            ring_len[1:] = shapely.get_num_coordinates(shapely.get_interior_ring(polygon, np.arange(holes)))
-        ring_len[:1] = len(coords) - ring_len[1:].sum()
-        points, ring_start = drop_closing_points(coords, ring_len)
-        ring_is_hole = np.arange(len(ring_len)) > 0
+        points, ring_start, ring_is_hole = coords, np.zeros(1, np.int64), np.zeros(0, bool)
     rings = len(ring_is_hole)
-    return PolygonRings(np.ascontiguousarray(points[:, :2]), points[:, 2].copy() if has_z else None,
-                        ring_start, np.array([0, rings]), np.zeros(rings, np.int64), ring_is_hole)
+    return PolygonRings(np.ascontiguousarray(points[:, :2]) if has_z else points,
+                        points[:, 2].copy() if has_z else None, ring_start,
+                        _ONE_RING if rings == 1 else np.array([0, rings]), np.zeros(rings, np.int64),
+                        ring_is_hole)
+
+
+_ONE_RING = np.array([0, 1])            # (geom_ring_start of a Polygon without holes: read only)
+_ONE_RING.flags.writeable = False
 
 
 def _one_multipolygon_rings(shapely, multipolygon):
