@@ -63,6 +63,7 @@ triangles.
 """
 from __future__ import annotations
 
+from cdt_plugin.adapters import claim_modules_names
 from cdt_plugin.optional import missing
 
 try:
@@ -92,14 +93,4 @@ __all__ = ["triangulate", "triangulate_dask", "voronoi", "read", "write_geojson"
            "GeographicCRSWarning", "SkippedFeaturesWarning", "NoPolygonsError", "ProjectionError",
            "NotGeographicError", "CDTAccessor"]
 
-
-def _belong_here() -> None:
-    """The public functions and classes of this package's modules name the package
-    as their module, as before the adapter was split into modules: their repr, pickling
-    and doctest's finder go by ``__module__``."""
-    for value in list(globals().values()):
-        if getattr(value, "__module__", "").startswith(__name__ + "."):
-            value.__module__ = __name__
-
-
-_belong_here()
+claim_modules_names(globals())

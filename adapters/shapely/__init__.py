@@ -40,6 +40,7 @@ arrays, vectorised over the whole input, by the engine's one reader of them
 """
 from __future__ import annotations
 
+from cdt_plugin.adapters import claim_modules_names
 from cdt_plugin.optional import missing
 
 try:
@@ -61,14 +62,4 @@ from cdt_plugin.adapters.shapely.reading import (Repair, plc_from_shapely, trian
 __all__ = ["triangulate", "triangulate_batch", "to_shapely", "constrained_delaunay_triangles",
            "delaunay_triangles", "voronoi_polygons", "plc_from_shapely"]
 
-
-def _belong_here() -> None:
-    """The public functions and classes of this package's modules name the package
-    as their module, as before the adapter was split into modules: their repr, pickling
-    and doctest's finder go by ``__module__``."""
-    for value in list(globals().values()):
-        if getattr(value, "__module__", "").startswith(__name__ + "."):
-            value.__module__ = __name__
-
-
-_belong_here()
+claim_modules_names(globals())
