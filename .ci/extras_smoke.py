@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 import tempfile
+from pathlib import Path
 
 import numpy as np
 
@@ -19,6 +20,12 @@ def core():
     import cdt_plugin
     for name in ("shapely", "trimesh", "open3d", "geo"):      # packaged, importable with the extra
         assert importlib.util.find_spec(f"cdt_plugin.adapters.{name}") is not None, name
+    # the adapters split into packages ship whole (looked up as files: importing one
+    # of their modules would import the package, which needs its extra)
+    adapters = Path(importlib.util.find_spec("cdt_plugin.adapters").submodule_search_locations[0])
+    for module in ("layers.py", "geo/meshing.py", "geo/results.py", "shapely/reading.py",
+                   "shapely/dropins.py"):
+        assert (adapters / module).is_file(), module
     tri = cdt_plugin.triangulate([[0, 0], [2, 0], [2, 2], [0, 2]], [[0, 1], [1, 2], [2, 3], [3, 0]])
     assert len(tri.triangles) == 2 and tri.is_delaunay()
     # an adapter whose package is not installed names the extra to install

@@ -20,6 +20,8 @@ import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError
 from cdt_plugin.optional import require
 
+from cdt_plugin.adapters.layers import read
+
 if TYPE_CHECKING:
     from geopandas import GeoDataFrame
 
@@ -172,7 +174,6 @@ def _spot_heights(points: Any, z: str | ArrayLike | None) -> tuple[NDArray[np.fl
     else:
         import shapely
 
-        from .geo import read
         frame = read(points)
         geoms = np.asarray(frame.geometry.array, dtype=object)
         if not (shapely.get_type_id(geoms) == 0).all():
@@ -204,7 +205,6 @@ def _breaklines(breaklines: Any, crs: Any) -> list[NDArray[np.float64]]:
     if isinstance(breaklines, (list, tuple)):
         geoms = np.asarray(breaklines, dtype=object)
     else:
-        from .geo import read
         frame = read(breaklines)
         if crs is not None and frame.crs is not None and frame.crs != crs:
             frame = frame.to_crs(crs)
@@ -256,7 +256,6 @@ def _with_boundary(V: NDArray[np.float64], S: NDArray[np.int64], boundary: Any, 
     interpolated in the TIN of the data."""
     import shapely
 
-    from .geo import read
     if isinstance(boundary, shapely.Geometry):
         area = boundary
     else:

@@ -177,6 +177,7 @@ def geojson_rows(frame, n_polygons: int):
     import warnings
 
     from cdt_plugin.adapters import geo
+    from cdt_plugin.adapters.layers import json_value
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -187,7 +188,7 @@ def geojson_rows(frame, n_polygons: int):
 
         def plain_json():
             with open(path, "w", encoding="utf-8") as f:
-                json.dump(tris.to_geo_dict(na="null", drop_id=True), f, default=geo._json_value)
+                json.dump(tris.to_geo_dict(na="null", drop_id=True), f, default=json_value)
 
         for name, fn in (("geo.write_geojson", lambda: geo.write_geojson(tris, path)),
                          ("json.dump(frame.to_geo_dict())", plain_json)):

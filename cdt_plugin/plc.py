@@ -12,12 +12,12 @@ from __future__ import annotations
 import dataclasses
 import sys
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import Any, Iterator, Mapping, NamedTuple, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._core.rings import open_rings, polygon_rings
+from ._core.rings import drop_closing_points, open_rings, polygon_rings
 from .errors import CDTError, InputShapeError, NonFiniteCoordinateError, TooFewPointsError
 from .types import GeometryLike
 from .validate import as_points, as_segments, as_xy, raise_nonfinite, real_array
@@ -70,53 +70,140 @@ class PLC:
 
 
 def _read_geometry(obj, required):
-    """The PLC of a geometry: a shapely-style polygon through its coordinate
-    arrays, anything else through its GeoJSON-like mapping. None for input
-    that is no geometry, unless ``required``."""
-    plc = _shapely_polygon(obj)
-    if plc is not None:
-        return plc
+    """The PLC of a geometry: a shapely Polygon or MultiPolygon through
+    :func:`shapely_polygon_rings`, anything else through its GeoJSON-like
+    mapping (:func:`geojson_parts`). None for input that is no geometry,
+    unless ``required``."""
+    shapely = _shapely_of(obj)
+    if shapely is not None and (type(obj) is shapely.Polygon or type(obj) is shapely.MultiPolygon):
+        rings = shapely_polygon_rings(shapely, obj)
+        return _ring_plc(rings.xy, rings.ring_start[:-1], rings.ring_start[1:], rings.ring_polygon,
+                         rings.ring_is_hole, rings.z)[0]
+    gi = _mapping(obj, required)
+    if gi is None:
+        return None
     builder = _Builder()
-    if not builder.add_geometry(obj):
-        gi = _mapping(obj, required)
-        if gi is None:
-            return None
-        builder.add(gi)
+    builder.add(gi)
     return builder.finish()
 
 
-def _shapely_polygon(obj):
-    """The PLC of a 2D shapely Polygon (the common small call), its rings
-    read in one GEOS call (the holes' sizes in one more) without the
-    builder's bookkeeping: what the builder makes of it. None for anything
-    else."""
-    shapely = _shapely_of(obj)
-    if shapely is None or type(obj) is not shapely.Polygon or obj.has_z:
-        return None
-    holes = int(shapely.get_num_interior_rings(obj))
-    coords = shapely.get_coordinates(obj)      # (each ring closed: its last point is its first)
-    if len(coords) == 0:
-        return None
-    if holes == 0:       # (the common case, without open_rings' call and bounds: about 1 µs less)
-        xy = np.ascontiguousarray(coords[:-1])
-        return _ring_plc(xy, np.zeros(1, np.int64), np.array([len(xy)]), np.zeros(1, np.int64),
-                         np.zeros(1, bool), [(0, 0)])[0]
-    sizes = shapely.get_num_coordinates(shapely.get_interior_ring(obj, np.arange(holes)))
-    xy, bounds = open_rings(coords, sizes.astype(np.int64))
-    if len(bounds) == 0:
-        return None
-    is_hole = np.ones(holes + 1, bool)
-    is_hole[0] = False
-    return _ring_plc(xy, bounds[:-1], bounds[1:], np.zeros(holes + 1, np.int64), is_hole,
-                     [(0, r) for r in range(holes + 1)])[0]
+class PolygonRings(NamedTuple):
+    """Polygons as flat ring arrays, each ring's closing point dropped:
+    geometry ``g`` holds rings ``geom_ring_start[g]:geom_ring_start[g + 1]``,
+    ring ``r`` the points ``xy[ring_start[r]:ring_start[r + 1]]`` (exterior
+    first, then its holes, polygon by polygon)."""
+
+    xy: NDArray[np.float64]              # (n, 2)
+    z: NDArray[np.float64] | None        # (n,), None when no geometry has Z
+    ring_start: NDArray[np.int64]        # (R + 1,)
+    geom_ring_start: NDArray[np.int64]   # (G + 1,)
+    ring_polygon: NDArray[np.int64]      # (R,) polygon of each ring within its geometry
+    ring_is_hole: NDArray[np.bool_]      # (R,)
 
 
-def _ring_plc(xy, begin, end, ring_polygon, ring_is_hole, ring_name, z=None):
+def shapely_polygon_rings(shapely: Any, geoms: Any) -> PolygonRings:
+    """The one reader of shapely polygons: the rings of a Polygon or
+    MultiPolygon, or of a 1-D object array of them (empty parts dropped), read
+    from GEOS coordinate arrays, the same rings and order as their
+    ``__geo_interface__``. ``shapely`` is the module, passed in: the engine
+    does not import it.
+
+    The coordinates come in one GEOS call, their ring sizes in a few more; the
+    closing points are dropped in one compiled pass
+    (:func:`cdt_plugin._core.rings.drop_closing_points`)."""
+    if type(geoms) is shapely.Polygon:
+        return _one_polygon_rings(shapely, geoms)
+    if type(geoms) is shapely.MultiPolygon:
+        return _one_multipolygon_rings(shapely, geoms)
+    coords = shapely.get_coordinates(geoms, include_z=bool(shapely.has_z(geoms).any()))
+    ring_len, ring_geom, ring_polygon, ring_is_hole = _layer_layout(shapely, geoms)
+    geom_ring_start = np.searchsorted(ring_geom, np.arange(len(geoms) + 1)).astype(np.int64)
+    points, ring_start = drop_closing_points(coords, ring_len)
+    return PolygonRings(np.ascontiguousarray(points[:, :2]),
+                        points[:, 2].copy() if points.shape[1] > 2 else None, ring_start,
+                        geom_ring_start, ring_polygon, ring_is_hole)
+
+
+def _one_polygon_rings(shapely, polygon):
+    """:func:`shapely_polygon_rings` of one Polygon (the common small call):
+    the holes' sizes in one GEOS call, the shell the rest of the coordinates;
+    without holes, the one ring is all of them."""
+    has_z = polygon.has_z
+    coords = shapely.get_coordinates(polygon, include_z=has_z)
+    holes = int(shapely.get_num_interior_rings(polygon))
+    if holes == 0 and len(coords):     # (the common case, without the compiled call: 1 µs less)
+        points, ring_start, ring_is_hole = coords[:-1], np.array([0, len(coords) - 1]), np.zeros(1, bool)
+    elif len(coords):                  # (the shell's size is what the holes leave)
+        hole_sizes = shapely.get_num_coordinates(shapely.get_interior_ring(polygon, np.arange(holes)))
+        points, ring_start = open_rings(coords, hole_sizes.astype(np.int64))
+        ring_is_hole = np.ones(holes + 1, bool)
+        ring_is_hole[0] = False
+    else:
+        points, ring_start, ring_is_hole = coords, np.zeros(1, np.int64), np.zeros(0, bool)
+    rings = len(ring_is_hole)
+    return PolygonRings(np.ascontiguousarray(points[:, :2]) if has_z else points,
+                        points[:, 2].copy() if has_z else None, ring_start,
+                        _ONE_RING if rings == 1 else np.array([0, rings]), np.zeros(rings, np.int64),
+                        ring_is_hole)
+
+
+_ONE_RING = np.array([0, 1])            # (geom_ring_start of a Polygon without holes: read only)
+_ONE_RING.flags.writeable = False
+
+
+def _one_multipolygon_rings(shapely, multipolygon):
+    """:func:`shapely_polygon_rings` of one MultiPolygon."""
+    has_z = multipolygon.has_z
+    coords = shapely.get_coordinates(multipolygon, include_z=has_z)
+    ring_len, _, ring_is_hole = _rings_of_polygons(shapely, shapely.get_parts(multipolygon))
+    points, ring_start = drop_closing_points(coords, ring_len)
+    return PolygonRings(np.ascontiguousarray(points[:, :2]), points[:, 2].copy() if has_z else None,
+                        ring_start, np.array([0, len(ring_len)]), np.cumsum(~ring_is_hole) - 1,
+                        ring_is_hole)
+
+
+def _rings_of_polygons(shapely, polygons):
+    """``(ring_len, ring_part, ring_is_hole)`` of an array of Polygons, in the
+    order of their coordinates: their rings in one GEOS call, the rings' sizes
+    in one more (an empty Polygon has none)."""
+    rings, ring_part = shapely.get_rings(polygons, return_index=True)
+    ring_is_hole = np.zeros(len(rings), bool)
+    ring_is_hole[1:] = ring_part[1:] == ring_part[:-1]                   # exterior first
+    return shapely.get_num_coordinates(rings).astype(np.int64), ring_part, ring_is_hole
+
+
+def _layer_layout(shapely, geoms):
+    """``(ring_len, ring_geom, ring_polygon, ring_is_hole)`` of every ring of
+    an array of Polygons / MultiPolygons, in the order of their coordinates.
+
+    Most geometries of a layer are Polygons without holes, whose one ring is
+    all of their coordinates; only the others are taken apart into ring
+    objects (which GEOS makes one by one, holding the GIL: on a layer of
+    100,000 polygons that was half of the reading time, and it did not run
+    faster on threads)."""
+    n_coords = shapely.get_num_coordinates(geoms).astype(np.int64)
+    simple = (shapely.get_type_id(geoms) == 3) & (shapely.get_num_interior_rings(geoms) == 0)
+    s_geom = np.flatnonzero(simple & (n_coords > 0))
+    others = np.flatnonzero(~simple)
+    parts, part_geom = shapely.get_parts(geoms[others], return_index=True)
+    o_len, ring_part, o_hole = _rings_of_polygons(shapely, parts)
+    o_geom = others[part_geom[ring_part]]
+    shells = np.cumsum(~o_hole)
+    o_polygon = shells - shells[np.searchsorted(o_geom, o_geom)]     # polygon number in its geometry
+    ring_geom = np.concatenate([s_geom, o_geom])
+    by = np.argsort(ring_geom, kind="stable")                        # the order of the coordinates
+    return (np.concatenate([n_coords[s_geom], o_len])[by], ring_geom[by],
+            np.concatenate([np.zeros(len(s_geom), np.int64), o_polygon])[by],
+            np.concatenate([np.zeros(len(s_geom), bool), o_hole])[by])
+
+
+def _ring_plc(xy, begin, end, ring_polygon, ring_is_hole, z=None):
     """``(plc, degenerate)``: the PLC of rings ``xy[begin[r]:end[r]]``
-    (polygon ``ring_polygon[r]``, a hole or not; ``ring_name[r]`` names it in
-    errors), their segments made in one compiled pass, a degenerate ring's
-    points kept as isolated vertices and named; and which rings were
-    degenerate. :class:`NonFiniteCoordinateError` for NaN or infinite coordinates."""
+    (polygon ``ring_polygon[r]``, a hole or not; the rings of a polygon
+    consecutive), their segments made in one compiled pass, a degenerate ring's
+    points kept as isolated vertices and named ``(polygon, ring within it)``;
+    and which rings were degenerate. :class:`NonFiniteCoordinateError` for NaN
+    or infinite coordinates."""
     bad, degenerate, n_degenerate, segs, seg_ring = polygon_rings(xy, begin, end)
     if bad >= 0:
         rows = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
@@ -124,8 +211,9 @@ def _ring_plc(xy, begin, end, ring_polygon, ring_is_hole, ring_name, z=None):
                                        f"position(s) {rows[:5].tolist()}")
     names = []
     if n_degenerate:
+        first = np.searchsorted(ring_polygon, ring_polygon)      # each polygon's first ring
+        names = [(int(ring_polygon[r]), int(r - first[r])) for r in np.flatnonzero(degenerate)]
         kept = ~degenerate
-        names = [ring_name[r] for r in np.flatnonzero(degenerate)]
         ring_polygon, ring_is_hole = ring_polygon[kept], ring_is_hole[kept]
     return PLC(xy, segs, segment_ring=seg_ring, ring_polygon=ring_polygon, ring_is_hole=ring_is_hole,
                z=z, degenerate_rings=names), degenerate
@@ -153,6 +241,54 @@ def _mapping(obj, required=True):
     return gi
 
 
+#: The GeoJSON geometry types (RFC 7946).
+GEOJSON_GEOMETRIES = ("Point", "MultiPoint", "LineString", "MultiLineString", "Polygon",
+                      "MultiPolygon", "GeometryCollection")
+
+
+def geojson_parts(gi: Mapping[str, Any], *, features: bool = False) -> Iterator[tuple[str, Any]]:
+    """The one walker of GeoJSON-like mappings: ``(type, coordinates)`` of every
+    geometry that is no collection, depth first in input order. A
+    GeometryCollection's members (mappings, or objects with
+    ``__geo_interface__``) and a Feature's geometry are opened (a Feature
+    without geometry gives nothing); a FeatureCollection's features too when
+    ``features``, else it is given as it is, as is any other type (the caller
+    decides what it reads).
+
+    >>> [kind for kind, _ in geojson_parts({"type": "GeometryCollection", "geometries": [
+    ...     {"type": "Point", "coordinates": (0, 0)},
+    ...     {"type": "Feature", "geometry": {"type": "LineString", "coordinates": [(0, 0), (1, 1)]}}]})]
+    ['Point', 'LineString']
+    """
+    kind = gi["type"]
+    if kind == "GeometryCollection":
+        for g in gi.get("geometries", []):
+            yield from geojson_parts(_mapping(g), features=features)
+    elif kind == "Feature":
+        if gi.get("geometry"):
+            yield from geojson_parts(_mapping(gi["geometry"]), features=features)
+    elif kind == "FeatureCollection" and features:
+        for f in gi.get("features") or []:
+            yield from geojson_parts(_mapping(f), features=features)
+    else:
+        yield kind, gi.get("coordinates")
+
+
+def geojson_features(gi: Mapping[str, Any]) -> list[Mapping[str, Any]]:
+    """The features of a GeoJSON mapping: a FeatureCollection's, a Feature
+    itself, a bare geometry as a Feature without properties.
+    :class:`InputShapeError` for any other type."""
+    kind = gi.get("type")
+    if kind == "FeatureCollection":
+        return list(gi.get("features") or [])
+    if kind == "Feature":
+        return [gi]
+    if kind in GEOJSON_GEOMETRIES:
+        return [{"type": "Feature", "geometry": gi, "properties": {}}]
+    raise InputShapeError(f"expected a GeoJSON FeatureCollection, Feature or geometry, "
+                          f"got type {kind!r}")
+
+
 class _Builder:
     """Accumulates vertices, rings and lines from GeoJSON-like geometries; the
     rings become segments in one compiled pass (:mod:`cdt_plugin._core.rings`)."""
@@ -166,7 +302,6 @@ class _Builder:
         self.ring_end: list = []
         self.ring_polygon: list = []
         self.ring_is_hole: list = []
-        self.ring_name: list = []    # (polygon, ring within it) for error messages
         self.n_polygons = 0
         self.has_lines = False
 
@@ -185,7 +320,7 @@ class _Builder:
         self.nv += len(arr)
         return len(arr)
 
-    def add_ring(self, coords, polygon, is_hole, ring_no):
+    def add_ring(self, coords, polygon, is_hole):
         start = self.nv
         self._add_vertices(coords, closed=True)
         self.pieces.append(len(self.ring_begin))
@@ -193,7 +328,6 @@ class _Builder:
         self.ring_end.append(self.nv)
         self.ring_polygon.append(polygon)
         self.ring_is_hole.append(is_hole)
-        self.ring_name.append((polygon, ring_no))
 
     def add_line(self, coords):
         start = self.nv
@@ -204,33 +338,27 @@ class _Builder:
             self.has_lines = True
 
     def add(self, gi):
-        kind = gi["type"]
-        coords = gi.get("coordinates")
-        if kind == "Polygon":
-            self._add_polygon(coords)
-        elif kind == "MultiPolygon":
-            for poly in coords:
-                self._add_polygon(poly)
-        elif kind == "LinearRing":
-            self._add_polygon([coords])
-        elif kind == "LineString":
-            self.add_line(coords)
-        elif kind == "MultiLineString":
-            for line in coords:
-                self.add_line(line)
-        elif kind == "Point":
-            if coords:
-                self._add_vertices([coords])
-        elif kind == "MultiPoint":
-            self._add_vertices(coords)
-        elif kind == "GeometryCollection":
-            for g in gi.get("geometries", []):
-                self.add(_mapping(g))
-        elif kind == "Feature":
-            if gi.get("geometry"):
-                self.add(_mapping(gi["geometry"]))
-        else:
-            raise InputShapeError(f"unsupported geometry type {kind!r}")
+        """Add every part of a GeoJSON-like mapping (:func:`geojson_parts`)."""
+        for kind, coords in geojson_parts(gi):
+            if kind == "Polygon":
+                self._add_polygon(coords)
+            elif kind == "MultiPolygon":
+                for poly in coords:
+                    self._add_polygon(poly)
+            elif kind == "LinearRing":
+                self._add_polygon([coords])
+            elif kind == "LineString":
+                self.add_line(coords)
+            elif kind == "MultiLineString":
+                for line in coords:
+                    self.add_line(line)
+            elif kind == "Point":
+                if coords:
+                    self._add_vertices([coords])
+            elif kind == "MultiPoint":
+                self._add_vertices(coords)
+            else:
+                raise InputShapeError(f"unsupported geometry type {kind!r}")
 
     def _add_polygon(self, rings):
         if not rings:
@@ -238,34 +366,7 @@ class _Builder:
         p = self.n_polygons
         self.n_polygons += 1
         for r, ring in enumerate(rings):
-            self.add_ring(ring, p, r > 0, r)
-
-    def add_geometry(self, geometry) -> bool:
-        """Read a shapely-style Polygon or MultiPolygon through its coordinate
-        arrays (``exterior.coords``, ``interiors``, ``geoms``): the same rings as
-        its ``__geo_interface__``, which shapely builds as a tuple per
-        coordinate on every access (most of a small call's time). Returns
-        False for anything else."""
-        kind = getattr(geometry, "geom_type", None)
-        if kind == "Polygon" and hasattr(geometry, "exterior"):
-            polygons = (geometry,)
-        elif kind == "MultiPolygon" and hasattr(geometry, "geoms"):
-            polygons = geometry.geoms
-        else:
-            return False
-        shapely = _shapely_of(geometry)
-        for polygon in polygons:
-            if shapely is not None and shapely.get_num_interior_rings(polygon) == 0:
-                # no holes: the one ring is all of its coordinates, read in one GEOS
-                # call (the ring object and its coordinate sequence cost more; ring
-                # objects for the holes cost more than their coordinate sequences)
-                coords = shapely.get_coordinates(polygon, include_z=polygon.has_z)
-                if len(coords):
-                    self._add_polygon([coords])
-            elif not polygon.is_empty:
-                self._add_polygon([polygon.exterior.coords]
-                                  + [hole.coords for hole in polygon.interiors])
-        return True
+            self.add_ring(ring, p, r > 0)
 
     def finish(self) -> PLC:
         if not self.xy:
@@ -280,7 +381,7 @@ class _Builder:
             for start, values in self.z:
                 z[start:start + len(values)] = values
         plc, degenerate = _ring_plc(xy, begin, end, np.array(self.ring_polygon, np.int64),
-                                    np.array(self.ring_is_hole, bool), self.ring_name, z)
+                                    np.array(self.ring_is_hole, bool), z)
         if self.has_lines:
             plc.segments, plc.segment_ring = self._in_input_order(plc.segments, plc.segment_ring,
                                                                   ~degenerate, begin, end)

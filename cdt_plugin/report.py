@@ -37,6 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 from ._core.certify import edge_lifted_values, orientation_signs
 from .errors import CDTError, InputShapeError
 from .optional import require
+from .plc import geojson_parts
 from .types import GeometryLike, MeshLike, TriangulationLike
 from .validate import as_index, as_mesh, exact_range, near_unit
 
@@ -435,21 +436,16 @@ def earcut(geometry: GeometryLike) -> tuple[NDArray[np.float64], NDArray[np.int6
 
 
 def _polygons(gi: Any) -> Iterator[Any]:
-    """Rings of every polygon in a GeoJSON-like mapping, polygon by polygon."""
-    kind = gi.get("type") if isinstance(gi, dict) else None
-    if kind == "Polygon":
-        yield gi["coordinates"]
-    elif kind == "MultiPolygon":
-        yield from gi["coordinates"]
-    elif kind == "GeometryCollection":
-        for g in gi.get("geometries", []):
-            yield from _polygons(getattr(g, "__geo_interface__", g))
-    elif kind == "Feature":
-        if gi.get("geometry"):
-            yield from _polygons(gi["geometry"])
-    elif kind == "FeatureCollection":
-        for f in gi.get("features", []):
-            yield from _polygons(f)
+    """Rings of every polygon in a GeoJSON-like mapping, polygon by polygon
+    (:func:`cdt_plugin.plc.geojson_parts`, features opened); nothing for
+    anything else."""
+    if not (isinstance(gi, dict) and "type" in gi):
+        return
+    for kind, coords in geojson_parts(gi, features=True):
+        if kind == "Polygon":
+            yield coords
+        elif kind == "MultiPolygon":
+            yield from coords
 
 
 def _open_ring(ring) -> np.ndarray:

@@ -90,35 +90,50 @@ def polygon_rings(xy, begin, end):
 
 
 @entry(ahead=(F8_2, I64))
+def drop_closing_points(coords, ring_len):
+    """Closed rings, one after the other in ``coords`` (n, k) (ring ``r`` of
+    ``ring_len[r]`` rows, its last point repeating its first in x and y), with
+    each ring's closing point dropped: ``(points, ring_start)``, ring ``r`` being
+    ``points[ring_start[r]:ring_start[r + 1]]`` (every column kept). An empty
+    ``ring_start`` if the sizes do not add up to ``n``, a ring has fewer than two
+    points or is not closed. The one place where closed rings are opened, for
+    one polygon and for a whole layer."""
+    rings = ring_len.shape[0]
+    refused = np.empty(0, np.int64)
+    total = 0
+    for r in range(rings):
+        if ring_len[r] < 2:
+            return np.empty((0, coords.shape[1])), refused
+        total += ring_len[r]
+    if total != coords.shape[0]:
+        return np.empty((0, coords.shape[1])), refused
+    out = np.empty((total - rings, coords.shape[1]))
+    ring_start = np.empty(rings + 1, np.int64)
+    ring_start[0] = 0
+    start = 0
+    for r in range(rings):
+        last = start + ring_len[r] - 1
+        if coords[last, 0] != coords[start, 0] or coords[last, 1] != coords[start, 1]:
+            return out, refused
+        for k in range(start, last):
+            for c in range(coords.shape[1]):
+                out[k - start + ring_start[r], c] = coords[k, c]
+        ring_start[r + 1] = ring_start[r] + ring_len[r] - 1
+        start += ring_len[r]
+    return out, ring_start
+
+
+@entry(ahead=(F8_2, I64))
 def open_rings(coords, hole_sizes):
     """The rings of one polygon as its coordinates come, closed (each ring's
     last point repeats its first; the shell, then holes of ``hole_sizes``
     points, closing points counted), with the closing points dropped:
     ``(xy, bounds)``, ring ``r`` being ``xy[bounds[r]:bounds[r + 1]]``. An
-    empty ``bounds`` if the sizes do not add up or a ring is not closed."""
-    h = hole_sizes.shape[0]
-    refused = np.empty(0, np.int64)
-    # the sizes before anything is written: each ring of at least two points, all of them
-    # the coordinates (then the open rings fill ``xy`` exactly)
-    shell = coords.shape[0]
-    for r in range(h):
-        if hole_sizes[r] < 2:
-            return np.empty((0, 2)), refused
-        shell -= hole_sizes[r]
-    if shell < 2:
-        return np.empty((0, 2)), refused
-    xy = np.empty((coords.shape[0] - h - 1, 2))
-    bounds = np.empty(h + 2, np.int64)
-    bounds[0] = 0
-    start = 0
-    for r in range(h + 1):
-        size = shell if r == 0 else hole_sizes[r - 1]
-        last = start + size - 1
-        if coords[last, 0] != coords[start, 0] or coords[last, 1] != coords[start, 1]:
-            return xy, refused
-        for k in range(start, last):
-            xy[k - start + bounds[r], 0] = coords[k, 0]
-            xy[k - start + bounds[r], 1] = coords[k, 1]
-        bounds[r + 1] = bounds[r] + size - 1
-        start += size
-    return xy, bounds
+    empty ``bounds`` if the sizes do not add up or a ring is not closed
+    (:func:`drop_closing_points`, the shell's size what the holes leave)."""
+    ring_len = np.empty(hole_sizes.shape[0] + 1, np.int64)
+    ring_len[0] = coords.shape[0]
+    for r in range(hole_sizes.shape[0]):
+        ring_len[r + 1] = hole_sizes[r]
+        ring_len[0] -= hole_sizes[r]
+    return drop_closing_points(coords, ring_len)

@@ -22,6 +22,7 @@ pytest.importorskip("pyproj")
 
 from cdt_plugin import InvalidGeometryError  # noqa: E402
 from cdt_plugin.adapters import geo  # noqa: E402
+from cdt_plugin.adapters.layers import json_value  # noqa: E402
 
 from checker import assert_valid, canonical_triangles  # noqa: E402
 from corpus import corpus_dir  # noqa: E402
@@ -510,7 +511,7 @@ def test_workers_give_the_same_layer(countries, monkeypatch):
     assert len(one.attrs["cdt_errors"]) > 0       # one feature cannot meet 20 degrees in lon/lat
     # the triangle Polygons made on threads too (from 500 triangles a thread here), in
     # pieces of at most 700 triangles' rings
-    adapter = importlib.import_module("cdt_plugin.adapters.shapely")
+    adapter = importlib.import_module("cdt_plugin.adapters.shapely.building")
     monkeypatch.setattr(adapter, "POLYGONS_PER_THREAD", 500)
     monkeypatch.setattr(adapter, "POLYGON_PIECE", 700)
     for workers in (1, 2, 3, None):
@@ -527,7 +528,7 @@ def test_workers_give_the_same_layer(countries, monkeypatch):
 def _reference_geojson(frame) -> dict:
     """What ``json`` makes of geopandas' own feature dicts (the writer before
     it formatted column by column), with JSON's null for NaN and infinity."""
-    text = json.dumps(frame.to_geo_dict(na="null", drop_id=True), default=geo._json_value)
+    text = json.dumps(frame.to_geo_dict(na="null", drop_id=True), default=json_value)
     return json.loads(text, parse_constant=lambda name: None)
 
 

@@ -7,6 +7,7 @@ shapely = pytest.importorskip("shapely")
 import cdt_plugin  # noqa: E402
 from cdt_plugin import PLC  # noqa: E402
 from cdt_plugin.adapters import shapely as sa  # noqa: E402
+from cdt_plugin.adapters.shapely import reading  # noqa: E402
 
 from checker import assert_valid, canonical_triangles, check_collinear_edges  # noqa: E402
 
@@ -114,7 +115,7 @@ def test_flat_ring_reader_equals_geo_interface():
     # and takes the others apart: interleaved, every PLC equals the mapping's
     cases = [g for g in _reader_cases() if not g.is_empty]
     layer = np.array(cases + [shapely.box(5, 5, 6, 6)] + cases[::-1], dtype=object)
-    for g, plc in zip(layer, sa._polygon_plcs(layer)):
+    for g, plc in zip(layer, reading._polygon_plcs(layer)):
         ref = PLC.from_geo_interface(g.__geo_interface__)
         assert plc is not None        # (None: a ring of fewer than three points)
         _assert_same_plc(plc, ref)
@@ -123,7 +124,7 @@ def test_flat_ring_reader_equals_geo_interface():
 def test_vectorised_reader_equals_one_by_one():
     # from 16 polygons on, the adapter reads them as flat ring arrays: same PLCs, same meshes
     many = [g for g in _reader_cases() if g.is_valid] * 4
-    assert len(many) >= sa._VECTORISED_FROM
+    assert len(many) >= reading._VECTORISED_FROM
     for tri, g in zip(sa.triangulate(many, intersections="split"), many):
         one = cdt_plugin.triangulate(g, intersections="split")
         assert np.array_equal(tri.vertices, one.vertices)
@@ -136,7 +137,7 @@ def test_single_polygon_shortcut_equals_the_element_wise_path():
     # collection as the element-wise path gives it inside a list
     polygons = [_holed(), shapely.box(0, 0, 2, 1), shapely.Polygon(_circle(0, 0, 1e-3, 40) + 5e5)]
     for g in polygons:
-        assert sa._plain_polygon(g)
+        assert reading.plain_polygon(g)
         one, listed = sa.triangulate(g, min_angle=20), sa.triangulate([g], min_angle=20)[0]
         for name in ("vertices", "triangles", "segments", "regions"):
             assert np.array_equal(getattr(one, name), getattr(listed, name)), name
@@ -146,7 +147,7 @@ def test_single_polygon_shortcut_equals_the_element_wise_path():
     bowtie = shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
     for g in (bowtie, shapely.Polygon(), shapely.Polygon([(0, 0, 1), (1, 0, 2), (0, 1, 3)]),
               shapely.MultiPolygon([shapely.box(0, 0, 1, 1)])):
-        assert not sa._plain_polygon(g)      # invalid, empty, 3D, not a Polygon: the general path
+        assert not reading.plain_polygon(g)      # invalid, empty, 3D, not a Polygon: the general path
     with pytest.raises(cdt_plugin.InvalidGeometryError, match="Self-intersection"):
         sa.constrained_delaunay_triangles(bowtie)
 
@@ -655,14 +656,14 @@ def _mixed_layer(n=40, seed=0):
 def test_batch_reads_and_checks_the_geometries_on_its_threads(monkeypatch):
     """A large batch reads its rings and checks validity in slices on its
     threads; the joined arrays and the meshes equal one thread's."""
-    monkeypatch.setattr(sa, "CHUNK", 3)          # (slices on small inputs too)
+    monkeypatch.setattr(reading, "CHUNK", 3)     # (slices on small inputs too)
     arr = _mixed_layer()
-    one = sa._polygon_rings(arr)
+    one = reading.layer_rings(arr)
     for workers in (2, 3, 5):
-        many = sa._polygon_rings_on_threads(arr, workers)
+        many = reading.layer_rings_on_threads(arr, workers)
         for a, b in zip(one, many):
             assert (a is None and b is None) or np.array_equal(a, b, equal_nan=True), workers
-        assert np.array_equal(sa._is_valid(arr, workers), shapely.is_valid(arr))
+        assert np.array_equal(reading._is_valid(arr, workers), shapely.is_valid(arr))
     arr[3] = shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])          # a bow tie
     ref = sa.triangulate_batch(arr, workers=1, errors="skip")
     assert list(ref.errors) == [3]
@@ -672,7 +673,7 @@ def test_batch_reads_and_checks_the_geometries_on_its_threads(monkeypatch):
         for name in ("vertices", "triangles", "geometry", "offsets"):
             assert np.array_equal(getattr(ref, name), getattr(b, name)), (workers, name)
     arr[3] = shapely.Polygon()                  # as the batch left it
-    xy, _, ring_start, geom_ring_start, *_ = sa._polygon_rings(arr)
+    xy, _, ring_start, geom_ring_start, *_ = reading.layer_rings(arr)
     for g in range(len(arr)):           # every mesh, exactly, against its geometry's rings
         rings = range(geom_ring_start[g], geom_ring_start[g + 1])
         if not len(rings):

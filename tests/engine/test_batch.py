@@ -13,7 +13,8 @@ import shapely
 import cdt_plugin
 import cdt_plugin.batch as batch
 from cdt_plugin import InvalidGeometryError, SegmentIntersectionError
-from cdt_plugin.adapters.shapely import _polygon_rings, triangulate_batch
+from cdt_plugin.adapters.shapely import triangulate_batch
+from cdt_plugin.adapters.shapely.reading import layer_rings as _polygon_rings
 
 from checker import assert_valid, canonical_triangles
 from corpus import corpus_dir

@@ -16,7 +16,8 @@ from numba.core.registry import CPUDispatcher
 import cdt_plugin
 import cdt_plugin._core as core
 from cdt_plugin import CDTError
-from cdt_plugin.adapters.shapely import _polygon_rings, triangulate_batch
+from cdt_plugin.adapters.shapely import triangulate_batch
+from cdt_plugin.adapters.shapely.reading import layer_rings as _polygon_rings
 from cdt_plugin.batch import MIN_CHUNK, geometry_chunks, geometry_plc, triangulate_rings
 from cdt_plugin.parallel import check_workers, map_ordered, resolve_workers
 

@@ -29,6 +29,7 @@ OPTIONAL = {
     "cdt_plugin.adapters.trimesh": ["shapely", "trimesh"],
     "cdt_plugin.adapters.open3d": ["open3d"],
     "cdt_plugin.adapters.geo": ["shapely", "geopandas", "dask_geopandas"],
+    "cdt_plugin.adapters.layers": ["shapely", "geopandas"],
 }
 SKIPPED = ("cdt_plugin.__main__",)     # importing it runs the command line
 
@@ -52,9 +53,19 @@ def numpy_1_reprs() -> Iterator[None]:
         yield
 
 
+def _with_submodules(module) -> list:
+    """``module``, and an adapter package's modules (an adapter split by concern)."""
+    found = [module]
+    if hasattr(module, "__path__") and module.__name__.startswith("cdt_plugin.adapters."):
+        found += [importlib.import_module(m.name)
+                  for m in pkgutil.iter_modules(module.__path__, module.__name__ + ".")]
+    return found
+
+
 def run_doctests(module) -> tuple[doctest.TestResults, str]:
-    """Every example of ``module`` (docstrings of the module and of what it defines)."""
-    tests = doctest.DocTestFinder().find(module, module.__name__)
+    """Every example of ``module`` (docstrings of the module and of what it defines;
+    of an adapter package, of its modules too)."""
+    tests = [t for m in _with_submodules(module) for t in doctest.DocTestFinder().find(m, m.__name__)]
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
     report = io.StringIO()
     with numpy_1_reprs():

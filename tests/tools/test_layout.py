@@ -60,7 +60,6 @@ PENDING: dict[tuple[str, str], str] = {
     ("cdt_plugin.compiling", "cdt_plugin"): "options branch: the compile command moves up",
     ("cdt_plugin.compiling", "cdt_plugin.batch"): "options branch: the compile command moves up",
     ("cdt_plugin.compiling", "cdt_plugin.delaunay"): "options branch: the compile command moves up",
-    ("cdt_plugin.adapters.terrain", "cdt_plugin.adapters.geo"): "adapters branch: geo.py is split",
 }
 
 

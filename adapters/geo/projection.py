@@ -1,0 +1,255 @@
+"""Projections of a layer for meshing (``project=``): the meshing CRS, the
+layer into it, and the mesh back, input vertices bit for bit."""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Union
+
+import numpy as np
+import shapely
+
+from cdt_plugin.adapters.geo.errors import ProjectionError, plain
+
+if TYPE_CHECKING:
+    import pyproj
+    from geopandas import GeoDataFrame
+
+#: What ``project=`` takes: None, "utm", "aeqd", or a projected CRS (a ``pyproj.CRS``
+#: or what ``pyproj.CRS.from_user_input`` reads: "EPSG:32633", 32633, WKT, ...).
+ProjectLike = Union[str, int, "pyproj.CRS", None]
+
+
+def layer_extent(geoms: np.ndarray, geographic: bool) -> np.ndarray:
+    """Rows (xmin, ymin, xmax, ymax) that together bound the geometries: the total
+    bounds, or for a geographic CRS the bounds of the polygon parts with their
+    longitude ranges merged (a few rows; the longitudes are on a circle)."""
+    geoms = geoms[~shapely.is_missing(geoms) & ~shapely.is_empty(geoms)]
+    if not len(geoms):
+        return np.empty((0, 4))
+    if not geographic:
+        b = shapely.bounds(geoms)
+        return np.array([[b[:, 0].min(), b[:, 1].min(), b[:, 2].max(), b[:, 3].max()]])
+    return _merge_longitudes(shapely.bounds(shapely.get_parts(geoms)))
+
+
+def _merge_longitudes(rows: np.ndarray) -> np.ndarray:
+    """Bounds rows with overlapping longitude ranges merged (latitudes: min / max)."""
+    rows = rows[np.argsort(rows[:, 0], kind="stable")]
+    out = [rows[0].copy()]
+    for r in rows[1:]:
+        if r[0] <= out[-1][2]:
+            out[-1][1:] = [min(out[-1][1], r[1]), max(out[-1][2], r[2]), max(out[-1][3], r[3])]
+        else:
+            out.append(r.copy())
+    return np.array(out)
+
+
+def _centre(extent: np.ndarray, crs) -> tuple[float, float]:
+    """(lon, lat) of the data's bounding-box centre. For a geographic CRS the box
+    is the shortest longitude arc covering the data, so data across the
+    antimeridian (Fiji, Russia, Alaska) is centred where it is, not at lon 0."""
+    import pyproj
+
+    xmin, ymin, xmax, ymax = extent[:, 0].min(), extent[:, 1].min(), extent[:, 2].max(), extent[:, 3].max()
+    if not crs.is_geographic:
+        to_lonlat = pyproj.Transformer.from_crs(crs, crs.geodetic_crs, always_xy=True)
+        lon, lat = to_lonlat.transform(0.5 * (xmin + xmax), 0.5 * (ymin + ymax))
+        return float(lon), float(lat)
+    rows = _merge_longitudes(extent)
+    starts, ends = rows[:, 0], rows[:, 2]
+    gaps = np.append(starts[1:] - ends[:-1], starts[0] + 360.0 - ends[-1])
+    k = int(np.argmax(gaps))
+    if gaps[k] <= 0:                  # all longitudes covered: the plain centre
+        return float(0.5 * (xmin + xmax)), float(0.5 * (ymin + ymax))
+    # the covered arc runs east from the end of the largest gap to its start
+    west = starts[(k + 1) % len(rows)]
+    east = ends[k] + (360.0 if k + 1 < len(rows) else 0.0)
+    lon = (0.5 * (west + east) + 180.0) % 360.0 - 180.0
+    return float(lon), float(0.5 * (ymin + ymax))
+
+
+def centred(project: ProjectLike) -> bool:
+    """Whether ``project`` is centred on the data (``"utm"`` or ``"aeqd"``)."""
+    return isinstance(project, str) and project in ("utm", "aeqd")
+
+
+def target_crs(project: ProjectLike, crs: Any, extent: np.ndarray | None) -> Any:
+    """The projected CRS to mesh in (None: mesh in the layer's own CRS)."""
+    if project is None:
+        return None
+    import pyproj
+
+    if centred(project):
+        if crs is None:
+            raise ProjectionError(f"project={project!r} needs the layer's CRS: the layer has "
+                                  "none (set it with gdf.set_crs(...))")
+        if extent is None or not len(extent):
+            raise ProjectionError(f"project={project!r} needs coordinates to centre the "
+                                  "projection on: the layer has none")
+        lon, lat = _centre(extent, crs)
+        return _utm_crs(crs, lon, lat) if project == "utm" else _aeqd_crs(crs, lon, lat)
+    if isinstance(project, pyproj.CRS):
+        target = project
+    else:
+        try:
+            target = pyproj.CRS.from_user_input(project)
+        except pyproj.exceptions.CRSError as exc:
+            raise ProjectionError(f"project must be 'utm', 'aeqd' or a projected CRS, got "
+                                  f"{project!r} ({exc})") from None
+    if not target.is_projected:
+        raise ProjectionError(f"project={target.name!r} is not a projected CRS")
+    if crs is None:
+        raise ProjectionError("project= needs the layer's CRS: the layer has none "
+                              "(set it with gdf.set_crs(...))")
+    return target
+
+
+def _utm_crs(crs, lon: float, lat: float):
+    """The UTM zone (WGS 84) at the data's centre (geopandas' ``estimate_utm_crs``)."""
+    import geopandas
+
+    return geopandas.GeoSeries([shapely.Point(lon, lat)], crs=crs.geodetic_crs).estimate_utm_crs()
+
+
+def _aeqd_crs(crs, lon: float, lat: float):
+    """Azimuthal equidistant CRS centred at (lon, lat), on the layer's own datum (so
+    that projecting is a conversion, no datum shift)."""
+    import pyproj
+    from pyproj.crs.coordinate_operation import AzimuthalEquidistantConversion
+
+    return pyproj.crs.ProjectedCRS(
+        AzimuthalEquidistantConversion(latitude_natural_origin=lat, longitude_natural_origin=lon),
+        name=f"Azimuthal equidistant centred at lon {lon:.6f}, lat {lat:.6f}",
+        geodetic_crs=crs.geodetic_crs)
+
+
+def _xy_transform(transformer):
+    """A shapely.transform function that maps x and y and keeps z."""
+    def apply(coords: np.ndarray) -> np.ndarray:
+        out = np.array(coords, dtype=np.float64)
+        if len(out):
+            out[:, 0], out[:, 1] = transformer.transform(coords[:, 0], coords[:, 1])
+        return out
+    return apply
+
+
+def project_geometries(geoms: np.ndarray, frame: GeoDataFrame, target: Any) -> np.ndarray:
+    """The geometries in ``target`` (same coordinate count and order, z kept)."""
+    import pyproj
+
+    forward = pyproj.Transformer.from_crs(frame.crs, target, always_xy=True)
+    projected = shapely.transform(geoms, _xy_transform(forward), include_z=None)
+    counts = shapely.get_num_coordinates(projected)
+    xy = shapely.get_coordinates(projected)
+    bad = ~np.isfinite(xy).all(axis=1)
+    if bad.any():
+        i = int(np.searchsorted(np.cumsum(counts), np.flatnonzero(bad)[0], side="right"))
+        raise ProjectionError(f"feature {plain(frame.index[i])}: coordinates do not project to "
+                              f"finite values in {target.name!r}")
+    return projected
+
+
+def restore(V: np.ndarray, T: np.ndarray, geoms: np.ndarray, projected: np.ndarray, target: Any,
+            crs: Any) -> np.ndarray:
+    """Mesh vertices back in the layer's CRS. A vertex at the projected position of
+    an input coordinate gets that input coordinate, exactly. A Steiner vertex on a
+    boundary edge goes to the same fraction of the original edge (so the triangles
+    tile the original polygon), unless that inverts one of its triangles; the
+    other Steiner vertices are inverse-projected."""
+    import pyproj
+
+    back = pyproj.Transformer.from_crs(target, crs, always_xy=True)
+    original = shapely.get_coordinates(geoms)
+    row = _find_rows(V, shapely.get_coordinates(projected))
+    out = np.empty_like(V)
+    is_input = row >= 0
+    out[is_input] = original[row[is_input]]
+    steiner = np.flatnonzero(~is_input)
+    if len(steiner):
+        out[steiner] = np.column_stack(back.transform(V[steiner, 0], V[steiner, 1]))
+    a, b = _boundary_ends(T, is_input)
+    on_edge = np.flatnonzero(a >= 0)
+    on_edge = on_edge[_are_input_edges(V[a[on_edge]], V[b[on_edge]], projected)]
+    if len(on_edge):
+        inverse = out[on_edge].copy()
+        a, b = a[on_edge], b[on_edge]
+        d = V[b] - V[a]
+        t = ((V[on_edge] - V[a]) * d).sum(axis=1) / (d * d).sum(axis=1)
+        out[on_edge] = out[a] + t[:, None] * (out[b] - out[a])
+        _untangle(out, T, on_edge, inverse)
+    return out
+
+
+def _untangle(out: np.ndarray, T: np.ndarray, moved: np.ndarray, inverse: np.ndarray) -> None:
+    """Put boundary Steiner vertices that were moved onto their original edge back
+    at their inverse-projected position where the move turned a triangle
+    clockwise (a sliver at a small input angle near a long, curved edge)."""
+    keep = np.ones(len(moved), bool)
+    for _ in range(16):
+        undo = keep & np.isin(moved, T[~counter_clockwise(out, T)])
+        if not undo.any():
+            return
+        out[moved[undo]] = inverse[undo]
+        keep &= ~undo
+
+
+def _boundary_ends(T: np.ndarray, is_input: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For every vertex on a boundary edge between two input vertices (a split
+    input segment): the input vertices before and after it along the boundary;
+    -1 elsewhere. Boundary edges are those of one triangle (counter-clockwise
+    around the domain); chains are followed by pointer doubling."""
+    n = len(is_input)
+    E = np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]])
+    _, inverse, count = np.unique(np.sort(E, axis=1), axis=0, return_inverse=True,
+                                  return_counts=True)
+    src, dst = E[count[inverse.ravel()] == 1].T
+    after, before = np.arange(n), np.arange(n)
+    after[src[~is_input[src]]] = dst[~is_input[src]]
+    before[dst[~is_input[dst]]] = src[~is_input[dst]]
+    for _ in range(max(int(n).bit_length(), 1)):
+        after, before = after[after], before[before]
+    ok = ~is_input & is_input[after] & is_input[before]
+    return np.where(ok, before, -1), np.where(ok, after, -1)
+
+
+def _are_input_edges(A: np.ndarray, B: np.ndarray, geoms: np.ndarray) -> np.ndarray:
+    """For each pair of points (rows of ``A`` and ``B``): whether they are the two
+    ends of one ring edge of ``geoms`` (either direction; exact coordinates). Points
+    that ``repair`` added are not, so a vertex between them is not on an input edge."""
+    rings = shapely.get_rings(shapely.get_parts(geoms))
+    coords, ring = shapely.get_coordinates(rings, return_index=True)
+    points, ids = np.unique(_as_complex(coords), return_inverse=True)
+    ids = ids.ravel()
+    n = len(points)
+    same_ring = ring[1:] == ring[:-1]
+    i, j = ids[:-1][same_ring], ids[1:][same_ring]
+    edges = np.unique(np.concatenate([i * n + j, j * n + i]))
+    ia, ib = _find_rows(A, points), _find_rows(B, points)
+    return (ia >= 0) & (ib >= 0) & (ia != ib) & np.isin(ia * n + ib, edges)
+
+
+def _as_complex(xy: np.ndarray) -> np.ndarray:
+    """(x, y) rows as complex numbers: sortable and comparable as one value."""
+    c = np.empty(len(xy), np.complex128)
+    c.real, c.imag = xy[:, 0], xy[:, 1]
+    return c
+
+
+def _find_rows(keys: np.ndarray, table) -> np.ndarray:
+    """For each (x, y) row of ``keys`` a row of ``table`` ((m, 2), or (m,) complex)
+    with the same coordinates (exact equality), or -1."""
+    t = table if np.iscomplexobj(table) else _as_complex(table)
+    k = _as_complex(keys)
+    if not len(t):
+        return np.full(len(k), -1, np.int64)
+    order = np.argsort(t, kind="stable")
+    ts = t[order]
+    pos = np.minimum(np.searchsorted(ts, k), len(ts) - 1)
+    return np.where(ts[pos] == k, order[pos], -1).astype(np.int64)
+
+
+def counter_clockwise(V: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """Per triangle: a positive (floating-point) cross product of its edges. A check of
+    the mapped-back output, never a meshing decision."""
+    P = V[T]
+    u, v = P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]
+    return u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0] > 0
