@@ -11,7 +11,8 @@ from typing import TYPE_CHECKING, Any, Callable
 import numpy as np
 
 from .. import io
-from ..errors import CDTError, NoPolygonsError
+from ..errors import CDTError, InputShapeError, NoPolygonsError
+from ..plc import geojson_features, geojson_parts
 from .formats import GIS_FORMATS, INPUT_FORMATS, import_for, suffix_name
 from .terminal import CLIError
 
@@ -77,15 +78,11 @@ def _read_json(path: Path) -> list[Feature]:
         raise CLIError(f"{path}: not valid JSON ({exc})") from None
     if isinstance(data, list):
         data = {"type": "Polygon", "coordinates": data}
-    if not isinstance(data, dict) or "type" not in data:
+    try:
+        raw = geojson_features(data)        # the engine's one GeoJSON walker
+    except (InputShapeError, AttributeError):
         raise CLIError(f"{path}: expected GeoJSON (a geometry, Feature or FeatureCollection) "
-                       "or a JSON array of rings")
-    if data["type"] == "FeatureCollection":
-        raw = data.get("features") or []
-    elif data["type"] == "Feature":
-        raw = [data]
-    else:
-        raw = [{"type": "Feature", "geometry": data, "properties": {}}]
+                       "or a JSON array of rings") from None
     features = []
     for i, feat in enumerate(raw):
         props = (feat.get("properties") if isinstance(feat, dict) else None) or {}
@@ -112,9 +109,10 @@ def _geometry_type(geometry: Any) -> str:
 
 def _is_polygonal(geometry: Any) -> bool:
     """A Polygon or MultiPolygon, or a GeometryCollection holding one."""
-    if isinstance(geometry, dict) and geometry.get("type") == "GeometryCollection":
-        return any(_is_polygonal(g) for g in geometry.get("geometries") or [] if g)
-    if not isinstance(geometry, dict) and geometry.geom_type == "GeometryCollection":
+    if isinstance(geometry, dict):
+        return "type" in geometry and any(kind in ("Polygon", "MultiPolygon")
+                                          for kind, _ in geojson_parts(geometry))
+    if geometry.geom_type == "GeometryCollection":
         return any(_is_polygonal(g) for g in geometry.geoms)
     return _geometry_type(geometry) in ("Polygon", "MultiPolygon")
 
