@@ -29,11 +29,11 @@ from ._core.ordering import brio_order, lexicographic_order
 from ._core.status import OK
 from .errors import CDTError
 from .interrupts import deferred_interrupt
+from .options import resolve_algorithm
 from .parallel import check_workers, map_ordered, release_freed_memory, resolve_workers
 from .triangulation import Triangulation
 from .validate import as_points, as_weights, exact_range
 
-ALGORITHMS = ("auto", "divide", "incremental", "flip")
 _NO_IDS = np.empty(0, np.int64)
 #: A half-edge store: (tri, twin, cons, ntri)
 Store = Tuple[NDArray[np.int32], NDArray[np.int32], NDArray[np.int32], int]
@@ -60,22 +60,6 @@ def _merge_weighted_duplicates(pts, w, dup_of, submerged):
     submerged[later[lighter]] = 1
     dup_of[later[~lighter]] = head[same][~lighter]
     return active
-
-
-def resolve_algorithm(algorithm: str, weighted: bool) -> str:
-    """The route ``"auto"`` stands for: divide and conquer, or incremental
-    insertion for weighted points (which divide and conquer does not take)."""
-    if algorithm not in ALGORITHMS:
-        raise CDTError(f"algorithm must be one of {ALGORITHMS}, got {algorithm!r}")
-    if weighted and algorithm == "flip":
-        raise CDTError("algorithm='flip' is for unweighted points: the flip algorithm can get "
-                       "stuck on weighted points (Sec. 2.8); use algorithm='incremental'")
-    if weighted and algorithm == "divide":
-        raise CDTError("algorithm='divide' is for unweighted points; use algorithm='incremental' "
-                       "for weighted Delaunay")
-    if algorithm == "auto":
-        return "incremental" if weighted else "divide"
-    return algorithm
 
 
 def delaunay(points: ArrayLike, weights: ArrayLike | None = None, *, algorithm: str = "auto",

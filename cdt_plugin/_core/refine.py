@@ -37,15 +37,17 @@ from __future__ import annotations
 
 import math
 from collections import namedtuple
+from typing import NamedTuple
 
 import numpy as np
 
 from .arrays import copy_rows
 from .flips import flip_to_delaunay, push_outer_edges
 from .insertion import legalize
-from .jit import F8, I32, I64, I64_2, STORE, Tuple, b1, f8, i8, kernel
+from .jit import F8, I64, I64_2, STORE, Tuple, i8, kernel
 from .kernel import edge_is_illegal, orient
 from .locate import solid_step
+from .options import REFINE_OPTIONS
 from .predicates import incircle, orient2d
 from .mesh import canonical_slots, flip, grow_store, nxt, prv, split_edge, split_triangle
 from .scaling import on_grid
@@ -112,11 +114,13 @@ def shortest_edge2(x, y, a, b, c):
 
 
 @kernel
-def is_bad(x, y, a, b, c, sin2_bound, area_bound):
-    """Whether the triangle breaks the angle or the area bound; and its key."""
+def is_bad(x, y, a, b, c, params, label):
+    """Whether the triangle, labelled ``label``, breaks the angle or the area
+    bound of ``params`` (:class:`RefineParameters`); and its key."""
     key, d = sin2_min_angle(x, y, a, b, c)
-    angle_bad = key < sin2_bound
-    area_bad = area_bound > 0.0 and 0.5 * d > area_bound
+    angle_bad = key < params.sin2_bound
+    bound = area_bound(params.area_of_label, label)
+    area_bad = bound > 0.0 and 0.5 * d > bound
     # the queue key: shortest edges first, in buckets of 2^(1/4) in length
     # (Triangle's 4096 queues), first come first served inside a bucket
     return angle_bad, area_bad, np.floor(2.0 * np.log2(shortest_edge2(x, y, a, b, c)))
@@ -266,7 +270,7 @@ def queue_pop(Q, qs):
 
 
 @kernel
-def queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
+def queue_if_bad(tri, x, y, lab, params, Q, qs, t):
     """Queue triangle ``t`` if it is inside the domain and breaks a bound.
     Returns False when the queue is full."""
     L = lab[t]
@@ -275,7 +279,7 @@ def queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
     a = np.int64(tri[3 * t])     # (int64 as in refine_loop: one compilation of the tests)
     b = np.int64(tri[3 * t + 1])
     c = np.int64(tri[3 * t + 2])
-    angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_bound(area_of_label, L))
+    angle_bad, area_bad, key = is_bad(x, y, a, b, c, params, L)
     if angle_bad or area_bad:
         return queue_triangle(Q, qs, key, t, a, b, c)
     return True
@@ -640,18 +644,36 @@ def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts
 RefineBuffers = namedtuple("RefineBuffers",
                            "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub")
 
+
+class RefineParameters(NamedTuple):
+    """What the refinement loop reads, derived once from the :class:`RefineOptions`
+    by :func:`refine_store`."""
+
+    sin2_bound: float               # squared sine of the angle bound (0: none)
+    offconstant: float              # the off-centre constant (0: circumcentres)
+    lens: float                     # the diametral lens (:func:`encroaches`; 0: circles)
+    conforming: bool                # split pieces that are not locally Delaunay too
+    max_new: int                    # Steiner points the loop may insert
+    area_of_label: np.ndarray       # area bound per triangle label (:func:`area_bound`)
+
+
 @kernel(_nrt=False)
-def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
-                offconstant, lens, area_of_label, conforming, max_new, counts, buffers):
+def refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers):
     """Refine until no piece is encroached and no triangle is bad (or is
-    excused: small input angle, frozen segments). Work queues are rebuilt from
-    a scan on entry and whenever they run dry after progress, so nothing is
-    lost when a flip moves a queued half-edge. Returns ``(status, ntri, nv)``:
-    FINISHED, NEED_ROOM (grow the arrays, call again), HEAP_FULL or
-    PIECES_FULL (grow that queue, call again) or LIMIT (``max_new`` vertices
-    inserted). ``buffers`` is a :class:`RefineBuffers`: the loop allocates
-    nothing, so it is compiled without reference counting (``_nrt=False``),
-    which is a fifth of its time otherwise."""
+    excused: small input angle, frozen segments). ``mesh`` is ``(tri, twin,
+    cons, x, y, inf)``, ``segments`` ``(seg_ends, vseg, nv0)`` (each segment's
+    ends, the segment each Steiner vertex on one lies on, the first Steiner
+    vertex), ``params`` a :class:`RefineParameters`. Work queues are rebuilt
+    from a scan on entry and whenever they run dry after progress, so nothing
+    is lost when a flip moves a queued half-edge. Returns ``(status, ntri,
+    nv)``: FINISHED, NEED_ROOM (grow the arrays, call again), HEAP_FULL or
+    PIECES_FULL (grow that queue, call again) or LIMIT (``params.max_new``
+    vertices inserted). ``buffers`` is a :class:`RefineBuffers`: the loop
+    allocates nothing, so it is compiled without reference counting
+    (``_nrt=False``), which is a fifth of its time otherwise."""
+    tri, twin, cons, x, y, inf = mesh
+    seg_ends, vseg, nv0 = segments
+    conforming, lens, max_new = params.conforming, params.lens, params.max_new
     sq, mark = buffers.sq, buffers.mark
     Q = (buffers.hitems, buffers.hnext, buffers.hfree, buffers.qhead, buffers.qtail)
     qs = buffers.qstate
@@ -672,7 +694,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             scanned_at = counts[C_STEINER]
             # scan everything: bad triangles and encroached pieces
             for t in range(ntri):
-                if not queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
+                if not queue_if_bad(tri, x, y, lab, params, Q, qs, t):
                     return HEAP_FULL, ntri, nv
             for e in range(3 * ntri):
                 if cons[e] > 0 and e < twin[e] and piece_needs_split(tri, twin, x, y, inf, lab,
@@ -705,16 +727,16 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             c = hitems[s, 3]
             if tri[3 * t] != a or tri[3 * t + 1] != b or tri[3 * t + 2] != c or lab[t] == OUT:
                 continue  # stale
-            angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound,
-                                              area_bound(area_of_label, lab[t]))
+            angle_bad, area_bad, key = is_bad(x, y, a, b, c, params, lab[t])
             counts[C_ATTEMPTS] += 1
-            if not area_bad and at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c, sin2_bound):
+            if not area_bad and at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c,
+                                                     params.sin2_bound):
                 counts[C_SKIPPED] += 1
                 continue
             if below_precision(x, y, a, b) or below_precision(x, y, b, c) or below_precision(x, y, c, a):
                 counts[C_SKIPPED] += 1
                 continue
-            px, py = steiner_point(x, y, a, b, c, offconstant)
+            px, py = steiner_point(x, y, a, b, c, params.offconstant)
             if not (np.isfinite(px) and np.isfinite(py)):
                 counts[C_SKIPPED] += 1
                 continue
@@ -771,7 +793,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
         e = e0
         while True:
             t = e // 3
-            if not queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
+            if not queue_if_bad(tri, x, y, lab, params, Q, qs, t):
                 return HEAP_FULL, ntri, nv
             for k in range(3):
                 g = 3 * t + k
@@ -813,15 +835,21 @@ def freeze_boundary(tri, twin, cons, lab, ntri):
             cons[twin[e]] = -cons[twin[e]]
 
 
-@kernel(apart=True, ahead=(I32, I32, I32, F8, F8, F8, i8, i8, i8, I64, I64_2, f8, F8, b1, b1, i8, i8),
+@kernel(apart=True, ahead=(STORE, I64, I64_2, REFINE_OPTIONS, F8, i8, i8),
         returns=Tuple((i8, I64, I64, I64_2, STORE)))
-def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_angle, area_of_label,
-                 conforming, split_boundary, max_new, room):
-    """Refine the store whose triangle labels are ``lab``, with room for at
-    least ``room`` vertices from the start (more is made by doubling).
-    ``seg_ends`` (mesh ids of each segment's ends) gains the hull edges made
-    segments. Frozen pieces are unfrozen on return. Returns ``(status,
-    counts, lab, seg_ends, (tri, twin, cons, x, y, w, inf, ntri, nv))``."""
+def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room):
+    """Refine the store ``(tri, twin, cons, x, y, w, inf, ntri, nv)`` whose
+    triangle labels are ``lab`` as ``refinement`` (a :class:`RefineOptions`:
+    its ``min_angle``, ``conforming`` and ``split_boundary``) asks, with the
+    area bound of each label in ``area_of_label`` (:func:`area_bound`; the
+    caller derives it from ``refinement.max_area`` and the region seeds), at
+    most ``max_new`` Steiner points, and room for at least ``room`` vertices
+    from the start (more is made by doubling). ``seg_ends`` (mesh ids of each
+    segment's ends) gains the hull edges made segments. Frozen pieces are
+    unfrozen on return. Returns ``(status, counts, lab, seg_ends, (tri, twin,
+    cons, x, y, w, inf, ntri, nv))``."""
+    tri, twin, cons, x, y, w, inf, ntri, nv = store
+    min_angle, conforming = refinement.min_angle, refinement.conforming
     nv0 = nv
     # the same refined mesh for any order of the input vertices and segments and
     # any segment direction: slots in canonical order (refinement scans them),
@@ -833,7 +861,7 @@ def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_ang
         if seg_ends[s, 0] > seg_ends[s, 1]:
             seg_ends[s, 0], seg_ends[s, 1] = seg_ends[s, 1], seg_ends[s, 0]
     seg_ends = with_hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends)
-    if not split_boundary:
+    if not refinement.split_boundary:
         freeze_boundary(tri, twin, cons, lab, ntri)
     sin2_bound, offconstant = 0.0, 0.0
     if min_angle > 0:
@@ -851,11 +879,12 @@ def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_ang
     lab = _grown(lab, tri.shape[0] // 3, np.int64(OUT))
     vseg = np.zeros(inf + 1, np.int64)
     counts = np.zeros(8, np.int64)
+    params = RefineParameters(sin2_bound, offconstant, lens, conforming, max_new, area_of_label)
     heap, pieces = max(1024, ntri), np.int64(256)
     while True:
-        status, ntri, nv, heap, pieces = refine_run(
-            tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
-            offconstant, lens, area_of_label, conforming, max_new, counts, heap, pieces)
+        status, ntri, nv, heap, pieces = refine_run((tri, twin, cons, x, y, inf), ntri, nv, lab,
+                                                    (seg_ends, vseg, nv0), params, counts,
+                                                    heap, pieces)
         if status != NEED_ROOM:
             break
         tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, np.int64(0))
@@ -878,12 +907,12 @@ def with_hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends):
 STEINER_ROOM = 4   # vertex room refinement starts with, per input vertex
 
 @kernel(inline="always")
-def refine_run(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
-               offconstant, lens, area_of_label, conforming, max_new, counts, heap, pieces):
+def refine_run(mesh, ntri, nv, lab, segments, params, counts, heap, pieces):
     """:func:`refine_loop` with its work arrays: a queue of ``heap`` bad
     triangles and a stack of ``pieces`` segment pieces, doubled (and the loop
     called again) when one runs full. Returns ``(status, ntri, nv, heap,
     pieces)``; NEED_ROOM asks the caller to grow the mesh and call again."""
+    tri, inf = mesh[0], mesh[5]
     cap_tri = tri.shape[0] // 3
     while True:
         buffers = RefineBuffers(
@@ -892,9 +921,7 @@ def refine_run(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, s
             np.empty((pieces, 4), np.int64),        # e, u, v, forced
             np.zeros(cap_tri, np.int64), np.empty(cap_tri + 8, np.int64), np.empty(inf + 16, np.int64),
             np.empty(64, np.int64), np.zeros(2, np.int64), np.zeros(1, np.int8))
-        status, ntri, nv = refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg,
-                                       seg_ends, sin2_bound, offconstant, lens, area_of_label,
-                                       conforming, max_new, counts, buffers)
+        status, ntri, nv = refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers)
         if status == HEAP_FULL:
             heap *= 2
         elif status == PIECES_FULL:
