@@ -976,7 +976,8 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     import logging
     import time
 
-    from .compiling import cache_dir, compile_routes
+    from .compiling import cache_dir
+    from .warmup import compile_routes
     logging.getLogger("cdt_plugin").setLevel(logging.ERROR)   # this command says it itself
     t0 = time.perf_counter()
     compile_routes(args.routes or None, report=print)
