@@ -392,11 +392,13 @@ def walk_to(tri, twin, cons, x, y, t, q, limit):
 
 
 @kernel
-def cavity_encroached(tri, twin, cons, x, y, inf, h, on_edge, q, mark, stamp, bstack, enc, lens):
+def cavity_encroached(mesh, h, on_edge, q, mark, stamp, bstack, enc, lens):
     """The segment pieces that new vertex ``q`` (located at half-edge ``h``)
     would encroach: those bounding its cavity, the triangles whose circumdisk
     holds ``q``, grown from the triangle(s) containing it without crossing a
-    segment. Fills ``enc``; returns how many."""
+    segment. Fills ``enc``; returns how many. ``mesh`` is ``(tri, twin, cons,
+    x, y, inf)``."""
+    tri, twin, cons, x, y, inf = mesh
     n = 0
     sp = np.int64(0)
     t0 = h // 3
@@ -494,8 +496,7 @@ def shell_centre(tri, twin, cons, lab, e):
 
 
 @kernel
-def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0, stack, counts,
-                fc, no_sub, conforming):
+def split_piece(mesh, ntri, q, e, lab, segments, work, counts, conforming):
     """Split the segment piece of half-edge ``e`` at new vertex ``q``, then
     restore the constrained Delaunay property by flips. A split that would
     invert a triangle of the domain, or of a piece below
@@ -507,7 +508,14 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
     beside a nearly straight boundary vertex the triangle outside can be
     thinner than that (Triangle has no triangles outside when it refines).
     Such an outside triangle may invert; no walk or flip enters it (walks stop
-    at segments, flips need two counter-clockwise triangles)."""
+    at segments, flips need two counter-clockwise triangles).
+
+    ``mesh`` is ``(tri, twin, cons, x, y, inf)``, ``segments`` ``(seg_ends,
+    vseg, nv0)`` and ``work`` the flips' buffers ``(stack, fc, no_sub)``, as
+    in :func:`refine_loop`."""
+    tri, twin, cons, x, y, inf = mesh
+    seg_ends, vseg, nv0 = segments
+    stack = work[0]
     sid = cons[e]
     u = tri[e]
     v = tri[nxt(e)]
@@ -546,12 +554,12 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
         stack[sp] = 3 * t2
         stack[sp + 1] = 3 * (ntri - 1)
         sp += 2
-    _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub)
+    _legalize(mesh, q, sp, work, counts)
     # q lies on the piece only up to rounding: Lawson's argument (the new
     # edges at q are locally Delaunay) holds for a point exactly on the edge,
     # so q's edges to c and d are tested, and flipped with whatever follows
-    ok, slot = flip_edges_at(tri, twin, cons, x, y, inf, q, t1, c if c_side else inf,
-                             d if d_side else inf, stack, counts)
+    ok, slot = flip_edges_at(mesh, q, t1, c if c_side else inf, d if d_side else inf, stack,
+                             counts)
     if not ok:
         counts[C_UNREPAIRED] += 1
     counts[C_SEG_SPLITS] += 1
@@ -559,12 +567,13 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
 
 
 @kernel
-def flip_edges_at(tri, twin, cons, x, y, inf, q, slot, c, d, stack, counts):
+def flip_edges_at(mesh, q, slot, c, d, stack, counts):
     """Flip the edges from ``q`` (in triangle ``slot``) to ``c`` and ``d``
     if they are not locally Delaunay, and then every edge around a flip that
     is not, until none is left (ghost triangles are left alone). Returns
     ``(done, slot of a triangle at q)``; not done if ``stack`` ran out (the
     repair stopped short)."""
+    tri, twin, cons, x, y, inf = mesh
     e = 3 * slot
     while tri[e] != q:
         e += 1
@@ -607,16 +616,22 @@ def flip_edges_at(tri, twin, cons, x, y, inf, q, slot, c, d, stack, counts):
 
 
 @kernel
-def _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub):
+def _legalize(mesh, q, sp, work, counts):
+    """Flip from the ``sp`` half-edges on ``work[0]`` (the stack), counting the flips."""
+    tri, twin, cons, x, y, inf = mesh
+    stack, fc, no_sub = work
     fc[0] = 0
     legalize(tri, twin, cons, x, y, x, np.bool_(False), inf, q, stack, sp, np.bool_(False), no_sub, fc)
     counts[C_FLIPS] += fc[0]
 
 
 @kernel
-def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts, fc, no_sub):
+def insert_free(mesh, ntri, q, code, h, lab, work, counts):
     """Insert vertex ``q`` located at ``(code, h)`` (inside a triangle or on a
-    non-segment edge) and flip. Returns ``(slot of a triangle at q, ntri)``."""
+    non-segment edge) and flip (``mesh`` and ``work`` as in :func:`split_piece`).
+    Returns ``(slot of a triangle at q, ntri)``."""
+    tri, twin, cons = mesh[0], mesh[1], mesh[2]
+    stack = work[0]
     t = h // 3
     if code == INSIDE:
         ntri = split_triangle(tri, twin, cons, t, q, ntri)
@@ -636,7 +651,7 @@ def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts
         stack[2] = 3 * (ntri - 2)
         stack[3] = 3 * (ntri - 1)
         sp = 4
-    _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub)
+    _legalize(mesh, q, sp, work, counts)
     return t, ntri
 
 
@@ -679,7 +694,8 @@ def refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers):
     qs = buffers.qstate
     hitems = buffers.hitems
     queue_reset(Q, qs)
-    bstack, stack, enc, fc, no_sub = buffers.bstack, buffers.stack, buffers.enc, buffers.fc, buffers.no_sub
+    bstack, enc = buffers.bstack, buffers.enc
+    work = (buffers.stack, buffers.fc, buffers.no_sub)     # the flips' buffers
     cap_tri = tri.shape[0] // 3
     sn = np.int64(0)   # (typed: a literal argument compiles the callee once more)
     stamp = 0
@@ -715,8 +731,8 @@ def refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers):
                 continue  # stale (the scan will find it again) or frozen
             if sq[sn, 3] == 0 and not piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, e):
                 continue
-            done, ntri, slot = split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg,
-                                           seg_ends, nv0, stack, counts, fc, no_sub, conforming)
+            done, ntri, slot = split_piece(mesh, ntri, q, e, lab, segments, work, counts,
+                                           conforming)
             if not done:
                 continue
         else:
@@ -752,8 +768,8 @@ def refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers):
                 nenc = 1
             else:
                 stamp += 1
-                nenc = cavity_encroached(tri, twin, cons, x, y, inf, h, code == ON_EDGE, q,
-                                         mark, stamp, bstack, enc, lens)
+                nenc = cavity_encroached(mesh, h, code == ON_EDGE, q, mark, stamp, bstack, enc,
+                                         lens)
             if nenc > 0:
                 pushed = 0
                 for i in range(nenc):
@@ -782,8 +798,7 @@ def refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers):
                         counts[C_SKIPPED] += 1
                         continue
                 # only frozen pieces are encroached: insert anyway (Triangle's -Y)
-            slot, ntri = insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack,
-                                     counts, fc, no_sub)
+            slot, ntri = insert_free(mesh, ntri, q, code, h, lab, work, counts)
         nv += 1
         counts[C_STEINER] += 1
         # queue what the new vertex's star needs
