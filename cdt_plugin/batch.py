@@ -33,6 +33,7 @@ CHUNK = 4096               # geometries per compiled call (progress granularity)
 MIN_CHUNK = 64             # geometries worth a thread of their own
 # options of cdt_plugin.triangulate that go geometry by geometry (the others make a MeshOptions)
 _SEED_OPTIONS = ("holes", "regions")
+_OPTIONS = frozenset(MeshOptions._fields + _SEED_OPTIONS)
 
 
 @dataclass
@@ -114,10 +115,10 @@ def check_batch_options(*, errors: str = "raise", workers: SupportsIndex | None 
     ``workers``."""
     if errors not in ERRORS:
         raise CDTError(f"errors must be one of {ERRORS}, got {errors!r}")
-    unknown = set(options) - set(MeshOptions._fields) - set(_SEED_OPTIONS)
+    unknown = options.keys() - _OPTIONS
     if unknown:
         raise CDTError(f"unknown option {sorted(unknown)[0]!r}")
-    mesh_options = MeshOptions.check(**{k: v for k, v in options.items() if k in MeshOptions._fields})
+    mesh_options = MeshOptions.check(**{k: v for k, v in options.items() if k not in _SEED_OPTIONS})
     seeds = {k: v for k, v in options.items() if k in _SEED_OPTIONS}
     return mesh_options, seeds, check_workers(workers)
 
