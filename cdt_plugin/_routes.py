@@ -27,7 +27,7 @@ from typing import Any, NamedTuple, Tuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ._core.construct import ALGORITHM_CODES, build, gather_coords, seed_first, seed_triangle, to_input_ids
+from ._core.construct import build, gather_coords, seed_first, seed_triangle, to_input_ids
 from ._core.divide import (build_half, build_subdivision, cut_ranks, join_halves, quad_store,
                            right_base, split_halves)
 from ._core.flips import flip_to_delaunay
@@ -35,16 +35,16 @@ from ._core.insertion import redundant_vertices
 from ._core.mesh import IDX
 from ._core.ordering import SMALL_SORT, brio_order, lexicographic_order
 from ._core.output import first_defect
-from ._core.pipeline import PACK_ARRAYS, PACK_HEADER, cdt_route_packed, refinement_arg
+from ._core.pipeline import PACK_ARRAYS, PACK_HEADER, cdt_route_packed
 from ._core.predicates import incircle_weighted, orient2d
 from ._core.status import OK, ROUTE_OK
 from .errors import CDTError
 from .interrupts import deferred_interrupt
+from .options import MeshOptions
 from .parallel import map_ordered, release_freed_memory
 from .types import MeshStore
 from .validate import exact_range
 
-ALGORITHMS = ("auto", "divide", "incremental", "flip")
 #: A half-edge store: (tri, twin, cons, ntri)
 Store = Tuple[NDArray[np.int32], NDArray[np.int32], NDArray[np.int32], int]
 _NO_WEIGHTS = np.empty(0)         # divide and conquer is unweighted: it never reads them
@@ -58,6 +58,8 @@ _NO_SEEDS = np.empty((0, 2))
 _NO_REGIONS = np.empty((0, 4))
 _NOT_SNAPPED = (np.empty(0), np.empty(0), np.empty((0, 3), np.int64))
 _NO_STORE = (np.empty(0, IDX), np.empty(0, IDX), np.empty(0, IDX), np.empty(0, np.int64), np.int64(0))
+# the hull completion's route: divide and conquer, every triangle of the hull kept, no refinement
+_HULL_OPTIONS = MeshOptions.check(keep_hull=True).route_args(use_seeds=False, refine=False)
 
 
 class DelaunayBuild(NamedTuple):
@@ -73,22 +75,6 @@ class DelaunayBuild(NamedTuple):
     dup_of: NDArray[np.int64]
     submerged: NDArray[np.int8]
     stats: dict[str, Any]
-
-
-def resolve_algorithm(algorithm: str, weighted: bool) -> str:
-    """The route ``"auto"`` stands for: divide and conquer, or incremental
-    insertion for weighted points (which divide and conquer does not take)."""
-    if algorithm not in ALGORITHMS:
-        raise CDTError(f"algorithm must be one of {ALGORITHMS}, got {algorithm!r}")
-    if weighted and algorithm == "flip":
-        raise CDTError("algorithm='flip' is for unweighted points: the flip algorithm can get "
-                       "stuck on weighted points (Sec. 2.8); use algorithm='incremental'")
-    if weighted and algorithm == "divide":
-        raise CDTError("algorithm='divide' is for unweighted points; use algorithm='incremental' "
-                       "for weighted Delaunay")
-    if algorithm == "auto":
-        return "incremental" if weighted else "divide"
-    return algorithm
 
 
 # ------------------------------------------------------------ point sets
@@ -398,8 +384,7 @@ def hull_triangles(vertices: NDArray[np.float64], edges: NDArray[np.int64]
     with deferred_interrupt(len(x)):
         status, ints, _ = cdt_route_packed(
             x, y, np.ascontiguousarray(edges, np.int64), _NO_IDS, _NO_IDS, _NO_RINGS, _NO_SEEDS,
-            _NO_REGIONS, False, ALGORITHM_CODES["divide"], order, horizontal, False, True, -1,
-            _NOT_SNAPPED, refinement_arg(None), _NO_STORE)
+            _NO_REGIONS, order, horizontal, _HULL_OPTIONS, _NOT_SNAPPED, _NO_STORE)
     arrays = route_arrays(ints, vertices, None) if status == ROUTE_OK else None
     if arrays is None or not (arrays["vertex_map"] == np.arange(len(x))).all():
         raise CDTError("the triangulation's edges cross or its vertices repeat: it cannot be queried")

@@ -18,23 +18,22 @@ from typing import Any, Callable, SupportsIndex
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._core.construct import ALGORITHM_CODES
-from ._core.pipeline import mesh_geometries, refinement_arg
+from ._core.pipeline import mesh_geometries
 from ._core.rings import polygon_rings
-from .cdt import RouteOptions, check_options, triangulate_plc
+from .cdt import triangulate_plc
 from .errors import CDTError
 from .interrupts import deferred_interrupt
 from .lift import lift_z
+from .options import MeshOptions
 from .parallel import check_workers, map_ordered, resolve_workers
 from .plc import PLC, as_plc
 
 ERRORS = ("raise", "skip")
 CHUNK = 4096               # geometries per compiled call (progress granularity)
 MIN_CHUNK = 64             # geometries worth a thread of their own
-# options of cdt_plugin.triangulate that are the same for every geometry of a batch
-_ROUTE_OPTIONS = ("intersections", "algorithm", "min_angle", "max_area", "conforming_delaunay",
-                  "split_boundary", "max_steiner")
-_SEED_OPTIONS = ("keep_hull", "holes", "regions")     # these go one by one
+# options of cdt_plugin.triangulate that go geometry by geometry (the others make a MeshOptions)
+_SEED_OPTIONS = ("holes", "regions")
+_OPTIONS = frozenset(MeshOptions._fields + _SEED_OPTIONS)
 
 
 @dataclass
@@ -109,19 +108,19 @@ def geometry_plc(xy: NDArray[np.float64], ring_start: NDArray[np.int64],
 
 
 def check_batch_options(*, errors: str = "raise", workers: SupportsIndex | None = None,
-                        **options: Any) -> tuple[RouteOptions, dict[str, Any], int | None]:
+                        **options: Any) -> tuple[MeshOptions, dict[str, Any], int | None]:
     """Validate the options of a batch call before any work starts. Returns
-    ``(route, seeds, workers)``: the route options as :func:`check_options`
-    gives them, the seed options (applied geometry by geometry) and the
-    checked ``workers``."""
+    ``(mesh_options, seeds, workers)``: the :class:`MeshOptions` of every
+    geometry, the seed options (applied geometry by geometry) and the checked
+    ``workers``."""
     if errors not in ERRORS:
         raise CDTError(f"errors must be one of {ERRORS}, got {errors!r}")
-    unknown = set(options) - set(_ROUTE_OPTIONS) - set(_SEED_OPTIONS)
+    unknown = options.keys() - _OPTIONS
     if unknown:
         raise CDTError(f"unknown option {sorted(unknown)[0]!r}")
-    route = check_options(**{k: v for k, v in options.items() if k in _ROUTE_OPTIONS})
+    mesh_options = MeshOptions.check(**{k: v for k, v in options.items() if k not in _SEED_OPTIONS})
     seeds = {k: v for k, v in options.items() if k in _SEED_OPTIONS}
-    return route, seeds, check_workers(workers)
+    return mesh_options, seeds, check_workers(workers)
 
 
 def triangulate_rings(xy: ArrayLike, ring_start: ArrayLike, geom_ring_start: ArrayLike,
@@ -170,7 +169,7 @@ def triangulate_rings(xy: ArrayLike, ring_start: ArrayLike, geom_ring_start: Arr
     (2, (3, 3), [0, 0, 1])
     """
     t0 = time.perf_counter()
-    route, seeds, workers = check_batch_options(errors=errors, workers=workers, **options)
+    mesh_options, seeds, workers = check_batch_options(errors=errors, workers=workers, **options)
     xy = np.ascontiguousarray(xy, dtype=np.float64).reshape(-1, 2)
     ring_start = np.asarray(ring_start, np.int64)
     geom_ring_start = np.asarray(geom_ring_start, np.int64)
@@ -181,21 +180,19 @@ def triangulate_rings(xy: ArrayLike, ring_start: ArrayLike, geom_ring_start: Arr
     parts = []          # (geometry, triangles (batch ids), region)
     steiner_xy, steiner_z = [], []
     nsteiner = 0
-    # one by one: seed options, or Steiner points whose Z must be interpolated
-    compiled = all(v is None or v is False for v in seeds.values()) and not (
-        z is not None and (route["split"] or route["refinement"] is not None))
+    # one by one: seeds or keep_hull, or Steiner points whose Z must be interpolated
+    compiled = (all(v is None or v is False for v in seeds.values()) and not mesh_options.keep_hull
+                and not (z is not None and (mesh_options.split or mesh_options.refines)))
     if compiled:
         x, y = xy[:, 0].copy(), xy[:, 1].copy()
-        refinement = refinement_arg(route["refinement"])
-        algorithm = ALGORITHM_CODES[route["algorithm"]]
+        route_options = mesh_options.route_args()
 
         def mesh_chunk(chunk):
             g0, g1 = chunk
             with deferred_interrupt(ring_start[geom_ring_start[g1]] - ring_start[geom_ring_start[g0]]):
                 # Steiner ids from len(xy) in every chunk: shifted below, in chunk order
                 return mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole,
-                                       g0, g1, route["split"], route["max_steiner"], algorithm,
-                                       refinement, len(xy))
+                                       g0, g1, route_options, len(xy))
 
         def report(chunk, result):
             if progress is not None:
@@ -224,7 +221,7 @@ def triangulate_rings(xy: ArrayLike, ring_start: ArrayLike, geom_ring_start: Arr
         v0 = ring_start[geom_ring_start[g]]
         try:
             plc = as_plc(plc, holes=seeds.get("holes"), regions=seeds.get("regions"))
-            tri = triangulate_plc(plc, keep_hull=bool(seeds.get("keep_hull")), **route)
+            tri = triangulate_plc(plc, mesh_options)
         except CDTError as e:
             e.args = (f"geometry {g}: {e.args[0] if e.args else ''}",) + tuple(e.args[1:])
             e.index = g

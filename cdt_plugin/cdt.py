@@ -10,36 +10,34 @@ wraps the result, or raises the precise error for the route's stop.
 from __future__ import annotations
 
 import functools
-import numbers
 import time
-from typing import Any, NoReturn, Optional, Tuple, TypedDict
+from typing import Any, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._core.construct import ALGORITHM_CODES
 from ._core.mesh import IDX
 from ._core.ordering import SMALL_SORT, brio_order, lexicographic_order
 from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUPLICATES, K_FLIPS,
                              K_FROZEN, K_INTERSECTIONS, K_MERGED_OVERLAPS, K_ON_SEGMENTS,
                              K_REF_COMPLETE, K_REF_FLIPS, K_REF_LIMIT, K_REF_SPLITS, K_REF_STEINER,
                              K_ZERO_SEGMENTS, PACK_ARRAYS, PACK_HEADER, cdt_route_packed,
-                             refinement_arg, route_points_for_threads)
+                             route_points_for_threads)
 from ._core.segments import intersection_point
 from ._core.snap import snap_route
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
                            ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT,
                            ROUTE_NEEDS_SNAP, ROUTE_STEINER_LIMIT, ROUTE_UNRESOLVED)
-from ._routes import build_divide_two_threads, resolve_algorithm
+from ._routes import build_divide_two_threads
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError, UnresolvedCrossingError)
 from .interrupts import deferred_interrupt
+from .options import MeshOptions
 from .parallel import check_workers, resolve_workers
 from .plc import PLC, GeometryLike, as_plc
 from .triangulation import Triangulation
 from .validate import range_error
 
-INTERSECTIONS = ("raise", "split")
 _NO_IDS = np.empty(0, np.int64)
 _NO_RINGS = np.empty(0, np.bool_)
 _NO_SEEDS = np.empty((0, 2))
@@ -55,20 +53,6 @@ _NO_WEIGHTS = np.empty(0)
 PARALLEL_VERTICES = 200_000
 _NO_STORE = (np.empty(0, IDX), np.empty(0, IDX), np.empty(0, IDX), np.empty(0, np.int64),
              np.int64(0))     # (pipeline.no_store: the route builds its Delaunay triangulation itself)
-
-#: The refinement options as the compiled route takes them: min_angle, max_area,
-#: conforming_delaunay, split_boundary, max_steiner (-1: the default cap).
-RefinementOptions = Tuple[float, float, bool, bool, int]
-
-
-class RouteOptions(TypedDict):
-    """:func:`triangulate`'s checked options, as :func:`triangulate_plc` takes them."""
-
-    split: bool
-    algorithm: str
-    refinement: Optional[RefinementOptions]
-    refinement_options: RefinementOptions
-    max_steiner: int
 
 
 def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | None = None, *,
@@ -173,61 +157,26 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     (8, True)
     """
     t0 = time.perf_counter()
-    options = check_options(intersections=intersections, algorithm=algorithm, min_angle=min_angle,
-                            max_area=max_area, conforming_delaunay=conforming_delaunay,
-                            split_boundary=split_boundary, max_steiner=max_steiner)
+    options = MeshOptions.check(intersections=intersections, algorithm=algorithm,
+                                keep_hull=keep_hull, min_angle=min_angle, max_area=max_area,
+                                conforming_delaunay=conforming_delaunay,
+                                split_boundary=split_boundary, max_steiner=max_steiner)
     workers = check_workers(workers)
     plc = as_plc(vertices, segments, holes, regions)
-    return triangulate_plc(plc, keep_hull=keep_hull, t0=t0, workers=workers, **options)
+    return triangulate_plc(plc, options, t0=t0, workers=workers)
 
 
-def check_options(*, intersections: str = "raise", algorithm: str = "auto",
-                  min_angle: float | None = None, max_area: float | None = None,
-                  conforming_delaunay: bool = False, split_boundary: bool = True,
-                  max_steiner: int | None = None) -> RouteOptions:
-    """Validate :func:`triangulate`'s options before any work starts; returns
-    them in the form :func:`triangulate_plc` takes (``refinement`` is None or
-    the tuple the compiled route takes; ``refinement_options`` that tuple
-    whatever the options, for a PLC whose region seeds bound their areas)."""
-    if intersections not in INTERSECTIONS:
-        raise CDTError(f"intersections must be one of {INTERSECTIONS}, got {intersections!r}")
-    algorithm = resolve_algorithm(algorithm, False)
-    if min_angle is not None and not (np.isfinite(_real(min_angle, "min_angle")) and 0 <= min_angle < 60):
-        raise CDTError(f"min_angle must be in [0, 60) degrees, got {min_angle!r}")
-    if max_area is not None and not (np.isfinite(_real(max_area, "max_area")) and max_area > 0):
-        raise CDTError(f"max_area must be a positive number, got {max_area!r}")
-    if max_steiner is not None and not (np.isfinite(_real(max_steiner, "max_steiner")) and max_steiner >= 0
-                                        and max_steiner == int(max_steiner)):
-        raise CDTError(f"max_steiner must be a whole number >= 0, got {max_steiner!r}")
-    refinement_options = (float(min_angle or 0.0), float(max_area or 0.0), bool(conforming_delaunay),
-                          bool(split_boundary), -1 if max_steiner is None else int(max_steiner))
-    refine = bool(min_angle or max_area is not None or conforming_delaunay)
-    return {"split": intersections == "split", "algorithm": algorithm,
-            "refinement": refinement_options if refine else None,
-            "refinement_options": refinement_options,
-            "max_steiner": -1 if max_steiner is None else int(max_steiner)}
-
-
-def _real(value: object, name: str) -> float:
-    """``value`` as a float if it is a real number (not a bool, not a string),
-    else a :class:`CDTError` naming the option."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise CDTError(f"{name} must be a number, got {value!r} ({type(value).__name__})")
-    return float(value)
-
-
-def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
-                    algorithm: str = "divide", refinement: RefinementOptions | None = None,
-                    refinement_options: RefinementOptions | None = None, max_steiner: int = -1,
-                    t0: float | None = None, workers: int | None = 1) -> Triangulation:
+def triangulate_plc(plc: PLC, options: MeshOptions, *, t0: float | None = None,
+                    workers: int | None = 1) -> Triangulation:
     """:func:`triangulate` of a checked PLC with checked options: one call of
     the compiled route, then the result wrapped (or the route's stop raised).
     With many vertices and ``workers`` (checked) not 1, the Delaunay
     triangulation of divide and conquer is built on two threads first
     (:func:`_threaded_store`)."""
     t0 = time.perf_counter() if t0 is None else t0
-    if refinement is None and plc.regions is not None and (plc.regions[:, 3] > 0).any():
-        refinement = refinement_options   # a region seed's max_area refines on its own (Triangle's -a)
+    algorithm, split = options.algorithm, options.split
+    # a region seed's max_area refines on its own (Triangle's -a)
+    refine = options.refines or (plc.regions is not None and bool((plc.regions[:, 3] > 0).any()))
     if plc.degenerate_rings and not split:
         p, r = plc.degenerate_rings[0]
         raise InvalidGeometryError(
@@ -246,29 +195,29 @@ def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
         if algorithm == "divide" and not on_threads:
             horizontal = lexicographic_order(y, -x)
     rings = plc.has_rings
-    use_seeds = plc.holes is not None or plc.regions is not None
+    route_options = options.route_args(use_seeds=plc.holes is not None or plc.regions is not None,
+                                       refine=refine)
     holes = plc.holes if plc.holes is not None and len(plc.holes) else _NO_SEEDS
     regions = plc.regions if plc.regions is not None and len(plc.regions) else _NO_REGIONS
-    def route(snapped):
+    def run_route(snapped):
         with deferred_interrupt(n):
             prebuilt, order_in = _NO_STORE, order
             if on_threads:
-                prebuilt, order_in = _threaded_store(x, y, order, len(plc.segments), split, snapped,
-                                                     refinement is not None)
+                prebuilt, order_in = _threaded_store(x, y, order, len(plc.segments), snapped,
+                                                     route_options)
             return cdt_route_packed(
                 x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
                 plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
-                holes, regions, use_seeds, ALGORITHM_CODES[algorithm], order_in, horizontal, split,
-                bool(keep_hull), max_steiner, snapped, refinement_arg(refinement), prebuilt)
+                holes, regions, order_in, horizontal, route_options, snapped, prebuilt)
 
-    status, ints, vertices = route(_NOT_SNAPPED)
+    status, ints, vertices = run_route(_NOT_SNAPPED)
     if status == ROUTE_NEEDS_SNAP:
         # segments cross: snap-round them all (compiled apart: only such inputs pay for it)
         with deferred_interrupt(n):
-            status, info, *plan = snap_route(x, y, plc.segments, max_steiner)
+            status, info, *plan = snap_route(x, y, plc.segments, options.steiner_cap)
         if status != ROUTE_OK:
             _raise_stop(status, info, plc)
-        status, ints, vertices = route(tuple(plan))
+        status, ints, vertices = run_route(tuple(plan))
     info, counts = ints[PACK_HEADER:PACK_HEADER + 4], ints[PACK_HEADER + 4:PACK_ARRAYS]
     if status == ROUTE_COLLINEAR:
         return _collinear_result(plc, algorithm, t0)
@@ -276,7 +225,7 @@ def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
         _raise_stop(status, info, plc)
     seconds = time.perf_counter() - t0
     tri = Triangulation.from_route(ints, vertices, plc, functools.partial(
-        _stats, plc, algorithm, counts, refinement, seconds))
+        _stats, plc, algorithm, counts, refine, seconds))
     if status == ROUTE_REFINE_LIMIT:
         raise RefinementLimitError(
             f"refinement stopped at max_steiner={int(counts[K_REF_LIMIT])} Steiner points with "
@@ -285,16 +234,16 @@ def triangulate_plc(plc: PLC, *, keep_hull: bool = False, split: bool = False,
     return tri
 
 
-def _threaded_store(x, y, order, n_segments, split, snapped, refine):
+def _threaded_store(x, y, order, n_segments, snapped, route_options):
     """``(prebuilt, order)`` for the route: the Delaunay triangulation of its
     vertices built by divide and conquer with the first cut's halves on two
-    threads (:func:`cdt_plugin.delaunay.build_divide_two_threads`: the same
+    threads (:func:`cdt_plugin._routes.build_divide_two_threads`: the same
     store one thread makes), on the very coordinates and room the route
     (:func:`~cdt_plugin._core.pipeline.route_points`) gives them. Where the
     route stops before its triangulation (coordinates out of range, all points
     on a line), it builds nothing and the route reports the stop."""
     status, order, xi, yi, inf, cap = route_points_for_threads(
-        x, y, order, n_segments, split, len(snapped[0]), refine)
+        x, y, order, n_segments, len(snapped[0]), route_options)
     if status != ROUTE_OK:
         return _NO_STORE, order
     n = len(x)
@@ -304,7 +253,7 @@ def _threaded_store(x, y, order, n_segments, split, snapped, refine):
     return (tri, twin, cons, dup, np.int64(ntri)), order
 
 
-def _stats(plc, algorithm, counts, refinement, seconds, tri) -> dict:
+def _stats(plc, algorithm, counts, refine, seconds, tri) -> dict:
     """The route's counts by name (``tri``: its result)."""
     vertex_map = tri.vertex_map
     segs = plc.segments
@@ -318,7 +267,7 @@ def _stats(plc, algorithm, counts, refinement, seconds, tri) -> dict:
              "intersection_points": int(counts[K_INTERSECTIONS]), "flips": int(counts[K_FLIPS]),
              "duplicates": int(counts[K_DUPLICATES]), "submerged": 0, "vertices": len(tri.vertices),
              "triangles": len(tri.triangles), "steiner": len(tri.steiner), "seconds": seconds}
-    if refinement is not None:
+    if refine:
         stats.update(refinement_steiner=int(counts[K_REF_STEINER]),
                      refinement_segment_splits=int(counts[K_REF_SPLITS]),
                      refinement_flips=int(counts[K_REF_FLIPS]),

@@ -4,11 +4,11 @@ then cached on disk (``__pycache__`` beside the sources, or ``NUMBA_CACHE_DIR``)
 While a route compiles, one line on stderr says so, through the
 ``cdt_plugin`` logger (silence it with
 ``logging.getLogger("cdt_plugin").setLevel(logging.ERROR)``).
-:func:`compile_routes` (the ``cdt-plugin compile`` command) compiles every
-route ahead of time, for Docker images, CI and Dask workers. On two cores or
-more, a second process compiles the largest stages of the constrained Delaunay
-route meanwhile (see "a helper process" below; ``CDT_PLUGIN_COMPILE_HELPER=0``
-keeps to one process).
+:func:`cdt_plugin.warmup.compile_routes` (the ``cdt-plugin compile`` command)
+compiles every route ahead of time, for Docker images, CI and Dask workers.
+On two cores or more, a second process compiles the largest stages of the
+constrained Delaunay route meanwhile (see "a helper process" below;
+``CDT_PLUGIN_COMPILE_HELPER=0`` keeps to one process).
 
 >>> from cdt_plugin.compiling import ROUTES
 >>> sorted(ROUTES)
@@ -25,9 +25,7 @@ import sys
 import threading
 import time
 import types
-from typing import Callable, Iterable
 
-import numpy as np
 from numba.core import config, event
 
 from ._core import jit
@@ -123,7 +121,8 @@ def _public_call() -> types.FrameType | None:
     while frame is not None:
         module = frame.f_globals.get("__name__", "")
         if (module.startswith("cdt_plugin") and frame.f_code.co_name != "<module>"   # (an import)
-                and not module.startswith(("cdt_plugin._core", "cdt_plugin.compiling"))):
+                and not module.startswith(("cdt_plugin._core", "cdt_plugin.compiling",
+                                           "cdt_plugin.warmup"))):
             found = frame
         frame = frame.f_back
     return found
@@ -397,105 +396,7 @@ drop_stale_cache()
 
 
 # ------------------------------------------------------------ every route, ahead of time
-def _delaunay():
-    import importlib
-
-    from . import delaunay
-    delaunay(np.random.default_rng(0).uniform(size=(20, 2)))
-    size = importlib.import_module(".delaunay", __package__).PARALLEL_POINTS
-    delaunay(np.random.default_rng(0).uniform(size=(size, 2)), workers=2)    # two threads
-
-
-def _weighted():
-    from . import delaunay
-    rng = np.random.default_rng(0)
-    delaunay(rng.uniform(size=(20, 2)), rng.uniform(0, 0.01, 20))
-
-
-def _square():
-    return np.array([[0, 0], [1, 0], [1, 1], [0, 1.0]]), np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
-
-
-def _triangulate():
-    import importlib
-
-    from . import triangulate
-    from ._core.rings import open_rings, polygon_rings
-    tri = triangulate(*_square())
-    tri.is_delaunay()
-    xy, bounds = open_rings(np.zeros((4, 2)), np.zeros(0, np.int64))    # the reader of shapely Polygons
-    polygon_rings(xy, bounds[:-1], bounds[1:])
-    n = importlib.import_module(".cdt", __package__).PARALLEL_VERTICES
-    t = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
-    ring = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])
-    r = 1.0 + 0.1 * np.sin(7 * t)
-    triangulate(np.column_stack([r * np.cos(t), r * np.sin(t)]), ring, workers=2)    # Delaunay stage on two threads
-
-
-def _refine():
-    from . import triangulate
-    triangulate(*_square(), min_angle=30, max_area=0.1)
-
-
-def _split():
-    from . import triangulate
-    bowtie = np.array([[0, 0], [2, 2], [2, 0], [0, 2.0]])
-    triangulate(bowtie, [[0, 1], [1, 2], [2, 3], [3, 0]], intersections="split")
-
-
-def _batch():
-    from .batch import triangulate_rings
-    xy = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [2, 0], [3, 0], [2, 1.0]])
-    triangulate_rings(xy, [0, 4, 7], [0, 1, 2], [0, 0], [False, False])
-    triangulate_rings(xy, [0, 4, 7], [0, 1, 2], [0, 0], [False, False], min_angle=30)
-
-
-def _voronoi():
-    from . import delaunay
-    tri = delaunay(np.random.default_rng(0).uniform(size=(20, 2)))
-    tri.voronoi(clip=(0.0, 0.0, 1.0, 1.0))      # from the store: the cells, a box clip
-    tri.delaunay_subdivision().indices          # the faces of triangles
-    grid = delaunay(np.array([[x, y] for x in range(3) for y in range(3)], float))
-    grid.voronoi()                               # ties: the faces fused, the general route
-
-
-def _query():
-    from . import triangulate
-    tri = triangulate(*_square())
-    tri.locate([[0.5, 0.5]])
-    tri.interpolate([0.0, 1.0, 2.0, 1.0], [[0.5, 0.25]])
-    tri.interpolate([0.0, 1.0, 2.0, 1.0], [[0.5, 0.25]], method="natural")
-
-
-def _dynamic():
-    from . import DynamicCDT
-    dyn = DynamicCDT(_square()[0], [[0, 2]])
-    dyn.insert_points([[0.25, 0.5]])
-    dyn.remove_vertices([4])
-    dyn.triangulation(domain="even-odd")
-
-
-ROUTES: dict[str, Callable[[], None]] = {
-    "delaunay": _delaunay, "weighted": _weighted, "triangulate": _triangulate,
-    "refine": _refine, "split": _split, "batch": _batch, "voronoi": _voronoi, "query": _query, "dynamic": _dynamic,
-}
-
-
-def compile_routes(routes: Iterable[str] | None = None,
-                   report: Callable[[str], None] | None = None) -> dict[str, float]:
-    """Compile (or load from the cache) every route, or the ``routes`` named
-    (keys of :data:`ROUTES`). Returns the seconds each took; ``report`` is
-    called with a line per route."""
-    names = list(ROUTES) if routes is None else list(routes)
-    unknown = [n for n in names if n not in ROUTES]
-    if unknown:
-        from .errors import CDTError
-        raise CDTError(f"unknown route {unknown[0]!r}; the routes are {sorted(ROUTES)}")
-    seconds = {}
-    for name in names:
-        t0 = time.perf_counter()
-        ROUTES[name]()
-        seconds[name] = time.perf_counter() - t0
-        if report is not None:
-            report(f"{name}: {seconds[name]:.1f} s")
-    return seconds
+#: The routes that ``cdt-plugin compile`` compiles, by name (:mod:`cdt_plugin.warmup`
+#: runs each one's public calls).
+ROUTES = ("delaunay", "weighted", "triangulate", "refine", "split", "batch", "voronoi", "query",
+          "dynamic")

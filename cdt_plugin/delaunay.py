@@ -19,7 +19,8 @@ import time
 
 from numpy.typing import ArrayLike
 
-from ._routes import ALGORITHMS, PARALLEL_POINTS, TRIM_POINTS, build_delaunay, resolve_algorithm
+from ._routes import PARALLEL_POINTS, TRIM_POINTS, build_delaunay
+from .options import ALGORITHMS, resolve_algorithm
 from .parallel import check_workers, resolve_workers
 from .triangulation import Triangulation
 from .validate import as_points, as_weights

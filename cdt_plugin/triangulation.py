@@ -12,10 +12,11 @@ from ._core.certify import edge_lifted_values, orientation_signs, submerged_ok
 from ._core.mesh import DEAD
 from ._core.output import (relabel_store, rotate_min_first,
                            store_neighbors, store_triangles)
-from ._routes import (DelaunayBuild, build_delaunay, collinear_chain, flip_moved, resolve_algorithm, route_arrays,
+from ._routes import (DelaunayBuild, build_delaunay, collinear_chain, flip_moved, route_arrays,
                       route_triangles)
 from . import hooks, queries
 from .errors import CDTError, InputShapeError, InvertedTriangleError
+from .options import resolve_algorithm
 from .optional import require
 from .parallel import resolve_workers
 from .plc import PLC

@@ -9,6 +9,7 @@ Imports run one way, from the bottom up:
     status              every status code, named
     locate, flips, insertion, divide     the operations on the store
     construct           the Delaunay triangulation of the mesh vertices (three ways)
+    options             the route's options as the kernels read them (RouteOptions)
     segments, regions, refine, rings, certify, output
     pipeline            the constrained Delaunay route, once (cdt_route), and the batch
                         loop over it (mesh_geometries)

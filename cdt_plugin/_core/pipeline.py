@@ -10,10 +10,10 @@ optional Delaunay refinement, and the output arrays. A single call to
 Python. Errors come back as a status code (:mod:`.status`) with ``info``; the
 Python side raises the precise :class:`cdt_plugin.CDTError`.
 
-``refinement`` is always the tuple ``(refine, min_angle, max_area,
-conforming, split_boundary, max_steiner)`` (:func:`refinement_arg`), so that
-numba compiles the route once: each distinct argument type (None against a
-tuple) would compile and code-generate the whole route a second time.
+The route's options are one :class:`.options.RouteOptions`, whatever they
+ask (refinement or not), so that numba compiles the route once: each distinct
+argument type (None against a tuple) would compile and code-generate the whole
+route a second time.
 """
 from __future__ import annotations
 
@@ -29,6 +29,7 @@ from .flips import flip_to_delaunay
 from .insertion import insert_vertex
 from .jit import B1, F8, F8_2, I32, I64, I64_2, STORE, Tuple, b1, entry, i8, kernel
 from .mesh import DEAD, IDX, grow_store, nxt
+from .options import ROUTE_OPTIONS, named
 from .ordering import HILBERT_BITS, hilbert_keys, lexicographic_order_compiled
 from .output import cdt_arrays, cdt_vertices, solid_triangles
 from .refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, OUT,
@@ -43,15 +44,6 @@ from .status import (ALL_DONE, FINISHED, LOCATE_FAILED, LOCATION_FAILED, NEED_ED
                      ROUTE_INTERNAL, ROUTE_OK, ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE,
                      ROUTE_NEEDS_SNAP, ROUTE_REFINE_LIMIT, ROUTE_STEINER_LIMIT, ROUTE_UNRESOLVED,
                      STOP_CROSSING, STOP_LIMIT, STOP_OVERLAP)
-
-NO_REFINEMENT = (False, 0.0, 0.0, False, False, -1)
-
-
-def refinement_arg(refinement: tuple | None) -> tuple:
-    """The route's ``refinement`` argument for the options tuple ``(min_angle,
-    max_area, conforming, split_boundary, max_steiner)`` or None."""
-    return NO_REFINEMENT if refinement is None else (True, *refinement)
-
 
 # what one route counts (``counts``; the Python side names them in ``stats``)
 K_FLIPS = 0
@@ -215,22 +207,31 @@ def solid_with_flags(tri, twin, cons, ntri, inf):
 
 
 # classify's arguments in the route, for a helper process to compile it ahead (first use)
-_CLASSIFY_ARGS = (I32, I32, I32, i8, i8, F8, F8, I64_2, I64_2, I64, I64_2, I64, I64, I64, I64, B1, F8_2,
-                  F8_2, b1, b1, b1, I64)
+_CLASSIFY_ARGS = (STORE, Tuple((I64_2, I64_2, I64, I64_2)), Tuple((I64, I64, I64, I64, B1)),
+                  Tuple((F8_2, F8_2)), ROUTE_OPTIONS, I64)
 
 
 @kernel(apart=True, ahead=_CLASSIFY_ARGS, returns=Tuple((B1, I64, i8)))
-def classify(tri, twin, cons, ntri, inf, x, y, T, N, tid, cflag, mult, seg_start, seg_rings,
-             ring_polygon, ring_is_hole, holes, regions, use_seeds, keep_hull, check_holes, info):
+def classify(store, solid, rings, seeds, options, info):
     """Which solid triangles are inside the domain, and their region: depth
     parity by default, Triangle's rule (everything enclosed, less the hole
-    seeds' regions) with ``use_seeds``; the polygon a triangle lies in (rings:
-    :func:`.regions.segment_depths`), or the region seed that paints it.
-    Returns ``(inside, region, status)``; with ``check_holes`` (and rings) the
-    status is ROUTE_HOLE_OUTSIDE (``info[0]`` = the ring) when a polygon is
-    entered through a hole ring from outside its shell, ROUTE_POLYGONS_OVERLAP
-    (``info`` = two polygons and the mesh vertices of an edge where they
-    overlap) when the rings cannot bound disjoint polygons."""
+    seeds' regions) with ``options.use_seeds``; the polygon a triangle lies in
+    (rings: :func:`.regions.segment_depths`), or the region seed that paints it.
+
+    ``store`` is the mesh ``(tri, twin, cons, x, y, w, inf, ntri, nv)``,
+    ``solid`` its solid triangles ``(T, N, tid, cflag)`` (:func:`solid_with_flags`),
+    ``rings`` ``(mult, seg_start, seg_rings, ring_polygon, ring_is_hole)`` (the
+    input segments on each segment and their rings: :func:`.regions.segment_rings`),
+    ``seeds`` ``(holes, regions)``. Returns ``(inside, region, status)``; unless
+    ``options.split`` (with rings) the status is ROUTE_HOLE_OUTSIDE (``info[0]`` =
+    the ring) when a polygon is entered through a hole ring from outside its
+    shell, ROUTE_POLYGONS_OVERLAP (``info`` = two polygons and the mesh vertices
+    of an edge where they overlap) when the rings cannot bound disjoint polygons."""
+    tri, twin, cons, x, y, _, inf, ntri, _ = store
+    T, N, tid, cflag = solid
+    mult, seg_start, seg_rings, ring_polygon, ring_is_hole = rings
+    holes, regions = seeds
+    use_seeds, keep_hull, check_holes = options.use_seeds, options.keep_hull, not options.split
     k = T.shape[0]
     depth_mesh, entry_mesh, label_mesh = segment_depths(tri, twin, cons, ntri, inf, mult,
                                                         seg_start, seg_rings, ring_polygon)
@@ -443,7 +444,7 @@ def no_mesh():
 
 
 @kernel(inline="always")
-def route_points(px, py, algorithm, order_in, ms, split, nsnap, refine):
+def route_points(px, py, order_in, ms, nsnap, options):
     """The route's vertices before the Delaunay triangulation: ``(status,
     info0, info1, shift, px, py, order, xi, yi, wi, inf, extra)``. The input
     scaled into the exact predicates' range by ``2**shift`` (:mod:`.scaling`;
@@ -451,7 +452,8 @@ def route_points(px, py, algorithm, order_in, ms, split, nsnap, refine):
     ``order`` (ROUTE_COLLINEAR where all points are on a line), and the mesh
     coordinates in that order with room for ``extra`` more vertices and the
     infinite one, ``inf``: room for the ``ms`` segments' crossings (``nsnap``
-    snapped already) when ``split``, for refinement when ``refine``."""
+    snapped already) when ``options.split``, for refinement when ``options.refine``."""
+    algorithm, split, refine = options.algorithm, options.split, options.refine
     n = px.shape[0]
     no = np.empty(0)
     order = order_in
@@ -476,12 +478,13 @@ def route_points(px, py, algorithm, order_in, ms, split, nsnap, refine):
 
 
 @entry
-def route_points_for_threads(px, py, order_in, ms, split, nsnap, refine):
-    """:func:`route_points` of the divide-and-conquer route, for a caller that
-    builds the Delaunay triangulation on threads: ``(status, order, xi, yi,
-    inf, cap)``, ``cap`` the triangles its store needs room for."""
+def route_points_for_threads(px, py, order_in, ms, nsnap, options):
+    """:func:`route_points` of the divide-and-conquer route (``options`` as
+    :func:`.options.plain` gives them), for a caller that builds the Delaunay
+    triangulation on threads: ``(status, order, xi, yi, inf, cap)``, ``cap``
+    the triangles its store needs room for."""
     status, _, _, _, _, _, order, xi, yi, _, inf, extra = route_points(
-        px, py, DIVIDE, order_in, ms, split, nsnap, refine)
+        px, py, order_in, ms, nsnap, named(options))
     return status, order, xi, yi, inf, store_room(px.shape[0], extra)
 
 
@@ -497,40 +500,40 @@ def no_store():
 # mesh_geometries, call it by symbol; each would otherwise link, optimise and
 # code-generate the whole route again: 5-8 s of a first triangulate)
 @kernel(apart=True)
-def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
-              algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, snapped,
-              refinement, prebuilt):
+def cdt_route(plc, orders, options, snapped, prebuilt):
     """Constrained Delaunay triangulation of one PLC, every step in one call.
 
-    Parameters: the vertices ``px, py`` (n,); ``segs`` (m, 2) vertex pairs;
-    ``seg_ring`` (m,) the ring of each segment (-1 free; empty without rings),
-    ``ring_polygon`` / ``ring_is_hole`` per ring; ``holes`` (h, 2) and
-    ``regions`` (r, 4) seeds, ``use_seeds`` whether seeds were given at all
-    (Triangle's rule instead of depth parity); ``algorithm`` a construction
-    code; ``order_in`` / ``horizontal_in`` the insertion and (y, -x) orders
-    when the caller sorted already (empty: sorted here); ``split`` crossing
-    segments are split (else reported); ``keep_hull``; ``max_steiner`` the cap
-    on intersection points (-1: default); ``snapped`` the snap-rounded
-    crossings ``(new points x, y, chains)`` of :func:`.snap.snap_route`
-    (empty: none yet; splitting segments that cross then stops with
-    ROUTE_NEEDS_SNAP, so that only inputs with crossings compile and run the
-    snap rounding); ``refinement`` the refinement options (:func:`refinement_arg`);
-    ``prebuilt`` the Delaunay triangulation of the vertices ``(tri, twin, cons,
-    dup, ntri)`` when the caller built it (on threads, from :func:`route_points`
-    with the same arguments), else :func:`no_store`.
+    Parameters: ``plc`` the arrays ``(px, py, segs, seg_ring, ring_polygon,
+    ring_is_hole, holes, regions)``: the vertices ``px, py`` (n,), ``segs``
+    (m, 2) vertex pairs, ``seg_ring`` (m,) the ring of each segment (-1 free;
+    empty without rings), ``ring_polygon`` / ``ring_is_hole`` per ring, the
+    ``holes`` (h, 2) and ``regions`` (r, 4) seeds; ``orders`` ``(order_in,
+    horizontal_in)`` the insertion and (y, -x) orders when the caller sorted
+    already (empty: sorted here); ``options`` a :class:`.options.RouteOptions`
+    (``max_steiner`` caps the intersection points and refinement's Steiner
+    points); ``snapped`` the snap-rounded crossings ``(new points x, y,
+    chains)`` of :func:`.snap.snap_route` (empty: none yet; splitting segments
+    that cross then stops with ROUTE_NEEDS_SNAP, so that only inputs with
+    crossings compile and run the snap rounding); ``prebuilt`` the Delaunay
+    triangulation of the vertices ``(tri, twin, cons, dup, ntri)`` when the
+    caller built it (on threads, from :func:`route_points` with the same
+    arguments), else :func:`no_store`.
 
     Returns ``(status, info, counts, out)`` with ``out = (vertices, triangles,
     neighbors, constrained, segments, segment_ids, regions, vertex_map, kept,
     below_min_angle)`` in output ids (see :mod:`.output`).
     """
+    px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions = plc
+    order_in, horizontal_in = orders
+    algorithm, split, max_steiner, refine = (options.algorithm, options.split, options.max_steiner,
+                                             options.refine)
     n = px.shape[0]
     info = np.zeros(4, np.int64)
     counts = np.zeros(NCOUNTS, np.int64)
     ms = segs.shape[0]
     snap_x, snap_y, chains = snapped
-    refine = refinement[0]
     status, info[0], info[1], shift, px, py, order, xi, yi, wi, inf, extra = route_points(
-        px, py, algorithm, order_in, ms, split, snap_x.shape[0], refine)
+        px, py, order_in, ms, snap_x.shape[0], options)
     if status != ROUTE_OK:
         return status, info, counts, no_mesh()
     holes = scaled_seeds(holes, shift)
@@ -622,11 +625,11 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
         counts[K_FLIPS] += flip_to_delaunay(tri, twin, cons, xi, yi, wi, np.bool_(False), inf, ntri)
 
     # the domain
-    T, N, tid, cflag = solid_with_flags(tri, twin, cons, ntri, inf)
+    solid = solid_with_flags(tri, twin, cons, ntri, inf)
+    T, N, tid, cflag = solid
     seg_start, seg_rings = segment_rings(first, seg_ring)
-    inside, region, status = classify(tri, twin, cons, ntri, inf, xi, yi, T, N, tid, cflag, mult,
-                                      seg_start, seg_rings, ring_polygon, ring_is_hole,
-                                      holes, regions, use_seeds, keep_hull, not split, info)
+    inside, region, status = classify(store, solid, (mult, seg_start, seg_rings, ring_polygon,
+                                                     ring_is_hole), (holes, regions), options, info)
     if status != ROUTE_OK:
         if status == ROUTE_POLYGONS_OVERLAP:   # the edge's ends as input vertex ids
             info[2] = order[info[2]]
@@ -636,8 +639,9 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
     route_status = ROUTE_OK
     sin2_bound = 0.0
     if refine:
-        _, min_angle, max_area, conforming, split_boundary, max_new = refinement
-        max_area = scaled_area(max_area, shift)
+        refinement = options.refinement
+        min_angle, max_new = refinement.min_angle, max_steiner
+        max_area = scaled_area(refinement.max_area, shift)
         lab = slot_labels(tid, inside, region, tri.shape[0] // 3)
         area_of_label = area_bounds(max_area, regions, lab)
         if max_new < 0:
@@ -649,9 +653,8 @@ def cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions
         room = STEINER_ROOM * nv + 64
         if area_of_label.shape[0] > 1:
             room += refinement_room(xi, yi, T, inside, region, area_of_label, 2_000_000)
-        rstatus, rc, lab, _, store = refine_store(tri, twin, cons, xi, yi, wi, inf, ntri, nv, lab,
-                                                  seg_ends, min_angle, area_of_label, conforming,
-                                                  split_boundary, budget, room)
+        rstatus, rc, lab, _, store = refine_store(store, lab, seg_ends, refinement, area_of_label,
+                                                  budget, room)
         tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
         counts[K_REF_STEINER] = rc[C_STEINER]
         counts[K_REF_SPLITS] = rc[C_SEG_SPLITS]
@@ -693,14 +696,15 @@ PACK_ARRAYS = PACK_HEADER + 4 + NCOUNTS      # then info and counts, then the ar
 
 
 @entry
-def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, use_seeds,
-                     algorithm, order_in, horizontal_in, split, keep_hull, max_steiner, snapped,
-                     refinement, prebuilt):
+def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, regions, order_in,
+                     horizontal_in, options, snapped, prebuilt):
     """:func:`cdt_route` for a call from Python: ``(status, ints, vertices)``,
     every integer output in the one array ``ints`` (read by ``Triangulation.from_route``).
     numba hands each returned array to Python on its own, about a microsecond
     apiece: for a small polygon the twelve arrays of :func:`cdt_route` were a
-    quarter of the call."""
+    quarter of the call. The arrays come one by one and ``options`` as a plain
+    tuple (:func:`.options.plain`): numba types a tuple of arrays, or a named
+    tuple, in Python, 0.5-0.9 us more per call."""
     px, py, segs, seg_ring = unowned(px), unowned(py), unowned(segs), unowned(seg_ring)
     ring_polygon, ring_is_hole = unowned(ring_polygon), unowned(ring_is_hole)
     holes, regions = unowned(holes), unowned(regions)
@@ -708,10 +712,9 @@ def cdt_route_packed(px, py, segs, seg_ring, ring_polygon, ring_is_hole, holes, 
     snapped = (unowned(snapped[0]), unowned(snapped[1]), unowned(snapped[2]))
     prebuilt = (unowned(prebuilt[0]), unowned(prebuilt[1]), unowned(prebuilt[2]), unowned(prebuilt[3]),
                 prebuilt[4])
-    status, info, counts, out = cdt_route(px, py, segs, seg_ring, ring_polygon, ring_is_hole,
-                                          holes, regions, use_seeds, algorithm, order_in,
-                                          horizontal_in, split, keep_hull, max_steiner, snapped,
-                                          refinement, prebuilt)
+    status, info, counts, out = cdt_route((px, py, segs, seg_ring, ring_polygon, ring_is_hole,
+                                           holes, regions), (order_in, horizontal_in),
+                                          named(options), snapped, prebuilt)
     vertices, triangles, neighbors, constrained, pieces, piece_ids, out_regions, vertex_map, kept, \
         below = out
     k = triangles.shape[0]
@@ -754,12 +757,14 @@ def put(dst, p, src):
 # ------------------------------------------------------------------ many geometries
 @entry
 def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1,
-                    split, max_steiner, algorithm, refinement, steiner0):
+                    options, steiner0):
     """:func:`cdt_route` over geometries ``g0:g1`` of flat ring arrays, in one
-    compiled loop. Returns ``(triangles, geometry, region, steiner_xy,
-    failed)``: triangles in batch vertex ids (a geometry's input vertices keep
-    their ring position, Steiner vertices are numbered from ``steiner0`` in the
-    order of ``steiner_xy``), grouped by geometry; ``failed[g - g0]`` marks the
+    compiled loop, with ``options`` (:func:`.options.plain`; without seeds,
+    without ``keep_hull``: the caller meshes such geometries one by one).
+    Returns ``(triangles, geometry, region, steiner_xy, failed)``: triangles
+    in batch vertex ids (a geometry's input vertices keep their ring
+    position, Steiner vertices are numbered from ``steiner0`` in the order of
+    ``steiner_xy``), grouped by geometry; ``failed[g - g0]`` marks the
     geometries whose route stopped (a crossing, a hole outside its shell, all
     points collinear...), which the caller meshes one by one to get the
     precise result or error (a degenerate ring, too)."""
@@ -776,7 +781,7 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     no_regions = np.empty((0, 4))
     no_order = np.empty(0, np.int64)
     not_snapped = (np.empty(0), np.empty(0), np.empty((0, 3), np.int64))
-    no = np.bool_(False)    # (a literal False would compile the route once more)
+    options = named(options)
     keep_all = np.ones(geom_ring_start[g1] - geom_ring_start[g0] + 1, np.bool_)
     build_here = no_store()
     for g in range(g0, g1):
@@ -793,10 +798,9 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
             failed[g - g0] = True
             continue
         segs, ring_of = ring_segments(ring_start, r0, r1, keep_all)
-        status, _, _, out = cdt_route(x[v0:v1], y[v0:v1], segs, ring_of, ring_polygon[r0:r1],
-                                      ring_is_hole[r0:r1], no_seeds, no_regions, no, algorithm,
-                                      no_order, no_order, split, no, max_steiner, not_snapped,
-                                      refinement, build_here)
+        plc = (x[v0:v1], y[v0:v1], segs, ring_of, ring_polygon[r0:r1], ring_is_hole[r0:r1],
+               no_seeds, no_regions)
+        status, _, _, out = cdt_route(plc, (no_order, no_order), options, not_snapped, build_here)
         if status != ROUTE_OK:
             failed[g - g0] = True
             continue

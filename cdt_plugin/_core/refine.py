@@ -37,15 +37,17 @@ from __future__ import annotations
 
 import math
 from collections import namedtuple
+from typing import NamedTuple
 
 import numpy as np
 
 from .arrays import copy_rows
 from .flips import flip_to_delaunay, push_outer_edges
 from .insertion import legalize
-from .jit import F8, I32, I64, I64_2, STORE, Tuple, b1, f8, i8, kernel
+from .jit import F8, I64, I64_2, STORE, Tuple, i8, kernel
 from .kernel import edge_is_illegal, orient
 from .locate import solid_step
+from .options import REFINE_OPTIONS
 from .predicates import incircle, orient2d
 from .mesh import canonical_slots, flip, grow_store, nxt, prv, split_edge, split_triangle
 from .scaling import on_grid
@@ -112,11 +114,13 @@ def shortest_edge2(x, y, a, b, c):
 
 
 @kernel
-def is_bad(x, y, a, b, c, sin2_bound, area_bound):
-    """Whether the triangle breaks the angle or the area bound; and its key."""
+def is_bad(x, y, a, b, c, params, label):
+    """Whether the triangle, labelled ``label``, breaks the angle or the area
+    bound of ``params`` (:class:`RefineParameters`); and its key."""
     key, d = sin2_min_angle(x, y, a, b, c)
-    angle_bad = key < sin2_bound
-    area_bad = area_bound > 0.0 and 0.5 * d > area_bound
+    angle_bad = key < params.sin2_bound
+    bound = area_bound(params.area_of_label, label)
+    area_bad = bound > 0.0 and 0.5 * d > bound
     # the queue key: shortest edges first, in buckets of 2^(1/4) in length
     # (Triangle's 4096 queues), first come first served inside a bucket
     return angle_bad, area_bad, np.floor(2.0 * np.log2(shortest_edge2(x, y, a, b, c)))
@@ -266,7 +270,7 @@ def queue_pop(Q, qs):
 
 
 @kernel
-def queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
+def queue_if_bad(tri, x, y, lab, params, Q, qs, t):
     """Queue triangle ``t`` if it is inside the domain and breaks a bound.
     Returns False when the queue is full."""
     L = lab[t]
@@ -275,7 +279,7 @@ def queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
     a = np.int64(tri[3 * t])     # (int64 as in refine_loop: one compilation of the tests)
     b = np.int64(tri[3 * t + 1])
     c = np.int64(tri[3 * t + 2])
-    angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound, area_bound(area_of_label, L))
+    angle_bad, area_bad, key = is_bad(x, y, a, b, c, params, L)
     if angle_bad or area_bad:
         return queue_triangle(Q, qs, key, t, a, b, c)
     return True
@@ -388,11 +392,13 @@ def walk_to(tri, twin, cons, x, y, t, q, limit):
 
 
 @kernel
-def cavity_encroached(tri, twin, cons, x, y, inf, h, on_edge, q, mark, stamp, bstack, enc, lens):
+def cavity_encroached(mesh, h, on_edge, q, mark, stamp, bstack, enc, lens):
     """The segment pieces that new vertex ``q`` (located at half-edge ``h``)
     would encroach: those bounding its cavity, the triangles whose circumdisk
     holds ``q``, grown from the triangle(s) containing it without crossing a
-    segment. Fills ``enc``; returns how many."""
+    segment. Fills ``enc``; returns how many. ``mesh`` is ``(tri, twin, cons,
+    x, y, inf)``."""
+    tri, twin, cons, x, y, inf = mesh
     n = 0
     sp = np.int64(0)
     t0 = h // 3
@@ -490,8 +496,7 @@ def shell_centre(tri, twin, cons, lab, e):
 
 
 @kernel
-def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0, stack, counts,
-                fc, no_sub, conforming):
+def split_piece(mesh, ntri, q, e, lab, segments, work, counts, conforming):
     """Split the segment piece of half-edge ``e`` at new vertex ``q``, then
     restore the constrained Delaunay property by flips. A split that would
     invert a triangle of the domain, or of a piece below
@@ -503,7 +508,14 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
     beside a nearly straight boundary vertex the triangle outside can be
     thinner than that (Triangle has no triangles outside when it refines).
     Such an outside triangle may invert; no walk or flip enters it (walks stop
-    at segments, flips need two counter-clockwise triangles)."""
+    at segments, flips need two counter-clockwise triangles).
+
+    ``mesh`` is ``(tri, twin, cons, x, y, inf)``, ``segments`` ``(seg_ends,
+    vseg, nv0)`` and ``work`` the flips' buffers ``(stack, fc, no_sub)``, as
+    in :func:`refine_loop`."""
+    tri, twin, cons, x, y, inf = mesh
+    seg_ends, vseg, nv0 = segments
+    stack = work[0]
     sid = cons[e]
     u = tri[e]
     v = tri[nxt(e)]
@@ -542,12 +554,12 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
         stack[sp] = 3 * t2
         stack[sp + 1] = 3 * (ntri - 1)
         sp += 2
-    _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub)
+    _legalize(mesh, q, sp, work, counts)
     # q lies on the piece only up to rounding: Lawson's argument (the new
     # edges at q are locally Delaunay) holds for a point exactly on the edge,
     # so q's edges to c and d are tested, and flipped with whatever follows
-    ok, slot = flip_edges_at(tri, twin, cons, x, y, inf, q, t1, c if c_side else inf,
-                             d if d_side else inf, stack, counts)
+    ok, slot = flip_edges_at(mesh, q, t1, c if c_side else inf, d if d_side else inf, stack,
+                             counts)
     if not ok:
         counts[C_UNREPAIRED] += 1
     counts[C_SEG_SPLITS] += 1
@@ -555,12 +567,13 @@ def split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg, seg_ends, nv0
 
 
 @kernel
-def flip_edges_at(tri, twin, cons, x, y, inf, q, slot, c, d, stack, counts):
+def flip_edges_at(mesh, q, slot, c, d, stack, counts):
     """Flip the edges from ``q`` (in triangle ``slot``) to ``c`` and ``d``
     if they are not locally Delaunay, and then every edge around a flip that
     is not, until none is left (ghost triangles are left alone). Returns
     ``(done, slot of a triangle at q)``; not done if ``stack`` ran out (the
     repair stopped short)."""
+    tri, twin, cons, x, y, inf = mesh
     e = 3 * slot
     while tri[e] != q:
         e += 1
@@ -603,16 +616,22 @@ def flip_edges_at(tri, twin, cons, x, y, inf, q, slot, c, d, stack, counts):
 
 
 @kernel
-def _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub):
+def _legalize(mesh, q, sp, work, counts):
+    """Flip from the ``sp`` half-edges on ``work[0]`` (the stack), counting the flips."""
+    tri, twin, cons, x, y, inf = mesh
+    stack, fc, no_sub = work
     fc[0] = 0
     legalize(tri, twin, cons, x, y, x, np.bool_(False), inf, q, stack, sp, np.bool_(False), no_sub, fc)
     counts[C_FLIPS] += fc[0]
 
 
 @kernel
-def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts, fc, no_sub):
+def insert_free(mesh, ntri, q, code, h, lab, work, counts):
     """Insert vertex ``q`` located at ``(code, h)`` (inside a triangle or on a
-    non-segment edge) and flip. Returns ``(slot of a triangle at q, ntri)``."""
+    non-segment edge) and flip (``mesh`` and ``work`` as in :func:`split_piece`).
+    Returns ``(slot of a triangle at q, ntri)``."""
+    tri, twin, cons = mesh[0], mesh[1], mesh[2]
+    stack = work[0]
     t = h // 3
     if code == INSIDE:
         ntri = split_triangle(tri, twin, cons, t, q, ntri)
@@ -632,7 +651,7 @@ def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts
         stack[2] = 3 * (ntri - 2)
         stack[3] = 3 * (ntri - 1)
         sp = 4
-    _legalize(tri, twin, cons, x, y, inf, q, stack, sp, counts, fc, no_sub)
+    _legalize(mesh, q, sp, work, counts)
     return t, ntri
 
 
@@ -640,24 +659,43 @@ def insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack, counts
 RefineBuffers = namedtuple("RefineBuffers",
                            "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub")
 
+
+class RefineParameters(NamedTuple):
+    """What the refinement loop reads, derived once from the :class:`RefineOptions`
+    by :func:`refine_store`."""
+
+    sin2_bound: float               # squared sine of the angle bound (0: none)
+    offconstant: float              # the off-centre constant (0: circumcentres)
+    lens: float                     # the diametral lens (:func:`encroaches`; 0: circles)
+    conforming: bool                # split pieces that are not locally Delaunay too
+    max_new: int                    # Steiner points the loop may insert
+    area_of_label: np.ndarray       # area bound per triangle label (:func:`area_bound`)
+
+
 @kernel(_nrt=False)
-def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
-                offconstant, lens, area_of_label, conforming, max_new, counts, buffers):
+def refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers):
     """Refine until no piece is encroached and no triangle is bad (or is
-    excused: small input angle, frozen segments). Work queues are rebuilt from
-    a scan on entry and whenever they run dry after progress, so nothing is
-    lost when a flip moves a queued half-edge. Returns ``(status, ntri, nv)``:
-    FINISHED, NEED_ROOM (grow the arrays, call again), HEAP_FULL or
-    PIECES_FULL (grow that queue, call again) or LIMIT (``max_new`` vertices
-    inserted). ``buffers`` is a :class:`RefineBuffers`: the loop allocates
-    nothing, so it is compiled without reference counting (``_nrt=False``),
-    which is a fifth of its time otherwise."""
+    excused: small input angle, frozen segments). ``mesh`` is ``(tri, twin,
+    cons, x, y, inf)``, ``segments`` ``(seg_ends, vseg, nv0)`` (each segment's
+    ends, the segment each Steiner vertex on one lies on, the first Steiner
+    vertex), ``params`` a :class:`RefineParameters`. Work queues are rebuilt
+    from a scan on entry and whenever they run dry after progress, so nothing
+    is lost when a flip moves a queued half-edge. Returns ``(status, ntri,
+    nv)``: FINISHED, NEED_ROOM (grow the arrays, call again), HEAP_FULL or
+    PIECES_FULL (grow that queue, call again) or LIMIT (``params.max_new``
+    vertices inserted). ``buffers`` is a :class:`RefineBuffers`: the loop
+    allocates nothing, so it is compiled without reference counting
+    (``_nrt=False``), which is a fifth of its time otherwise."""
+    tri, twin, cons, x, y, inf = mesh
+    seg_ends, vseg, nv0 = segments
+    conforming, lens, max_new = params.conforming, params.lens, params.max_new
     sq, mark = buffers.sq, buffers.mark
     Q = (buffers.hitems, buffers.hnext, buffers.hfree, buffers.qhead, buffers.qtail)
     qs = buffers.qstate
     hitems = buffers.hitems
     queue_reset(Q, qs)
-    bstack, stack, enc, fc, no_sub = buffers.bstack, buffers.stack, buffers.enc, buffers.fc, buffers.no_sub
+    bstack, enc = buffers.bstack, buffers.enc
+    work = (buffers.stack, buffers.fc, buffers.no_sub)     # the flips' buffers
     cap_tri = tri.shape[0] // 3
     sn = np.int64(0)   # (typed: a literal argument compiles the callee once more)
     stamp = 0
@@ -672,7 +710,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             scanned_at = counts[C_STEINER]
             # scan everything: bad triangles and encroached pieces
             for t in range(ntri):
-                if not queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
+                if not queue_if_bad(tri, x, y, lab, params, Q, qs, t):
                     return HEAP_FULL, ntri, nv
             for e in range(3 * ntri):
                 if cons[e] > 0 and e < twin[e] and piece_needs_split(tri, twin, x, y, inf, lab,
@@ -693,8 +731,8 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 continue  # stale (the scan will find it again) or frozen
             if sq[sn, 3] == 0 and not piece_needs_split(tri, twin, x, y, inf, lab, conforming, lens, e):
                 continue
-            done, ntri, slot = split_piece(tri, twin, cons, x, y, inf, ntri, q, e, lab, vseg,
-                                           seg_ends, nv0, stack, counts, fc, no_sub, conforming)
+            done, ntri, slot = split_piece(mesh, ntri, q, e, lab, segments, work, counts,
+                                           conforming)
             if not done:
                 continue
         else:
@@ -705,16 +743,16 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
             c = hitems[s, 3]
             if tri[3 * t] != a or tri[3 * t + 1] != b or tri[3 * t + 2] != c or lab[t] == OUT:
                 continue  # stale
-            angle_bad, area_bad, key = is_bad(x, y, a, b, c, sin2_bound,
-                                              area_bound(area_of_label, lab[t]))
+            angle_bad, area_bad, key = is_bad(x, y, a, b, c, params, lab[t])
             counts[C_ATTEMPTS] += 1
-            if not area_bad and at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c, sin2_bound):
+            if not area_bad and at_small_input_angle(x, y, vseg, seg_ends, nv0, a, b, c,
+                                                     params.sin2_bound):
                 counts[C_SKIPPED] += 1
                 continue
             if below_precision(x, y, a, b) or below_precision(x, y, b, c) or below_precision(x, y, c, a):
                 counts[C_SKIPPED] += 1
                 continue
-            px, py = steiner_point(x, y, a, b, c, offconstant)
+            px, py = steiner_point(x, y, a, b, c, params.offconstant)
             if not (np.isfinite(px) and np.isfinite(py)):
                 counts[C_SKIPPED] += 1
                 continue
@@ -730,8 +768,8 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                 nenc = 1
             else:
                 stamp += 1
-                nenc = cavity_encroached(tri, twin, cons, x, y, inf, h, code == ON_EDGE, q,
-                                         mark, stamp, bstack, enc, lens)
+                nenc = cavity_encroached(mesh, h, code == ON_EDGE, q, mark, stamp, bstack, enc,
+                                         lens)
             if nenc > 0:
                 pushed = 0
                 for i in range(nenc):
@@ -760,8 +798,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
                         counts[C_SKIPPED] += 1
                         continue
                 # only frozen pieces are encroached: insert anyway (Triangle's -Y)
-            slot, ntri = insert_free(tri, twin, cons, x, y, inf, ntri, q, code, h, lab, stack,
-                                     counts, fc, no_sub)
+            slot, ntri = insert_free(mesh, ntri, q, code, h, lab, work, counts)
         nv += 1
         counts[C_STEINER] += 1
         # queue what the new vertex's star needs
@@ -771,7 +808,7 @@ def refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, 
         e = e0
         while True:
             t = e // 3
-            if not queue_if_bad(tri, x, y, lab, area_of_label, sin2_bound, Q, qs, t):
+            if not queue_if_bad(tri, x, y, lab, params, Q, qs, t):
                 return HEAP_FULL, ntri, nv
             for k in range(3):
                 g = 3 * t + k
@@ -813,15 +850,21 @@ def freeze_boundary(tri, twin, cons, lab, ntri):
             cons[twin[e]] = -cons[twin[e]]
 
 
-@kernel(apart=True, ahead=(I32, I32, I32, F8, F8, F8, i8, i8, i8, I64, I64_2, f8, F8, b1, b1, i8, i8),
+@kernel(apart=True, ahead=(STORE, I64, I64_2, REFINE_OPTIONS, F8, i8, i8),
         returns=Tuple((i8, I64, I64, I64_2, STORE)))
-def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_angle, area_of_label,
-                 conforming, split_boundary, max_new, room):
-    """Refine the store whose triangle labels are ``lab``, with room for at
-    least ``room`` vertices from the start (more is made by doubling).
-    ``seg_ends`` (mesh ids of each segment's ends) gains the hull edges made
-    segments. Frozen pieces are unfrozen on return. Returns ``(status,
-    counts, lab, seg_ends, (tri, twin, cons, x, y, w, inf, ntri, nv))``."""
+def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room):
+    """Refine the store ``(tri, twin, cons, x, y, w, inf, ntri, nv)`` whose
+    triangle labels are ``lab`` as ``refinement`` (a :class:`RefineOptions`:
+    its ``min_angle``, ``conforming`` and ``split_boundary``) asks, with the
+    area bound of each label in ``area_of_label`` (:func:`area_bound`; the
+    caller derives it from ``refinement.max_area`` and the region seeds), at
+    most ``max_new`` Steiner points, and room for at least ``room`` vertices
+    from the start (more is made by doubling). ``seg_ends`` (mesh ids of each
+    segment's ends) gains the hull edges made segments. Frozen pieces are
+    unfrozen on return. Returns ``(status, counts, lab, seg_ends, (tri, twin,
+    cons, x, y, w, inf, ntri, nv))``."""
+    tri, twin, cons, x, y, w, inf, ntri, nv = store
+    min_angle, conforming = refinement.min_angle, refinement.conforming
     nv0 = nv
     # the same refined mesh for any order of the input vertices and segments and
     # any segment direction: slots in canonical order (refinement scans them),
@@ -833,7 +876,7 @@ def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_ang
         if seg_ends[s, 0] > seg_ends[s, 1]:
             seg_ends[s, 0], seg_ends[s, 1] = seg_ends[s, 1], seg_ends[s, 0]
     seg_ends = with_hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends)
-    if not split_boundary:
+    if not refinement.split_boundary:
         freeze_boundary(tri, twin, cons, lab, ntri)
     sin2_bound, offconstant = 0.0, 0.0
     if min_angle > 0:
@@ -851,11 +894,12 @@ def refine_store(tri, twin, cons, x, y, w, inf, ntri, nv, lab, seg_ends, min_ang
     lab = _grown(lab, tri.shape[0] // 3, np.int64(OUT))
     vseg = np.zeros(inf + 1, np.int64)
     counts = np.zeros(8, np.int64)
+    params = RefineParameters(sin2_bound, offconstant, lens, conforming, max_new, area_of_label)
     heap, pieces = max(1024, ntri), np.int64(256)
     while True:
-        status, ntri, nv, heap, pieces = refine_run(
-            tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
-            offconstant, lens, area_of_label, conforming, max_new, counts, heap, pieces)
+        status, ntri, nv, heap, pieces = refine_run((tri, twin, cons, x, y, inf), ntri, nv, lab,
+                                                    (seg_ends, vseg, nv0), params, counts,
+                                                    heap, pieces)
         if status != NEED_ROOM:
             break
         tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, np.int64(0))
@@ -878,12 +922,12 @@ def with_hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends):
 STEINER_ROOM = 4   # vertex room refinement starts with, per input vertex
 
 @kernel(inline="always")
-def refine_run(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, sin2_bound,
-               offconstant, lens, area_of_label, conforming, max_new, counts, heap, pieces):
+def refine_run(mesh, ntri, nv, lab, segments, params, counts, heap, pieces):
     """:func:`refine_loop` with its work arrays: a queue of ``heap`` bad
     triangles and a stack of ``pieces`` segment pieces, doubled (and the loop
     called again) when one runs full. Returns ``(status, ntri, nv, heap,
     pieces)``; NEED_ROOM asks the caller to grow the mesh and call again."""
+    tri, inf = mesh[0], mesh[5]
     cap_tri = tri.shape[0] // 3
     while True:
         buffers = RefineBuffers(
@@ -892,9 +936,7 @@ def refine_run(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg, seg_ends, s
             np.empty((pieces, 4), np.int64),        # e, u, v, forced
             np.zeros(cap_tri, np.int64), np.empty(cap_tri + 8, np.int64), np.empty(inf + 16, np.int64),
             np.empty(64, np.int64), np.zeros(2, np.int64), np.zeros(1, np.int8))
-        status, ntri, nv = refine_loop(tri, twin, cons, x, y, inf, ntri, nv, nv0, lab, vseg,
-                                       seg_ends, sin2_bound, offconstant, lens, area_of_label,
-                                       conforming, max_new, counts, buffers)
+        status, ntri, nv = refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers)
         if status == HEAP_FULL:
             heap *= 2
         elif status == PIECES_FULL:

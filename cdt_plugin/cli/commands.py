@@ -11,7 +11,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ..compiling import cache_dir, compile_routes
+from ..compiling import cache_dir
+from ..warmup import compile_routes
 from ..errors import CDTError
 from ..triangulation import Triangulation
 from .formats import GEOJSON_FORMATS, GIS_FORMATS, GRID_OUTPUTS, LAYER_OUTPUTS, check_packages, \

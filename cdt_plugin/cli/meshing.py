@@ -10,6 +10,7 @@ import numpy as np
 
 from .. import triangulate
 from ..errors import CDTError
+from ..options import MeshOptions
 from ..parallel import map_ordered, resolve_workers
 from ..triangulation import Triangulation
 from .formats import import_for
@@ -20,7 +21,8 @@ MANY_FEATURES = 16        # features per thread worth starting one for
 
 
 def triangulate_options(args: argparse.Namespace) -> dict[str, Any]:
-    """Keyword options for triangulate; refinement options only when given."""
+    """Keyword options for triangulate, checked (:class:`~cdt_plugin.options.MeshOptions`);
+    refinement options only when given."""
     options: dict[str, Any] = {"intersections": args.intersections}
     asked = {k: v for k, v in (("min_angle", args.min_angle), ("max_area", args.max_area))
              if v is not None}
@@ -31,6 +33,7 @@ def triangulate_options(args: argparse.Namespace) -> dict[str, Any]:
             raise CLIError("refinement options need a cdt_plugin whose triangulate() accepts "
                            f"{', '.join(missing)} (quality refinement is not in this version)")
         options.update(asked)
+    MeshOptions.check(**options)      # every option checked before any input is read
     return options
 
 

@@ -376,9 +376,9 @@ def test_routes_come_from_the_cache_without_numbas_compiler_set_up():
     import subprocess
     import sys
 
-    from cdt_plugin import compiling
-    compiling.compile_routes()          # (the cache filled, as by `cdt-plugin compile`)
-    code = ("import json, sys\nfrom cdt_plugin import compiling\ncompiling.compile_routes()\n"
+    from cdt_plugin.warmup import compile_routes
+    compile_routes()          # (the cache filled, as by `cdt-plugin compile`)
+    code = ("import json, sys\nfrom cdt_plugin.warmup import compile_routes\ncompile_routes()\n"
             "print(json.dumps([m for m in ('numba.np.arraymath', 'numba.np.linalg') if m in sys.modules]))")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600,
                           check=False)

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from cdt_plugin._core.construct import DIVIDE, FLIP, INCREMENTAL
+from cdt_plugin._core.options import RefineOptions, RouteOptions, plain
 from cdt_plugin._core.pipeline import (K_DUPLICATE_SEGMENTS, K_DUPLICATES, K_FLIPS,
                                        K_INTERSECTIONS, K_MERGED_OVERLAPS, K_REF_COMPLETE,
-                                       K_ZERO_SEGMENTS, NO_REFINEMENT, cdt_route,
-                                       mesh_geometries, no_store, refinement_arg)
+                                       K_ZERO_SEGMENTS, cdt_route, mesh_geometries, no_store)
 from cdt_plugin._core.snap import snap_route
 from cdt_plugin._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE,
                                      ROUTE_NEEDS_SNAP, ROUTE_OK, ROUTE_OVERLAP, ROUTE_REFINE_LIMIT,
@@ -31,8 +31,9 @@ BUILD_HERE = no_store()       # the route builds its Delaunay triangulation itse
 
 def route(points, segs=(), rings=None, algorithm=DIVIDE, split=False, keep_hull=False,
           max_steiner=-1, refinement=None, holes=NO_SEEDS):
-    """``cdt_route`` with the arguments :func:`cdt_plugin.triangulate` passes.
-    ``rings``: ``(seg_ring, ring_polygon, ring_is_hole)``."""
+    """``cdt_route`` with the arguments :func:`cdt_plugin.triangulate` passes: the
+    options in a :class:`RouteOptions` (``refinement``: a :class:`RefineOptions`,
+    or None not to refine). ``rings``: ``(seg_ring, ring_polygon, ring_is_hole)``."""
     P = np.asarray(points, float).reshape(-1, 2)
     S = np.asarray(segs, np.int64).reshape(-1, 2)
     seg_ring, ring_polygon, ring_is_hole = ((NO_IDS, NO_IDS, NO_RINGS) if rings is None else
@@ -41,12 +42,14 @@ def route(points, segs=(), rings=None, algorithm=DIVIDE, split=False, keep_hull=
                                              np.asarray(rings[2], np.bool_)))
     holes = np.asarray(holes, float).reshape(-1, 2)
     x, y = P[:, 0].copy(), P[:, 1].copy()
+    options = RouteOptions(algorithm=algorithm, split=split, keep_hull=keep_hull,
+                           use_seeds=len(holes) > 0, max_steiner=max_steiner,
+                           refine=refinement is not None, refinement=refinement or RefineOptions())
     snapped = NOT_SNAPPED
     while True:
         status, info, counts, out = cdt_route(
-            x, y, S, seg_ring, ring_polygon, ring_is_hole, holes, NO_REGIONS, len(holes) > 0,
-            algorithm, NO_IDS, NO_IDS, split, keep_hull, max_steiner, snapped,
-            refinement_arg(refinement), BUILD_HERE)
+            (x, y, S, seg_ring, ring_polygon, ring_is_hole, holes, NO_REGIONS), (NO_IDS, NO_IDS),
+            options, snapped, BUILD_HERE)
         if status != ROUTE_NEEDS_SNAP:
             break
         status, info, *plan = snap_route(x, y, S, max_steiner)   # segments cross: snap them
@@ -152,13 +155,13 @@ def test_route_with_refinement():
     pts = SHELL + HOLE + [(0.5, 0.2), (5.5, 0.3)]
     segs, ring_of = ring_segs(4, 4)
     status, info, counts, o = route(pts, segs, (ring_of, [0, 0], [False, True]),
-                                    refinement=(25.0, 0.0, False, True, -1))
+                                    refinement=RefineOptions(min_angle=25.0))
     assert status == ROUTE_OK and counts[K_REF_COMPLETE] == 1
     assert len(o.below) == 0 and len(o.vertices) > len(pts)
     verify_out(pts, o, segs)
     assert math.isclose(area(o.vertices, o.triangles), 32)
     status, info, counts, o = route(pts, segs, (ring_of, [0, 0], [False, True]),
-                                    refinement=(30.0, 0.0, False, True, 2))
+                                    refinement=RefineOptions(min_angle=30.0), max_steiner=2)
     assert status == ROUTE_REFINE_LIMIT and counts[K_REF_COMPLETE] == 0
     assert len(o.vertices) == len(pts) + 2          # the partial mesh is complete
     verify_out(pts, o, segs)
@@ -238,8 +241,8 @@ def test_mesh_geometries_equals_the_route_per_geometry():
     geom_ring_start = np.cumsum([0] + [len(g) for g in geom_rings])
     x, y = xy[:, 0].copy(), xy[:, 1].copy()
     T, G, R, S, failed = mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon,
-                                         ring_is_hole, 0, len(geom_rings), False, -1, DIVIDE,
-                                         NO_REFINEMENT, len(xy))
+                                         ring_is_hole, 0, len(geom_rings), plain(RouteOptions()),
+                                         len(xy))
     assert failed.tolist() == [False, False, True, False, False]
     assert len(S) == 0
     assert sorted(set(G.tolist())) == [0, 1, 4]
@@ -280,8 +283,8 @@ def test_mesh_geometries_refuses_a_degenerate_ring_like_triangulate():
     xy = np.array(shell + hole, float)
     T, G, R, S, failed = mesh_geometries(xy[:, 0].copy(), xy[:, 1].copy(), np.array([0, 4, 7]),
                                          np.array([0, 2]), np.array([0, 0]),
-                                         np.array([False, True]), 0, 1, False, -1, DIVIDE,
-                                         NO_REFINEMENT, len(xy))
+                                         np.array([False, True]), 0, 1, plain(RouteOptions()),
+                                         len(xy))
     assert failed[0] or len(T) == 0
 
 
@@ -293,8 +296,8 @@ def test_crossings_stop_the_route_until_they_are_snap_rounded():
     bowtie = np.array([[0, 0], [2, 2], [2, 0], [0, 2.0]])
     S = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
     x, y = bowtie[:, 0].copy(), bowtie[:, 1].copy()
-    status, *_ = cdt_route(x, y, S, NO_IDS, NO_IDS, NO_RINGS, NO_SEEDS, NO_REGIONS, False, DIVIDE,
-                           NO_IDS, NO_IDS, True, False, -1, NOT_SNAPPED, NO_REFINEMENT, BUILD_HERE)
+    status, *_ = cdt_route((x, y, S, NO_IDS, NO_IDS, NO_RINGS, NO_SEEDS, NO_REGIONS), (NO_IDS, NO_IDS),
+                           RouteOptions(split=True), NOT_SNAPPED, BUILD_HERE)
     assert status == ROUTE_NEEDS_SNAP
     status, info, new_x, new_y, chains = snap_route(x, y, S, -1)
     assert status == ROUTE_OK and new_x.tolist() == [1.0] and new_y.tolist() == [1.0]
@@ -304,5 +307,5 @@ def test_crossings_stop_the_route_until_they_are_snap_rounded():
     assert status == ROUTE_OK and counts[K_INTERSECTIONS] == 1
     verify_out(bowtie, o, S)
     T, G, R, St, failed = mesh_geometries(x, y, np.array([0, 4]), np.array([0, 1]), NO_IDS,
-                                          NO_RINGS, 0, 1, True, -1, DIVIDE, NO_REFINEMENT, 4)
+                                          NO_RINGS, 0, 1, plain(RouteOptions(split=True)), 4)
     assert failed.tolist() == [True] and len(T) == 0

@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from cdt_plugin._core.options import RefineOptions
 from cdt_plugin._core.refine import C_SEG_SPLITS, C_STEINER, OUT, refine_store
 from cdt_plugin._core.regions import segment_depths
 from cdt_plugin._core.status import FINISHED, LIMIT
@@ -38,9 +39,10 @@ def labels(s, inside=None):
 
 def run(s, lab, min_angle=0.0, max_area=0.0, max_new=100_000):
     area = np.array([max_area]) if max_area > 0 else np.zeros(1)
-    status, counts, lab, seg_ends, store = refine_store(
-        s.tri, s.twin, s.cons, s.x, s.y, s.w, s.inf, s.ntri, s.nv, lab, s.seg_ends,
-        float(min_angle), area, False, True, max_new, 0)
+    store = (s.tri, s.twin, s.cons, s.x, s.y, s.w, s.inf, s.ntri, s.nv)
+    options = RefineOptions(min_angle=float(min_angle), max_area=float(max_area))
+    status, counts, lab, seg_ends, store = refine_store(store, lab, s.seg_ends, options, area,
+                                                        max_new, 0)
     tri, twin, cons, x, y, w, inf, ntri, nv = store
     return int(status), counts, lab, seg_ends, (tri, twin, cons, int(ntri), int(inf), x, y, int(nv))
 

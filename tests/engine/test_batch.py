@@ -234,3 +234,17 @@ def test_hole_seeds_as_an_array_go_one_by_one_like_single_calls():
         canonical_triangles(tri.vertices, tri.triangles)
     assert len(tri.triangles) == 8
     assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
+
+
+def test_the_batch_and_the_single_call_check_the_options_into_one_record():
+    """The options of a batch are checked, before any work, into the record a single
+    ``triangulate`` builds from the same keywords; the seeds stay apart."""
+    from cdt_plugin.batch import check_batch_options
+    from cdt_plugin.options import MeshOptions
+    keywords = {"min_angle": 25, "keep_hull": True, "max_steiner": 10.0, "intersections": "split"}
+    options, seeds, workers = check_batch_options(workers=1, holes=[[0.5, 0.5]], **keywords)
+    assert options == MeshOptions.check(**keywords)
+    assert (options.min_angle, options.max_steiner, options.split) == (25.0, 10, True)
+    assert seeds == {"holes": [[0.5, 0.5]]} and workers == 1
+    with pytest.raises(cdt_plugin.CDTError, match="min_angle must be in"):
+        check_batch_options(min_angle=60)

@@ -1,8 +1,11 @@
 """The cache guard of cdt_plugin.compiling: numba checks a cached function against its
 own source file only, so a cached route would run the old code of a kernel in another
 file that has changed since (an upgrade, an edit). The engine's cache files are
-removed when the sources' stamp differs from the one kept beside them."""
+removed when the sources' stamp differs from the one kept beside them. And the
+compile command (``cdt_plugin.warmup``) above it."""
 import os
+
+import pytest
 
 import cdt_plugin
 from cdt_plugin import compiling
@@ -42,3 +45,11 @@ def test_stale_cache_files_are_removed_once(tmp_path, monkeypatch):
 def test_an_unreadable_cache_never_stops_an_import(tmp_path, monkeypatch):
     monkeypatch.setattr(compiling, "_cache_path", lambda py_file: str(tmp_path / "missing" / "\0"))
     assert compiling.drop_stale_cache() is False
+
+
+def test_the_compile_command_names_an_unknown_route():
+    """``cdt-plugin compile ROUTE``: a route that does not exist is named, before any
+    route compiles."""
+    from cdt_plugin.warmup import compile_routes
+    with pytest.raises(cdt_plugin.CDTError, match=r"unknown route 'nope'; the routes are \['batch'"):
+        compile_routes(["delaunay", "nope"])

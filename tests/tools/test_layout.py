@@ -35,9 +35,8 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
         "cdt_plugin.types", "cdt_plugin.errors", "cdt_plugin.validate", "cdt_plugin.parallel",
         "cdt_plugin.interrupts", "cdt_plugin.optional", "cdt_plugin.switches",
         "cdt_plugin.hooks",       # the conversion hooks: imports the adapters inside its functions
-        # the cache guard, imported first by __init__; its compile command still imports the
-        # public functions (PENDING below): the options branch moves that command up
-        "cdt_plugin.compiling",
+        "cdt_plugin.options",     # the options record, checked once
+        "cdt_plugin.compiling",   # the cache guard, imported first by __init__
     )),
     ("plc", ("cdt_plugin.plc",)),
     ("route drivers", ("cdt_plugin._routes",)),
@@ -46,22 +45,13 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("results", ("cdt_plugin.triangulation",)),
     ("public functions", ("cdt_plugin", "cdt_plugin.delaunay", "cdt_plugin.cdt", "cdt_plugin.dynamic",
                           "cdt_plugin.batch", "cdt_plugin.lift")),
-    ("tools and adapters", ("cdt_plugin.io", "cdt_plugin.adapters*")),
+    ("tools and adapters", ("cdt_plugin.io", "cdt_plugin.warmup", "cdt_plugin.adapters*")),
     ("command line", ("cdt_plugin.cli*", "cdt_plugin.__main__")),
 ]
 
 #: The one module of the engine that may import the adapters (inside its functions).
 HOOKS = "cdt_plugin.hooks"
 ADAPTERS = "cdt_plugin.adapters"
-
-#: Imports that break the rules today and are being removed on another branch of the
-#: same change; each names where. Remove an entry when its branch has landed.
-PENDING: dict[tuple[str, str], str] = {
-    ("cdt_plugin.compiling", "cdt_plugin"): "options branch: the compile command moves up",
-    ("cdt_plugin.compiling", "cdt_plugin.batch"): "options branch: the compile command moves up",
-    ("cdt_plugin.compiling", "cdt_plugin.delaunay"): "options branch: the compile command moves up",
-}
-
 
 def _module_name(path: Path) -> str:
     parts = list(path.relative_to(ROOT).with_suffix("").parts)
@@ -129,10 +119,10 @@ def layer_of(module: str, layers: list[tuple[str, tuple[str, ...]]] = LAYERS) ->
     return None
 
 
-def allowed(edge: tuple[str, str], pending: Mapping[tuple[str, str], str] = PENDING) -> bool:
-    """The documented exceptions: the hooks' imports of the adapters, and the pending ones."""
+def allowed(edge: tuple[str, str]) -> bool:
+    """The documented exception: the hooks' imports of the adapters."""
     source, target = edge
-    return (source == HOOKS and _is_adapter(target)) or edge in pending
+    return source == HOOKS and _is_adapter(target)
 
 
 def _is_adapter(module: str) -> bool:
@@ -143,22 +133,22 @@ def unplaced(graph: Mapping[str, Iterable[str]], layers=LAYERS) -> list[str]:
     return sorted(m for m in graph if layer_of(m, layers) is None)
 
 
-def upward_imports(graph: Mapping[str, Iterable[str]], layers=LAYERS, pending=PENDING) -> list[str]:
+def upward_imports(graph: Mapping[str, Iterable[str]], layers=LAYERS) -> list[str]:
     """Every import from a lower layer into a higher one, but the allowed ones."""
     found = []
     for source, targets in graph.items():
         for target in targets:
             low, high = layer_of(source, layers), layer_of(target, layers)
-            if low is not None and high is not None and high > low and not allowed((source, target), pending):
+            if low is not None and high is not None and high > low and not allowed((source, target)):
                 found.append(f"{source} ({layers[low][0]}) imports {target} ({layers[high][0]})")
     return sorted(found)
 
 
-def circles(graph: Mapping[str, Iterable[str]], pending=PENDING) -> list[list[str]]:
+def circles(graph: Mapping[str, Iterable[str]]) -> list[list[str]]:
     """The import circles: strongly connected components of more than one module
     (or a module importing itself), Tarjan's algorithm without recursion; the
     allowed imports are left out."""
-    edges = {m: sorted(t for t in ts if not allowed((m, t), pending)) for m, ts in graph.items()}
+    edges = {m: sorted(t for t in ts if not allowed((m, t))) for m, ts in graph.items()}
     for ts in list(edges.values()):
         for t in ts:
             edges.setdefault(t, [])
@@ -202,14 +192,14 @@ def circles(graph: Mapping[str, Iterable[str]], pending=PENDING) -> list[list[st
     return sorted(found)
 
 
-def engine_imports_of_adapters(graph: Mapping[str, Iterable[str]], layers=LAYERS, pending=PENDING) -> list[str]:
+def engine_imports_of_adapters(graph: Mapping[str, Iterable[str]], layers=LAYERS) -> list[str]:
     """Imports of ``cdt_plugin.adapters`` by a module of the engine (below the
     command line, not an adapter) other than the hooks."""
     top = len(layers) - 1
     return sorted(f"{source} imports {target}" for source, targets in graph.items()
                   for target in targets
                   if _is_adapter(target) and not _is_adapter(source) and layer_of(source, layers) != top
-                  and not allowed((source, target), pending))
+                  and not allowed((source, target)))
 
 
 GRAPH = import_graph()
@@ -256,12 +246,6 @@ def test_the_hooks_import_the_adapters_only_inside_functions():
     assert not at_top, at_top
 
 
-def test_pending_exceptions_still_exist():
-    # an entry whose import is gone must go too: the table says what is true
-    gone = [edge for edge in PENDING if edge[1] not in GRAPH.get(edge[0], ())]
-    assert not gone, f"remove from PENDING: {gone}"
-
-
 # --------------------------------------------------- the checks can fail
 SYNTHETIC_LAYERS = [("low", ("a", "b")), ("mid", ("c", HOOKS)), ("high", ("d", f"{ADAPTERS}*"))]
 
@@ -270,26 +254,25 @@ def test_the_checks_pass_a_clean_graph():
     graph = {"a": {"b"}, "b": set(), "c": {"a"}, "d": {"c", "b"}, HOOKS: {f"{ADAPTERS}.x"},
              f"{ADAPTERS}.x": {"d"}}
     assert not unplaced(graph, SYNTHETIC_LAYERS)
-    assert not upward_imports(graph, SYNTHETIC_LAYERS, {})
-    assert not circles(graph, {})                  # (hooks -> adapters -> d -> c: no loop back)
-    assert not engine_imports_of_adapters(graph, SYNTHETIC_LAYERS, {})
+    assert not upward_imports(graph, SYNTHETIC_LAYERS)
+    assert not circles(graph)                  # (hooks -> adapters -> d -> c: no loop back)
+    assert not engine_imports_of_adapters(graph, SYNTHETIC_LAYERS)
 
 
 def test_a_circle_fails():
     graph = {"a": {"b"}, "b": {"a"}, "c": {"c"}, "d": set()}
-    assert circles(graph, {}) == [["a", "b"], ["c"]]
+    assert circles(graph) == [["a", "b"], ["c"]]
     # a longer one, through the hooks' allowed edge and back
     graph = {"c": {HOOKS}, HOOKS: {f"{ADAPTERS}.x"}, f"{ADAPTERS}.x": {"d"}, "d": {"c"}}
-    assert circles(graph, {}) == []                # the hooks' edge is the documented exception
+    assert circles(graph) == []                # the hooks' edge is the documented exception
     graph["c"].add("d")
     graph["d"].add("c")
-    assert circles(graph, {}) == [["c", "d"]]
+    assert circles(graph) == [["c", "d"]]
 
 
 def test_an_upward_import_fails():
     graph = {"a": {"c"}, "c": set(), "b": set(), "d": set()}
-    assert upward_imports(graph, SYNTHETIC_LAYERS, {}) == ["a (low) imports c (mid)"]
-    assert not upward_imports(graph, SYNTHETIC_LAYERS, {("a", "c"): "pending"})
+    assert upward_imports(graph, SYNTHETIC_LAYERS) == ["a (low) imports c (mid)"]
 
 
 def test_an_unplaced_module_fails():
@@ -298,8 +281,8 @@ def test_an_unplaced_module_fails():
 
 def test_an_engine_import_of_the_adapters_fails():
     graph = {"c": {f"{ADAPTERS}.x"}, HOOKS: {f"{ADAPTERS}.x"}, f"{ADAPTERS}.x": set()}
-    assert engine_imports_of_adapters(graph, SYNTHETIC_LAYERS, {}) == [f"c imports {ADAPTERS}.x"]
-    assert upward_imports(graph, SYNTHETIC_LAYERS, {}) == [f"c (mid) imports {ADAPTERS}.x (high)"]
+    assert engine_imports_of_adapters(graph, SYNTHETIC_LAYERS) == [f"c imports {ADAPTERS}.x"]
+    assert upward_imports(graph, SYNTHETIC_LAYERS) == [f"c (mid) imports {ADAPTERS}.x (high)"]
 
 
 # ------------------------------------------------------------ kernels, names

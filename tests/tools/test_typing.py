@@ -56,6 +56,7 @@ TYPED_MODULES = [
     "cdt_plugin.io",
     "cdt_plugin.lift",
     "cdt_plugin.optional",
+    "cdt_plugin.options",
     "cdt_plugin.parallel",
     "cdt_plugin.plc",
     "cdt_plugin.plot",
@@ -66,6 +67,7 @@ TYPED_MODULES = [
     "cdt_plugin.types",
     "cdt_plugin.validate",
     "cdt_plugin.voronoi",
+    "cdt_plugin.warmup",
 ]
 
 _ADAPTERS = "cdt_plugin.adapters."
