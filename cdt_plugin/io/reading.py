@@ -51,12 +51,14 @@ def _parse_nodes(recs: Records) -> tuple[NodeData, int]:
     return NodeData(verts, attrs, marks, first), lineno
 
 
-def _endpoint(recs: Records, ln: int, tok: str, what: str, first: int, n: int) -> int:
-    v = recs.int_(ln, tok, what)
-    z = v - first
-    if not 0 <= z < n:
-        raise recs.error(ln, f"{what} is {v}, out of range: vertices are numbered "
-                             f"{first}..{first + n - 1}")
+def _vertex(recs: Records, ln: int, tok: str, what: str, first: int, n: int | None) -> int:
+    """The zero-based vertex number ``tok`` (numbering from ``first``; with ``n``
+    vertices, or any number of them when ``n`` is None)."""
+    z = recs.int_(ln, tok, what) - first
+    if z < 0 or (n is not None and z >= n):
+        hi = f"{first + n - 1}" if n is not None else "..."
+        raise recs.error(ln, f"{what} is {z + first}, out of range: vertices are numbered "
+                             f"{first}..{hi}")
     return z
 
 
@@ -104,15 +106,11 @@ def read_poly(path: str | os.PathLike[str]) -> PolyData:
     segs = np.empty((m, 2), dtype=np.int64)
     smarks = np.zeros(m, dtype=np.int64) if smark else None
     for j in range(m):
-        try:
-            ln, toks = recs.next("segment line")
-        except FileFormatError:
-            raise recs.error(None, f"unexpected end of file: {m} segments declared, "
-                                   f"found {j}") from None
+        ln, toks = recs.next_of(m, j, "segments")
         recs.need(ln, toks, 3, "index endpoint endpoint")
         num = recs.int_(ln, toks[0], "the segment number")
-        segs[j, 0] = _endpoint(recs, ln, toks[1], f"segment {num}'s first endpoint", first, n)
-        segs[j, 1] = _endpoint(recs, ln, toks[2], f"segment {num}'s second endpoint", first, n)
+        segs[j, 0] = _vertex(recs, ln, toks[1], f"segment {num}'s first endpoint", first, n)
+        segs[j, 1] = _vertex(recs, ln, toks[2], f"segment {num}'s second endpoint", first, n)
         if smarks is not None and len(toks) > 3:
             smarks[j] = recs.int_(ln, toks[3], f"boundary marker of segment {num}")
 
@@ -122,11 +120,7 @@ def read_poly(path: str | os.PathLike[str]) -> PolyData:
         h = recs.count(ln, head[0], "number of holes")
         holes = np.empty((h, 2), dtype=np.float64)
         for j in range(h):
-            try:
-                ln, toks = recs.next("hole line")
-            except FileFormatError:
-                raise recs.error(None, f"unexpected end of file: {h} holes declared, "
-                                       f"found {j}") from None
+            ln, toks = recs.next_of(h, j, "holes")
             recs.need(ln, toks, 3, "index x y")
             holes[j, 0] = recs.float_(ln, toks[1], f"x of hole {toks[0]}")
             holes[j, 1] = recs.float_(ln, toks[2], f"y of hole {toks[0]}")
@@ -137,11 +131,7 @@ def read_poly(path: str | os.PathLike[str]) -> PolyData:
         r = recs.count(ln, head[0], "number of regions")
         regions = np.empty((r, 4), dtype=np.float64)
         for j in range(r):
-            try:
-                ln, toks = recs.next("region line")
-            except FileFormatError:
-                raise recs.error(None, f"unexpected end of file: {r} regions declared, "
-                                       f"found {j}") from None
+            ln, toks = recs.next_of(r, j, "regions")
             recs.need(ln, toks, 4, "index x y attribute [max_area]")
             label = toks[0]
             regions[j, 0] = recs.float_(ln, toks[1], f"x of region {label}")
@@ -173,22 +163,14 @@ def read_ele(path: str | os.PathLike[str], first_index: int | None = None,
     attrs = np.zeros((k, nattr), dtype=np.float64)
     base = first_index
     for i in range(k):
-        try:
-            ln, toks = recs.next("triangle line")
-        except FileFormatError:
-            raise recs.error(None, f"unexpected end of file: {k} triangles declared, "
-                                   f"found {i}") from None
+        ln, toks = recs.next_of(k, i, "triangles")
         recs.need(ln, toks, 1 + npt, "index " + " ".join(f"n{c + 1}" for c in range(npt)))
         num = recs.int_(ln, toks[0], "the triangle number")
         if base is None:                # the first record, with no base given
             base = recs.first_number(ln, toks[0], "triangle")
         for c in range(npt):
-            v = recs.int_(ln, toks[1 + c], f"corner {c + 1} of triangle {num}") - base
-            if v < 0 or (n_vertices is not None and v >= n_vertices):
-                hi = f"{base + n_vertices - 1}" if n_vertices is not None else "..."
-                raise recs.error(ln, f"corner {c + 1} of triangle {num} is {v + base}, out "
-                                     f"of range: vertices are numbered {base}..{hi}")
-            tris[i, c] = v
+            tris[i, c] = _vertex(recs, ln, toks[1 + c], f"corner {c + 1} of triangle {num}", base,
+                                 n_vertices)
         for a in range(min(nattr, len(toks) - 1 - npt)):
             attrs[i, a] = recs.float_(ln, toks[1 + npt + a], f"attribute {a + 1} of triangle {num}")
     recs.expect_end(f"the {k} triangles")
@@ -210,22 +192,14 @@ def read_edge(path: str | os.PathLike[str], first_index: int | None = None,
     marks = np.zeros(m, dtype=np.int64) if emark else None
     base = first_index
     for i in range(m):
-        try:
-            ln, toks = recs.next("edge line")
-        except FileFormatError:
-            raise recs.error(None, f"unexpected end of file: {m} edges declared, "
-                                   f"found {i}") from None
+        ln, toks = recs.next_of(m, i, "edges")
         recs.need(ln, toks, 3, "index endpoint endpoint")
         num = recs.int_(ln, toks[0], "the edge number")
         if base is None:                # the first record, with no base given
             base = recs.first_number(ln, toks[0], "edge")
         for c in range(2):
-            v = recs.int_(ln, toks[1 + c], f"endpoint {c + 1} of edge {num}") - base
-            if v < 0 or (n_vertices is not None and v >= n_vertices):
-                hi = f"{base + n_vertices - 1}" if n_vertices is not None else "..."
-                raise recs.error(ln, f"endpoint {c + 1} of edge {num} is {v + base}, out "
-                                     f"of range: vertices are numbered {base}..{hi}")
-            edges[i, c] = v
+            edges[i, c] = _vertex(recs, ln, toks[1 + c], f"endpoint {c + 1} of edge {num}", base,
+                                  n_vertices)
         if marks is not None and len(toks) > 3:
             marks[i] = recs.int_(ln, toks[3], f"boundary marker of edge {num}")
     recs.expect_end(f"the {m} edges")
@@ -247,11 +221,7 @@ def read_neigh(path: str | os.PathLike[str], first_index: int | None = None) -> 
     out = np.empty((k, 3), dtype=np.int64)
     base = first_index
     for i in range(k):
-        try:
-            ln, toks = recs.next("neighbour line")
-        except FileFormatError:
-            raise recs.error(None, f"unexpected end of file: {k} triangles declared, "
-                                   f"found {i}") from None
+        ln, toks = recs.next_of(k, i, "triangles")
         recs.need(ln, toks, 4, "index n1 n2 n3")
         num = recs.int_(ln, toks[0], "the triangle number")
         if base is None:                # the first record, with no base given

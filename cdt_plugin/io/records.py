@@ -126,6 +126,13 @@ class Records:
         self.pos += 1
         return rec
 
+    def next_of(self, n: int, i: int, items: str) -> tuple[int, list[str]]:
+        """Record ``i`` of the ``n`` ``items`` a header declares; at the end of the
+        file, an error that says how many were found."""
+        if self.pos >= len(self.recs):
+            raise self.error(None, f"unexpected end of file: {n} {items} declared, found {i}")
+        return self.next(items)
+
     def expect_end(self, after: str) -> None:
         if self.pos < len(self.recs):
             lineno, toks = self.recs[self.pos]
