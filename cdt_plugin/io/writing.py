@@ -31,13 +31,32 @@ def _opt_rows(a: ArrayLike | None, n: int, what: str, dtype: DTypeLike) -> NDArr
     return arr
 
 
+def _attribute_rows(attributes: ArrayLike | None, n: int) -> NDArray[np.float64] | None:
+    """``attributes`` as (n, a) float64 (one attribute may be given as (n,)), or None."""
+    attrs = _opt_rows(attributes, n, "attributes", np.float64)
+    if attrs is not None and attrs.ndim == 1:
+        attrs = attrs[:, None]
+    return attrs
+
+
+def _edge_lines(edges: NDArray[np.int64], markers: NDArray[np.int64] | None) -> list[str]:
+    """The lines of a ``.edge`` file, which are also the segment section of a ``.poly``:
+    ``<#edges> <#markers 0|1>``, then ``<#> <endpoint> <endpoint> [marker]``."""
+    f0 = WRITE_FIRST_INDEX
+    lines = [f"{edges.shape[0]} {0 if markers is None else 1}"]
+    for i in range(edges.shape[0]):
+        row = f"{i + f0} {edges[i, 0] + f0} {edges[i, 1] + f0}"
+        if markers is not None:
+            row += f" {int(markers[i])}"
+        lines.append(row)
+    return lines
+
+
 def _node_lines(vertices: ArrayLike, attributes: ArrayLike | None,
                 markers: ArrayLike | None) -> list[str]:
     v = as_xy(vertices, "vertices", empty=True)
     n = v.shape[0]
-    attrs = _opt_rows(attributes, n, "attributes", np.float64)
-    if attrs is not None and attrs.ndim == 1:
-        attrs = attrs[:, None]
+    attrs = _attribute_rows(attributes, n)
     marks = _opt_rows(markers, n, "markers", np.int64)
     na = 0 if attrs is None else attrs.shape[1]
     lines = [f"{n} 2 {na} {0 if marks is None else 1}"]
@@ -105,13 +124,8 @@ def write_poly(path: str | os.PathLike[str], vertices: ArrayLike | Triangulation
     n = int(lines[0].split()[0])
     s = as_index(segments, "segments", 2, n)
     smarks = _opt_rows(segment_markers, s.shape[0], "segment_markers", np.int64)
+    lines += _edge_lines(s, smarks)
     f0 = WRITE_FIRST_INDEX
-    lines.append(f"{s.shape[0]} {0 if smarks is None else 1}")
-    for j in range(s.shape[0]):
-        row = f"{j + f0} {s[j, 0] + f0} {s[j, 1] + f0}"
-        if smarks is not None:
-            row += f" {int(smarks[j])}"
-        lines.append(row)
     h = as_xy(holes if holes is not None else np.zeros((0, 2)), "holes", empty=True)
     lines.append(str(h.shape[0]))
     for j in range(h.shape[0]):
@@ -148,9 +162,7 @@ def write_ele(path: str | os.PathLike[str], triangles: ArrayLike | Triangulation
     t = as_index(t, "triangles", cols)
     if (t < 0).any():
         raise InputShapeError("triangles contain negative vertex indices")
-    attrs = _opt_rows(attributes, t.shape[0], "attributes", np.float64)
-    if attrs is not None and attrs.ndim == 1:
-        attrs = attrs[:, None]
+    attrs = _attribute_rows(attributes, t.shape[0])
     na = 0 if attrs is None else attrs.shape[1]
     f0 = WRITE_FIRST_INDEX
     lines = [f"{t.shape[0]} {cols} {na}"]
@@ -170,14 +182,7 @@ def write_edge(path: str | os.PathLike[str], edges: ArrayLike | Triangulation,
     if (e < 0).any():
         raise InputShapeError("edges contain negative vertex indices")
     marks = _opt_rows(markers, e.shape[0], "markers", np.int64)
-    f0 = WRITE_FIRST_INDEX
-    lines = [f"{e.shape[0]} {0 if marks is None else 1}"]
-    for i in range(e.shape[0]):
-        row = f"{i + f0} {e[i, 0] + f0} {e[i, 1] + f0}"
-        if marks is not None:
-            row += f" {int(marks[i])}"
-        lines.append(row)
-    _write(path, lines, "Triangle .edge")
+    _write(path, _edge_lines(e, marks), "Triangle .edge")
 
 
 def write_neigh(path: str | os.PathLike[str], neighbors: ArrayLike | Triangulation) -> None:
