@@ -28,6 +28,12 @@ def core():
         assert (adapters / module).is_file(), module
     tri = cdt_plugin.triangulate([[0, 0], [2, 0], [2, 2], [0, 2]], [[0, 1], [1, 2], [2, 3], [3, 0]])
     assert len(tri.triangles) == 2 and tri.is_delaunay()
+    # the engine's own subpackages ship whole: Triangle's file formats round-trip (cdt_plugin.io)
+    from cdt_plugin import io
+    with tempfile.TemporaryDirectory() as d:
+        io.write_triangulation(Path(d, "square.ele"), tri)
+        assert io.read_poly(Path(d, "square.poly")).to_plc().segments.shape == (4, 2)
+        assert io.read_ele(Path(d, "square.ele")).triangles.tolist() == tri.triangles.tolist()
     # an adapter whose package is not installed names the extra to install
     for name, package, extra in (("shapely", "shapely", "shapely"), ("trimesh", "trimesh", "trimesh"),
                                  ("open3d", "open3d", "open3d"), ("geo", "shapely", "gis")):

@@ -205,10 +205,7 @@ def _breaklines(breaklines: Any, crs: Any) -> list[NDArray[np.float64]]:
     if isinstance(breaklines, (list, tuple)):
         geoms = np.asarray(breaklines, dtype=object)
     else:
-        frame = read(breaklines)
-        if crs is not None and frame.crs is not None and frame.crs != crs:
-            frame = frame.to_crs(crs)
-        geoms = np.asarray(frame.geometry.array, dtype=object)
+        geoms = _layer_geometries(breaklines, crs)
     parts = shapely.get_parts(geoms)
     if not (shapely.get_type_id(parts) == 1).all():
         raise CDTError("breaklines must be LineStrings (or MultiLineStrings) with Z")
@@ -219,6 +216,15 @@ def _breaklines(breaklines: Any, crs: Any) -> list[NDArray[np.float64]]:
             raise CDTError(f"breakline {k} has no Z: its vertices need heights")
         out.append(xyz)
     return out
+
+
+def _layer_geometries(layer: Any, crs: Any) -> NDArray[np.object_]:
+    """The geometries of a layer (anything :func:`read` takes), projected to
+    ``crs`` when both have a CRS and they differ."""
+    frame = read(layer)
+    if crs is not None and frame.crs is not None and frame.crs != crs:
+        frame = frame.to_crs(crs)
+    return np.asarray(frame.geometry.array, dtype=object)
 
 
 def _chains(sizes: list[int]) -> list[NDArray[np.int64]]:
@@ -259,10 +265,7 @@ def _with_boundary(V: NDArray[np.float64], S: NDArray[np.int64], boundary: Any, 
     if isinstance(boundary, shapely.Geometry):
         area = boundary
     else:
-        frame = read(boundary)
-        if crs is not None and frame.crs is not None and frame.crs != crs:
-            frame = frame.to_crs(crs)
-        area = shapely.union_all(np.asarray(frame.geometry.array, dtype=object))
+        area = shapely.union_all(_layer_geometries(boundary, crs))
     polygons = [g for g in shapely.get_parts(area) if g.geom_type == "Polygon" and not g.is_empty]
     if not polygons:
         raise CDTError("boundary has no polygon")

@@ -19,14 +19,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core.pipeline import mesh_geometries
-from ._core.rings import polygon_rings
 from .cdt import triangulate_plc
 from .errors import CDTError
 from .interrupts import deferred_interrupt
 from .lift import lift_z
 from .options import MeshOptions
 from .parallel import check_workers, map_ordered, resolve_workers
-from .plc import PLC, as_plc
+from .plc import PLC, as_plc, ring_plc
 
 ERRORS = ("raise", "skip")
 CHUNK = 4096               # geometries per compiled call (progress granularity)
@@ -91,20 +90,17 @@ class MeshBatch:
 def geometry_plc(xy: NDArray[np.float64], ring_start: NDArray[np.int64],
                  geom_ring_start: NDArray[np.int64], ring_polygon: NDArray[np.int64],
                  ring_is_hole: NDArray[np.bool_], z: NDArray[np.float64] | None, g: int) -> PLC:
-    """The PLC of geometry ``g`` of flat ring arrays (its rings' edges are the
-    segments; a degenerate ring is named in ``degenerate_rings``, as a geometry's is)."""
+    """The PLC of geometry ``g`` of flat ring arrays, by :func:`cdt_plugin.plc.ring_plc`
+    (its rings' edges are the segments; a degenerate ring is named in
+    ``degenerate_rings``, as a geometry's is); the PLC has its own ring arrays."""
     r0, r1 = geom_ring_start[g], geom_ring_start[g + 1]
     v0, v1 = ring_start[r0], ring_start[r1]
-    local = xy[v0:v1]
     bounds = np.asarray(ring_start[r0:r1 + 1], np.int64) - v0
-    _, degenerate, _, seg, ring_of = polygon_rings(np.ascontiguousarray(local), bounds[:-1],
-                                                   bounds[1:])
-    polygon = np.asarray(ring_polygon[r0:r1], np.int64)
-    hole = np.asarray(ring_is_hole[r0:r1], bool)
-    named = [(int(polygon[r]), int((polygon[:r] == polygon[r]).sum())) for r in np.flatnonzero(degenerate)]
-    return PLC(local, seg, segment_ring=ring_of, ring_polygon=polygon[~degenerate],
-               ring_is_hole=hole[~degenerate], z=None if z is None else z[v0:v1].copy(),
-               degenerate_rings=named)
+    # non-finite coordinates are left to the triangulation, whose error names the row
+    plc, _ = ring_plc(np.ascontiguousarray(xy[v0:v1]), bounds[:-1], bounds[1:],
+                      np.array(ring_polygon[r0:r1], np.int64), np.array(ring_is_hole[r0:r1], bool),
+                      None if z is None else z[v0:v1].copy(), check_finite=False)
+    return plc
 
 
 def check_batch_options(*, errors: str = "raise", workers: SupportsIndex | None = None,

@@ -77,8 +77,8 @@ def _read_geometry(obj, required):
     shapely = _shapely_of(obj)
     if shapely is not None and (type(obj) is shapely.Polygon or type(obj) is shapely.MultiPolygon):
         rings = shapely_polygon_rings(shapely, obj)
-        return _ring_plc(rings.xy, rings.ring_start[:-1], rings.ring_start[1:], rings.ring_polygon,
-                         rings.ring_is_hole, rings.z)[0]
+        return ring_plc(rings.xy, rings.ring_start[:-1], rings.ring_start[1:], rings.ring_polygon,
+                        rings.ring_is_hole, rings.z)[0]
     gi = _mapping(obj, required)
     if gi is None:
         return None
@@ -197,26 +197,70 @@ def _layer_layout(shapely, geoms):
             np.concatenate([np.zeros(len(s_geom), bool), o_hole])[by])
 
 
-def _ring_plc(xy, begin, end, ring_polygon, ring_is_hole, z=None):
-    """``(plc, degenerate)``: the PLC of rings ``xy[begin[r]:end[r]]``
-    (polygon ``ring_polygon[r]``, a hole or not; the rings of a polygon
-    consecutive), their segments made in one compiled pass, a degenerate ring's
-    points kept as isolated vertices and named ``(polygon, ring within it)``;
-    and which rings were degenerate. :class:`NonFiniteCoordinateError` for NaN
-    or infinite coordinates."""
+def ring_plc(xy: NDArray[np.float64], begin: NDArray[np.int64], end: NDArray[np.int64],
+             ring_polygon: NDArray[np.int64], ring_is_hole: NDArray[np.bool_],
+             z: NDArray[np.float64] | None = None, *,
+             check_finite: bool = True) -> tuple[PLC, NDArray[np.bool_]]:
+    """The one place rings become a PLC.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64, C-contiguous
+        Ring vertices without closing points.
+    begin, end : (r,) int64
+        Ring ``i`` is ``xy[begin[i]:end[i]]``.
+    ring_polygon : (r,) int64
+        The polygon each ring belongs to.
+    ring_is_hole : (r,) bool
+        Whether each ring is a hole of its polygon.
+    z : (n,) float64, optional
+        Z of the vertices, kept on the PLC.
+    check_finite : bool
+        Raise :class:`NonFiniteCoordinateError` here for NaN or infinite
+        coordinates; ``False`` leaves them to the validation of the
+        triangulation, whose message names the first bad row.
+
+    Returns
+    -------
+    plc : PLC
+        The rings' edges as segments (made in one compiled pass); a degenerate
+        ring's points kept as isolated vertices and named ``(polygon, ring
+        within it)`` in ``degenerate_rings``.
+    degenerate : (r,) bool
+        Which rings were degenerate.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> xy = np.array([[0, 0], [2, 0], [2, 2], [0, 2], [1, 1], [1, 1.0]])
+    >>> plc, degenerate = ring_plc(xy, np.array([0, 4]), np.array([4, 6]), np.array([0, 0]),
+    ...                            np.array([False, True]))
+    >>> len(plc.segments), plc.degenerate_rings, degenerate.tolist()
+    (4, [(0, 1)], [False, True])
+    """
     bad, degenerate, n_degenerate, segs, seg_ring = polygon_rings(xy, begin, end)
-    if bad >= 0:
+    if bad >= 0 and check_finite:
         rows = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
         raise NonFiniteCoordinateError(f"geometry has NaN or infinite coordinates at vertex "
                                        f"position(s) {rows[:5].tolist()}")
     names = []
     if n_degenerate:
-        first = np.searchsorted(ring_polygon, ring_polygon)      # each polygon's first ring
-        names = [(int(ring_polygon[r]), int(r - first[r])) for r in np.flatnonzero(degenerate)]
+        rank = _rank_in_polygon(ring_polygon)
+        names = [(int(ring_polygon[r]), int(rank[r])) for r in np.flatnonzero(degenerate)]
         kept = ~degenerate
         ring_polygon, ring_is_hole = ring_polygon[kept], ring_is_hole[kept]
-    return PLC(xy, segs, segment_ring=seg_ring, ring_polygon=ring_polygon, ring_is_hole=ring_is_hole,
-               z=z, degenerate_rings=names), degenerate
+    return PLC(xy, segs, segment_ring=seg_ring, ring_polygon=ring_polygon,
+               ring_is_hole=ring_is_hole, z=z, degenerate_rings=names), degenerate
+
+
+def _rank_in_polygon(ring_polygon: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Each ring's number within its polygon: how many rings of the same
+    polygon come before it (the rings of a polygon need not be consecutive)."""
+    order = np.argsort(ring_polygon, kind="stable")
+    grouped = ring_polygon[order]
+    rank = np.empty(len(ring_polygon), np.int64)
+    rank[order] = np.arange(len(grouped)) - np.searchsorted(grouped, grouped)
+    return rank
 
 
 def _shapely_of(geometry):
@@ -380,8 +424,8 @@ class _Builder:
             z = np.full(len(xy), np.nan)
             for start, values in self.z:
                 z[start:start + len(values)] = values
-        plc, degenerate = _ring_plc(xy, begin, end, np.array(self.ring_polygon, np.int64),
-                                    np.array(self.ring_is_hole, bool), z)
+        plc, degenerate = ring_plc(xy, begin, end, np.array(self.ring_polygon, np.int64),
+                                   np.array(self.ring_is_hole, bool), z)
         if self.has_lines:
             plc.segments, plc.segment_ring = self._in_input_order(plc.segments, plc.segment_ring,
                                                                   ~degenerate, begin, end)

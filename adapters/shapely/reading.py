@@ -173,11 +173,7 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
     method = repair_method(repair)
     arr = np.array(geometries, dtype=object).ravel() if is_array_input(geometries) else \
         np.array([geometries], dtype=object)
-    ok = shapely.is_valid_input(arr)
-    if not ok.all():
-        i = int(np.flatnonzero(~ok)[0])
-        raise _fail(InputShapeError, f"expected a shapely geometry, got {type(arr[i]).__name__}",
-                    i, True)
+    _check_input(arr, True)
     arr = arr.copy()
     arr[shapely.is_missing(arr)] = shapely.Polygon()
     collections_to_polygonal(arr)
@@ -324,16 +320,22 @@ def _fail(cls: type[CDTError], message: str, i: int, indexed: bool | np.ndarray)
     return with_index(cls(message), i, indexed)
 
 
-def geometry_plcs(arr: NDArray[np.object_], method: str | None,
-          indexed: bool | np.ndarray) -> list[PLC | None]:
-    """Validate (and repair) a 1-D object array of geometries and read each into a PLC.
-    Validation is one vectorised GEOS call for the whole array."""
-    missing = shapely.is_missing(arr)
+def _check_input(arr: NDArray[np.object_], indexed: bool | np.ndarray) -> None:
+    """:class:`InputShapeError` for the first element of ``arr`` that is not a
+    shapely geometry (None, a missing geometry, is one)."""
     ok = shapely.is_valid_input(arr)
     if not ok.all():
         i = int(np.flatnonzero(~ok)[0])
         raise _fail(InputShapeError, f"expected a shapely geometry, got {type(arr[i]).__name__}",
                     i, indexed)
+
+
+def geometry_plcs(arr: NDArray[np.object_], method: str | None,
+          indexed: bool | np.ndarray) -> list[PLC | None]:
+    """Validate (and repair) a 1-D object array of geometries and read each into a PLC.
+    Validation is one vectorised GEOS call for the whole array."""
+    missing = shapely.is_missing(arr)
+    _check_input(arr, indexed)
     types = shapely.get_type_id(arr)
     arr = arr.copy()
     # --- validity of polygonal input (GeometryCollections: their polygonal members)

@@ -54,9 +54,11 @@ def numpy_1_reprs() -> Iterator[None]:
 
 
 def _with_submodules(module) -> list:
-    """``module``, and an adapter package's modules (an adapter split by concern)."""
+    """``module``, and the modules of an adapter package or of :mod:`cdt_plugin.io`
+    (split by concern)."""
     found = [module]
-    if hasattr(module, "__path__") and module.__name__.startswith("cdt_plugin.adapters."):
+    if hasattr(module, "__path__") and (module.__name__.startswith("cdt_plugin.adapters.")
+                                        or module.__name__ == "cdt_plugin.io"):
         found += [importlib.import_module(m.name)
                   for m in pkgutil.iter_modules(module.__path__, module.__name__ + ".")]
     return found
@@ -64,7 +66,7 @@ def _with_submodules(module) -> list:
 
 def run_doctests(module) -> tuple[doctest.TestResults, str]:
     """Every example of ``module`` (docstrings of the module and of what it defines;
-    of an adapter package, of its modules too)."""
+    of an adapter package or of cdt_plugin.io, of its modules too)."""
     tests = [t for m in _with_submodules(module) for t in doctest.DocTestFinder().find(m, m.__name__)]
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
     report = io.StringIO()

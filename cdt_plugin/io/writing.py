@@ -1,0 +1,225 @@
+"""The writers of Triangle's file formats: every vertex, triangle and edge numbered
+from :data:`WRITE_FIRST_INDEX` (Triangle's default), every float written as its
+``repr`` (which reads back bit for bit)."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, DTypeLike, NDArray
+
+from ..errors import InputShapeError, NonFiniteCoordinateError
+from ..triangulation import Triangulation
+from ..validate import as_index, as_xy
+
+#: The vertex number the writers start from (Triangle's default numbering).
+WRITE_FIRST_INDEX = 1
+
+
+def _fmt(x: float) -> str:
+    return repr(float(x))
+
+
+def _opt_rows(a: ArrayLike | None, n: int, what: str, dtype: DTypeLike) -> NDArray[Any] | None:
+    if a is None:
+        return None
+    arr = np.asarray(a, dtype=dtype)
+    if arr.shape[:1] != (n,):
+        raise InputShapeError(f"{what} must have {n} rows, got shape {arr.shape}")
+    return arr
+
+
+def _attribute_rows(attributes: ArrayLike | None, n: int) -> NDArray[np.float64] | None:
+    """``attributes`` as (n, a) float64 (one attribute may be given as (n,)), or None."""
+    attrs = _opt_rows(attributes, n, "attributes", np.float64)
+    if attrs is not None and attrs.ndim == 1:
+        attrs = attrs[:, None]
+    return attrs
+
+
+def _edge_lines(edges: NDArray[np.int64], markers: NDArray[np.int64] | None) -> list[str]:
+    """The lines of a ``.edge`` file, which are also the segment section of a ``.poly``:
+    ``<#edges> <#markers 0|1>``, then ``<#> <endpoint> <endpoint> [marker]``."""
+    f0 = WRITE_FIRST_INDEX
+    lines = [f"{edges.shape[0]} {0 if markers is None else 1}"]
+    for i in range(edges.shape[0]):
+        row = f"{i + f0} {edges[i, 0] + f0} {edges[i, 1] + f0}"
+        if markers is not None:
+            row += f" {int(markers[i])}"
+        lines.append(row)
+    return lines
+
+
+def _node_lines(vertices: ArrayLike, attributes: ArrayLike | None,
+                markers: ArrayLike | None) -> list[str]:
+    v = as_xy(vertices, "vertices", empty=True)
+    n = v.shape[0]
+    attrs = _attribute_rows(attributes, n)
+    marks = _opt_rows(markers, n, "markers", np.int64)
+    na = 0 if attrs is None else attrs.shape[1]
+    lines = [f"{n} 2 {na} {0 if marks is None else 1}"]
+    f0 = WRITE_FIRST_INDEX
+    for i in range(n):
+        parts = [str(i + f0), _fmt(v[i, 0]), _fmt(v[i, 1])]
+        if attrs is not None:
+            parts.extend(_fmt(x) for x in attrs[i])
+        if marks is not None:
+            parts.append(str(int(marks[i])))
+        lines.append(" ".join(parts))
+    return lines
+
+
+def _write(path: str | os.PathLike[str], lines: list[str], kind: str) -> None:
+    header = f"# {kind} written by cdt_plugin.io (numbering from {WRITE_FIRST_INDEX})"
+    with open(path, "w", encoding="utf-8", newline="\n") as f:
+        f.write(header + "\n" + "\n".join(lines) + "\n")
+
+
+def _mesh_array(data: ArrayLike | Triangulation, name: str) -> ArrayLike:
+    """``data.<name>`` when ``data`` is a :class:`~cdt_plugin.Triangulation`, else ``data``."""
+    return getattr(data, name) if isinstance(data, Triangulation) else data
+
+
+def write_node(path: str | os.PathLike[str], vertices: ArrayLike | Triangulation,
+               attributes: ArrayLike | None = None, markers: ArrayLike | None = None) -> None:
+    """Write a ``.node`` file, vertices numbered from 1; floats round-trip exactly.
+    ``vertices``: an (n, 2) array or a Triangulation (its vertices).
+
+    >>> import os, tempfile, cdt_plugin
+    >>> from cdt_plugin.io import read_node
+    >>> path = os.path.join(tempfile.mkdtemp(), "tri.node")
+    >>> write_node(path, cdt_plugin.delaunay([[0, 0], [1, 0], [0, 1]]))
+    >>> read_node(path).vertices.tolist()
+    [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
+    """
+    _write(path, _node_lines(_mesh_array(vertices, "vertices"), attributes, markers),
+           "Triangle .node")
+
+
+def write_poly(path: str | os.PathLike[str], vertices: ArrayLike | Triangulation,
+               segments: ArrayLike | None = None, holes: ArrayLike | None = None,
+               regions: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
+               attributes: ArrayLike | None = None, markers: ArrayLike | None = None) -> None:
+    """Write a ``.poly`` file (vertices inline, numbered from 1).
+
+    ``segments`` are zero-based in memory; ``regions`` rows are (x, y, attribute, max_area),
+    a NaN max_area is written as -1 (no constraint, in Triangle's reading). ``vertices``
+    may be a Triangulation: its vertices and (unless given) its segment pieces are
+    written, as Triangle writes its output ``.poly``.
+
+    >>> import os, tempfile
+    >>> from cdt_plugin.io import read_poly
+    >>> path = os.path.join(tempfile.mkdtemp(), "seg.poly")
+    >>> write_poly(path, [[0, 0], [1, 0]], [[0, 1]])
+    >>> read_poly(path).segments.tolist()
+    [[0, 1]]
+    """
+    if segments is None:
+        segments = _mesh_array(vertices, "segments")
+        if segments is vertices:
+            raise InputShapeError("write_poly needs segments (or a Triangulation)")
+    lines = _node_lines(_mesh_array(vertices, "vertices"), attributes, markers)
+    n = int(lines[0].split()[0])
+    s = as_index(segments, "segments", 2, n)
+    smarks = _opt_rows(segment_markers, s.shape[0], "segment_markers", np.int64)
+    lines += _edge_lines(s, smarks)
+    f0 = WRITE_FIRST_INDEX
+    h = as_xy(holes if holes is not None else np.zeros((0, 2)), "holes", empty=True)
+    lines.append(str(h.shape[0]))
+    for j in range(h.shape[0]):
+        lines.append(f"{j + f0} {_fmt(h[j, 0])} {_fmt(h[j, 1])}")
+    if regions is not None:
+        r = np.asarray(regions, dtype=np.float64)
+        if r.size == 0:
+            r = np.zeros((0, 4))
+        if r.ndim != 2 or r.shape[1] not in (3, 4):
+            raise InputShapeError(f"regions must have shape (r, 4), got {r.shape}")
+        if not np.isfinite(r[:, :3]).all():
+            raise NonFiniteCoordinateError("regions: x, y and attribute must be finite")
+        lines.append(str(r.shape[0]))
+        for j in range(r.shape[0]):
+            area = r[j, 3] if r.shape[1] == 4 and np.isfinite(r[j, 3]) else -1.0
+            lines.append(f"{j + f0} {_fmt(r[j, 0])} {_fmt(r[j, 1])} {_fmt(r[j, 2])} {_fmt(area)}")
+    _write(path, lines, "Triangle .poly")
+
+
+def write_ele(path: str | os.PathLike[str], triangles: ArrayLike | Triangulation,
+              attributes: ArrayLike | None = None) -> None:
+    """Write a ``.ele`` file (triangles and corners numbered from 1). ``triangles``: a
+    (k, 3) or (k, 6) index array or a Triangulation (its triangles).
+
+    >>> import os, tempfile, cdt_plugin
+    >>> from cdt_plugin.io import read_ele
+    >>> path = os.path.join(tempfile.mkdtemp(), "tri.ele")
+    >>> write_ele(path, cdt_plugin.delaunay([[0, 0], [1, 0], [0, 1]]))
+    >>> read_ele(path).triangles.tolist()
+    [[0, 1, 2]]
+    """
+    t = np.asarray(_mesh_array(triangles, "triangles"))
+    cols = t.shape[1] if t.ndim == 2 and t.shape[1] in (3, 6) else 3
+    t = as_index(t, "triangles", cols)
+    if (t < 0).any():
+        raise InputShapeError("triangles contain negative vertex indices")
+    attrs = _attribute_rows(attributes, t.shape[0])
+    na = 0 if attrs is None else attrs.shape[1]
+    f0 = WRITE_FIRST_INDEX
+    lines = [f"{t.shape[0]} {cols} {na}"]
+    for i in range(t.shape[0]):
+        parts = [str(i + f0)] + [str(int(x) + f0) for x in t[i]]
+        if attrs is not None:
+            parts.extend(_fmt(x) for x in attrs[i])
+        lines.append(" ".join(parts))
+    _write(path, lines, "Triangle .ele")
+
+
+def write_edge(path: str | os.PathLike[str], edges: ArrayLike | Triangulation,
+               markers: ArrayLike | None = None) -> None:
+    """Write a ``.edge`` file (edges and endpoints numbered from 1). ``edges``: an (m, 2)
+    index array or a Triangulation (every edge of its triangles)."""
+    e = as_index(_mesh_array(edges, "edges"), "edges", 2)
+    if (e < 0).any():
+        raise InputShapeError("edges contain negative vertex indices")
+    marks = _opt_rows(markers, e.shape[0], "markers", np.int64)
+    _write(path, _edge_lines(e, marks), "Triangle .edge")
+
+
+def write_neigh(path: str | os.PathLike[str], neighbors: ArrayLike | Triangulation) -> None:
+    """Write a ``.neigh`` file (triangles numbered from 1, -1 for no neighbour).
+    ``neighbors``: a (k, 3) array (column j: across the edge opposite corner j, as
+    Triangle numbers them) or a Triangulation (its neighbours)."""
+    nb = as_index(_mesh_array(neighbors, "neighbors"), "neighbors", 3)
+    k = nb.shape[0]
+    if ((nb < -1) | (nb >= k)).any():
+        raise InputShapeError(f"neighbors must be -1 or in 0..{k - 1}")
+    f0 = WRITE_FIRST_INDEX
+    lines = [f"{k} 3"]
+    for i in range(k):
+        lines.append(" ".join([str(i + f0)] + [str(int(x) + f0) if x >= 0 else "-1"
+                                                for x in nb[i]]))
+    _write(path, lines, "Triangle .neigh")
+
+
+def write_triangulation(path: str | os.PathLike[str], tri: Triangulation,
+                        attributes: ArrayLike | None = None) -> list[Path]:
+    """Write a Triangulation as Triangle writes its output: ``<base>.node``,
+    ``<base>.ele`` (with ``attributes`` per triangle, if given) and ``<base>.poly``
+    (its segment pieces), ``<base>`` being ``path`` without its extension. Returns
+    the three paths.
+
+    >>> import os, tempfile, cdt_plugin
+    >>> from cdt_plugin.io import read_ele
+    >>> base = os.path.join(tempfile.mkdtemp(), "square")
+    >>> tri = cdt_plugin.triangulate([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1], [1, 2], [2, 3], [3, 0]])
+    >>> [p.name for p in write_triangulation(base + ".ele", tri)]
+    ['square.node', 'square.ele', 'square.poly']
+    >>> read_ele(base + ".ele").triangles.shape
+    (2, 3)
+    """
+    base = Path(path).with_suffix("")
+    paths = [base.with_suffix(s) for s in (".node", ".ele", ".poly")]
+    write_node(paths[0], tri)
+    write_ele(paths[1], tri, attributes=attributes)
+    write_poly(paths[2], tri)
+    return paths
