@@ -81,7 +81,7 @@ def build(x, y, w, weighted, inf, order, hull_only, dup_of, submerged, counts, e
     if orient(x, y, a, b, c) < 0:
         b, c = c, b
     ntri = make_first_triangle(tri, twin, a, b, c, inf)
-    status, ntri = insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, 3, ntri,
+    status, ntri = insert_vertices((tri, twin, cons, x, y, inf), (w, weighted), order, 3, ntri,
                                    hull_only, dup_of, submerged, counts)
     return status, tri, twin, cons, ntri
 
