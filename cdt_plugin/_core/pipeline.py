@@ -552,7 +552,7 @@ def cdt_route(plc, orders, options, snapped, prebuilt):
         if algorithm == DIVIDE:
             horizontal = horizontal_order(xi, yi, n, horizontal_in, mesh_of)
         # (np.bool_: literal constants would compile the whole construction a second time)
-        status, tri, twin, cons, ntri, dup, sub = build_mesh(xi, yi, wi, np.bool_(False), n, inf,
+        status, tri, twin, cons, ntri, dup, sub = build_mesh(xi, yi, (wi, np.bool_(False)), n, inf,
                                                              algorithm, horizontal, extra,
                                                              np.bool_(True), build_counts)
     if status != OK:  # (a located point always exists)

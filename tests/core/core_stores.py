@@ -43,7 +43,7 @@ def delaunay_store(points, algorithm=DIVIDE, extra=0, with_cons=True):
     mesh_of[order] = np.arange(n)
     horizontal = horizontal_order(x, y, n, NO_IDS, mesh_of) if algorithm == DIVIDE else NO_IDS
     counts = np.zeros(2, np.int64)
-    status, tri, twin, cons, ntri, dup, sub = build_mesh(x, y, w, False, n, inf, algorithm,
+    status, tri, twin, cons, ntri, dup, sub = build_mesh(x, y, (w, False), n, inf, algorithm,
                                                          horizontal, extra, with_cons, counts)
     return SimpleNamespace(tri=tri, twin=twin, cons=cons, ntri=int(ntri), inf=int(inf), x=x, y=y,
                            w=w, order=order, mesh_of=mesh_of, dup=dup, sub=sub, nv=n,
