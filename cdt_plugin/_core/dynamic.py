@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .borrow import unowned
 from .insertion import insert_vertex
 from .jit import entry, kernel
 from .mesh import DEAD
@@ -72,8 +73,9 @@ def insert_points(tri, twin, cons, x, y, w, inf, meta, px, py, stack, grid, fram
     (The store's arrays come one by one, not as a ``mesh`` tuple: this entry is
     called from Python once per point in a loop of single inserts, and numba's
     dispatch of a tuple of arrays costs 0.5-0.9 us a call.)"""
-    mesh = (tri, twin, cons, x, y, inf)
-    unweighted = (w, np.bool_(False))
+    # (borrowed views: unpacking the bundles in the kernels below counts no references)
+    mesh = (unowned(tri), unowned(twin), unowned(cons), unowned(x), unowned(y), inf)
+    unweighted = (unowned(w), np.bool_(False))
     ntri = meta[0]
     nv = meta[1]
     last = meta[2]

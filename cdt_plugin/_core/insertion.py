@@ -96,7 +96,7 @@ def submerged_at(tri, twin, x, y, w, inf, code, e, q):
     return lifted_test(x, y, w, True, a, b, c, q) < 0
 
 
-@kernel
+@kernel(_nrt=False)   # allocates nothing: unpacking the bundles counts no references
 def insert_vertex(mesh, weights, q, last, ntri, hull_only, submerged, counts, stack):
     """Insert vertex ``q``: locate it from triangle ``last``, split, flip
     (``mesh`` and ``weights`` as in :func:`legalize`).
