@@ -306,7 +306,7 @@ def build_divide_two_threads(xi: NDArray[np.float64], yi: NDArray[np.float64], w
     task = functools.partial(_build_half, xi, yi, wi, u, ranks, onext, org)
     left, right = map_ordered(task, [(0, mid, free[:base], 0), (mid, nu, free[base:], base)], 2)
     del task, u, ranks            # (not needed by the join: their memory is free for it)
-    store = join_halves(xi, yi, wi, onext, org, free, base, *left, *right, inf, cap, with_cons)
+    store = join_halves((xi, yi, wi), (onext, org, free), base, left, right, inf, cap, with_cons)
     _release_freed_memory(m)      # what the threads and the join freed, before the output is made
     return store
 
@@ -330,7 +330,7 @@ def _build_half(xi, yi, wi, u, ranks, onext, org, part):
     ids = u[lo:hi]
     ranks[lo + lexicographic_order(yi[ids], -xi[ids])] = np.arange(hi - lo)
     _release_freed_memory(len(u))     # the sort's temporaries, kept in this thread's arena
-    return build_half(xi, yi, wi, u, ranks, lo, hi, onext, org, own_free, np.int64(first))
+    return build_half((xi, yi, wi), u, ranks, lo, hi, (onext, org, own_free), np.int64(first))
 
 
 # ------------------------------------------------------------ the CDT route

@@ -81,7 +81,7 @@ def build(x, y, w, weighted, inf, order, hull_only, dup_of, submerged, counts, e
     if orient(x, y, a, b, c) < 0:
         b, c = c, b
     ntri = make_first_triangle(tri, twin, a, b, c, inf)
-    status, ntri = insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, 3, ntri,
+    status, ntri = insert_vertices((tri, twin, cons, x, y, inf), (w, weighted), order, 3, ntri,
                                    hull_only, dup_of, submerged, counts)
     return status, tri, twin, cons, ntri
 
@@ -118,16 +118,17 @@ def store_room(m, extra):
     return max(4, 2 * (m + extra) + 2)
 
 
-@kernel(apart=True, ahead=(F8, F8, F8, b1, i8, i8, i8, I64, i8, b1, I64),
+@kernel(apart=True, ahead=(F8, F8, Tuple((F8, b1)), i8, i8, i8, I64, i8, b1, I64),
         returns=Tuple((i8, I32, I32, I32, i8, I64, I8)))
-def build_mesh(xi, yi, wi, weighted, m, inf, algorithm, horizontal, extra, with_cons, counts):
+def build_mesh(xi, yi, weights, m, inf, algorithm, horizontal, extra, with_cons, counts):
     """The Delaunay triangulation of mesh vertices ``0..m-1`` (seed triangle
     first for the incremental routes, lexicographic order for divide and
-    conquer) by ``algorithm``. Returns ``(status, tri, twin, cons, ntri,
+    conquer) by ``algorithm``; ``weights`` is ``(wi, weighted)``. Returns ``(status, tri, twin, cons, ntri,
     dup, sub)``: ``dup[i]`` the mesh vertex that vertex ``i`` repeats (-1),
     ``sub[i]`` whether it is submerged (weighted)."""
     dup = np.full(m, -1, np.int64)
     sub = np.zeros(m, np.int8)
+    wi, weighted = weights
     cap = store_room(m, extra)
     if algorithm == DIVIDE:
         tri, twin, cons, ntri = build_divide_sorted(xi, yi, wi, m, inf, dup, cap, with_cons, horizontal)

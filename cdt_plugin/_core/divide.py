@@ -208,9 +208,11 @@ def in_frame(onext, org, x, y, ldo, rdo, axis):
 
 
 @kernel(_nrt=False, apart=True)
-def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi, axis, base):
+def guibas_stolfi(points, u, r, quads, work, lo, hi, axis, base):
     """Delaunay triangulation of the distinct vertices ``u[lo:hi]`` (at least
-    two; ids in lexicographic order of their points) by divide and conquer with
+    two; ids in lexicographic order of their ``points``, ``(x, y, w)``) in the
+    quad-edge arrays ``quads``, ``(onext, org, free)`` (:func:`quad_store`),
+    with the ``work`` stacks ``(stack, results)`` (:func:`work_stacks`), by divide and conquer with
     cuts alternately vertical and horizontal (Dwyer's variant, which keeps the
     subproblems square), the first cut along ``axis`` (0: vertical). ``r[k]``
     ranks vertex ``u[k]`` in the order of the horizontal cuts (only their order
@@ -223,6 +225,9 @@ def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi, axis,
     from them to its halves' bottom and top vertices and back, where a walk
     round each half's whole hull was 5-10% of the time on points along
     curves, whose subproblems have most of their points on their hulls."""
+    x, y = points[0], points[1]
+    onext, org, free = quads
+    stack, results = work
     nfree = np.int64(0)
     top = np.int64(base)
     rp = 0
@@ -289,7 +294,7 @@ def guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi, axis,
             if axis == 1:     # a horizontal cut: its halves' ends, bottom and top
                 ldo, ldi = in_frame(onext, org, x, y, ldo, ldi, axis)
                 rdi, rdo = in_frame(onext, org, x, y, rdi, rdo, axis)
-            ldo, rdo, nfree, top = merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo)
+            ldo, rdo, nfree, top = merge(points, quads, nfree, top, ldo, ldi, rdi, rdo)
             if axis == 1:     # back to the left and right ends
                 ldo, rdo = in_frame(onext, org, x, y, ldo, rdo, np.int64(0))
             results[2 * rp] = ldo
@@ -309,8 +314,11 @@ def connect(onext, org, free, nfree, top, a, b):
 
 
 @kernel(_nrt=False)
-def merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo):
-    """Merge two adjacent triangulations along their seam (Guibas and Stolfi)."""
+def merge(points, quads, nfree, top, ldo, ldi, rdi, rdo):
+    """Merge two adjacent triangulations along their seam (Guibas and Stolfi;
+    ``points`` and ``quads`` as in :func:`guibas_stolfi`)."""
+    x, y, w = points
+    onext, org, free = quads
     # the lower common tangent
     while True:
         if ccw(x, y, org[rdi], org[ldi], org[ldi ^ 2]):          # leftof(org rdi, ldi)
@@ -482,8 +490,8 @@ def build_subdivision(x, y, w, u, r, inf, cap, with_cons):
     onext, org, free = quad_store(nu)
     stack, results = work_stacks(nu)
     first = np.int64(0)         # (typed, not literal: see jit.py)
-    ldo, _, used, _ = guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, first, nu,
-                                 first, first)
+    ldo, _, used, _ = guibas_stolfi((x, y, w), u, r, (onext, org, free), (stack, results), first,
+                                    nu, first, first)
     return store_subdivision(onext, org, used, ldo, inf, cap, with_cons)
 
 
@@ -550,13 +558,13 @@ def right_base(mid):
 
 
 @entry
-def build_half(x, y, w, u, r, lo, hi, onext, org, free, base):
+def build_half(points, u, r, lo, hi, quads, base):
     """One half ``u[lo:hi]`` of the first cut, triangulated in the shared
     quad-edge arrays from quad-edge ``base`` on (0 for the left half,
-    :func:`right_base` for the right one), with its own free stack ``free``.
-    Returns ``(nfree, top, ldo, rdo)`` (see :func:`guibas_stolfi`)."""
-    stack, results = work_stacks(hi - lo)
-    ldo, rdo, top, nfree = guibas_stolfi(x, y, w, u, r, onext, org, free, stack, results, lo, hi,
+    :func:`right_base` for the right one), with its own free stack (``quads``
+    is ``(onext, org, free)``). Returns ``(nfree, top, ldo, rdo)`` (see
+    :func:`guibas_stolfi`)."""
+    ldo, rdo, top, nfree = guibas_stolfi(points, u, r, quads, work_stacks(hi - lo), lo, hi,
                                          np.int64(1), base)
     return nfree, top, ldo, rdo
 
@@ -569,14 +577,17 @@ def moved_quad(free, nfree, top, i):
 
 
 @entry
-def join_halves(x, y, w, onext, org, free, base, nfree, top, ldo, ldi, r_nfree, r_top, rdi, rdo,
-                inf, cap, with_cons):
+def join_halves(points, quads, base, left, right, inf, cap, with_cons):
     """Move the right half down to the quad-edges one thread gives it (after the
     left half, one thread's right half takes the left half's freed quad-edges,
     last freed first, then new ones; its own freed ones stack on top), merge
     the halves and store the result (see :func:`store_subdivision`). The free
-    stacks are ``free[:base]`` and ``free[base:]``; ``ldo, ldi`` and ``rdi, rdo``
-    are the halves' hull edges at their ends (:func:`build_half`)."""
+    stacks are ``free[:base]`` and ``free[base:]``; ``left`` and ``right`` are
+    what :func:`build_half` returned for each half, ``(nfree, top, ldo, ldi)``
+    and ``(r_nfree, r_top, rdi, rdo)``: the halves' hull edges at their ends."""
+    onext, org, free = quads
+    nfree, top, ldo, ldi = left
+    r_nfree, r_top, rdi, rdo = right
     count = r_top - base
     taken = min(nfree, count)
     # in place, in order: quad-edge base + i goes to moved(i) <= base + i, never
@@ -598,5 +609,5 @@ def join_halves(x, y, w, onext, org, free, base, nfree, top, ldo, ldi, r_nfree, 
         free[nfree + i] = free[base + i]
     nfree += r_nfree
     top += count - taken
-    ldo, rdo, nfree, top = merge(x, y, w, onext, org, free, nfree, top, ldo, ldi, rdi, rdo)
+    ldo, rdo, nfree, top = merge(points, (onext, org, free), nfree, top, ldo, ldi, rdi, rdo)
     return store_subdivision(onext, org, top, ldo, inf, cap, with_cons)

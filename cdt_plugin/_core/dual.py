@@ -270,13 +270,14 @@ def store_ties(vx, vy, vw, weighted, tri, twin, tid, centres, err, redo, lo, hi)
     cocircular ties (then triangles must be fused: the general route)."""
     # (one loop per value of the flag: tested inside the loop, it made the loop several times slower)
     if weighted:
-        return ties_in_range(vx, vy, vw, True, tri, twin, tid, centres, err, redo, lo, hi)
-    return ties_in_range(vx, vy, vw, False, tri, twin, tid, centres, err, redo, lo, hi)
+        return ties_in_range(vx, vy, vw, True, tri, twin, tid, (centres, err, redo), lo, hi)
+    return ties_in_range(vx, vy, vw, False, tri, twin, tid, (centres, err, redo), lo, hi)
 
 
 @kernel(inline='always')
-def ties_in_range(vx, vy, vw, weighted, tri, twin, tid, centres, err, redo, lo, hi):
-    """:func:`store_ties`' loop."""
+def ties_in_range(vx, vy, vw, weighted, tri, twin, tid, marks, lo, hi):
+    """:func:`store_ties`' loop (``marks``: :func:`mark_if_close`'s ``(centres, err, redo)``)."""
+    centres, err, redo = marks
     bad = -1
     ties = 0
     for t in range(lo, hi):
@@ -708,6 +709,7 @@ def clip_cells(vx, vy, vw, triangles, offsets, ring, hull, face_of, centres,
     by = np.empty(cap)
     bl = np.empty(cap, np.int64)
     far = far_box(vx, vy, centres, xmin, ymin, xmax, ymax)
+    sites, cell, spare = (vx, vy, vw), (ax, ay, al), (bx, by, bl)
     out_offsets = np.zeros(nv + 1, np.int64)
     out = np.empty((8 * nv + 2 * (offsets[hi] - offsets[lo]) + 16, 2))
     n = 0
@@ -722,13 +724,13 @@ def clip_cells(vx, vy, vw, triangles, offsets, ring, hull, face_of, centres,
             al[p] = across[p]
             inside = inside and xmin <= ax[p] <= xmax and ymin <= ay[p] <= ymax
         if hull[v] and na > 0:
-            na = close_far(vx, vy, triangles, offsets, ring, v, ax, ay, al, na, far)
+            na = close_far(sites, triangles, offsets, ring, v, cell, na, far)
             inside = False
         if not inside:
-            na = cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, False, xmin, False)
-            na = cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, False, xmax, True)
-            na = cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, True, ymin, False)
-            na = cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, True, ymax, True)
+            na = cut_side(sites, v, cell, spare, na, False, xmin, False)
+            na = cut_side(sites, v, cell, spare, na, False, xmax, True)
+            na = cut_side(sites, v, cell, spare, na, True, ymin, False)
+            na = cut_side(sites, v, cell, spare, na, True, ymax, True)
         if na < 3:
             na = 0
         for p in range(na):
@@ -758,12 +760,16 @@ def far_box(vx, vy, centres, xmin, ymin, xmax, ymax):
 
 
 @kernel
-def close_far(vx, vy, triangles, offsets, ring, v, ax, ay, al, na, far):
-    """Close the chain of face centres of hull vertex ``v``'s unbounded cell:
+def close_far(sites, triangles, offsets, ring, v, cell, na, far):
+    """Close the chain of face centres ``cell``, ``(ax, ay, al)[:na]`` (see
+    :func:`cut_side`), of hull vertex ``v``'s unbounded cell (``sites`` is
+    ``(vx, vy, vw)``):
     the end of its outgoing ray on the far box, the far box's corners
     counter-clockwise, the end of its incoming ray. Each ray leaves its face
     centre along the outward normal of its hull edge, computed from the edge
     as directed in the triangle (so both cells of the ridge get the same end)."""
+    vx, vy = sites[0], sites[1]
+    ax, ay, al = cell
     t = ring[offsets[v + 1] - 2]                 # the last triangle (before the -1): hull edge b -> v
     b = triangles[t, (corner_of(triangles, t, v) + 2) % 3]
     t = ring[offsets[v]]                         # the first one: hull edge v -> a
@@ -825,14 +831,18 @@ def ray_end(cx, cy, nx, ny, far):
 
 
 @kernel
-def cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, vertical, bound, upper):
-    """Cut vertex ``v``'s convex cell polygon ``(ax, ay)[:na]`` (side ``p``
-    from corner ``p`` to ``p + 1`` labelled ``al[p]``) to ``x <= bound``
+def cut_side(sites, v, cell, spare, na, vertical, bound, upper):
+    """Cut vertex ``v``'s convex cell polygon ``cell``, ``(ax, ay, al)``:
+    corners ``(ax, ay)[:na]``, side ``p`` from corner ``p`` to ``p + 1``
+    labelled ``al[p]`` (``spare`` is room for another such polygon, ``sites``
+    ``(vx, vy, vw)``), to ``x <= bound``
     (``upper``) or ``x >= bound`` (``y`` when ``vertical``), in place (one
     Sutherland-Hodgman step); returns its new size. Corners are compared
     exactly. A crossing gets the side's coordinate ``bound`` exactly and the
     other from :func:`crossing`; the new side along the box is labelled
     ``SIDE``."""
+    ax, ay, al = cell
+    bx, by, bl = spare
     outside = False
     for p in range(na):
         c = ay[p] if vertical else ax[p]
@@ -854,7 +864,7 @@ def cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, vertical, bound, upper):
             bl[nb] = al[p]
             nb += 1
         if in_p != in_q and cp != bound and cq != bound:
-            other = crossing(vx, vy, vw, v, al[p], ax[p], ay[p], ax[q], ay[q], vertical, bound)
+            other = crossing(sites, v, al[p], ax[p], ay[p], ax[q], ay[q], vertical, bound)
             bx[nb] = other if vertical else bound
             by[nb] = bound if vertical else other
             bl[nb] = SIDE if in_p else al[p]             # leaving: along the box; entering: on
@@ -867,7 +877,7 @@ def cut_side(vx, vy, vw, v, ax, ay, al, bx, by, bl, na, vertical, bound, upper):
 
 
 @kernel
-def crossing(vx, vy, vw, v, u, px, py, qx, qy, vertical, bound):
+def crossing(sites, v, u, px, py, qx, qy, vertical, bound):
     """The other coordinate where the side ``p -> q`` of ``v``'s cell meets
     the line ``x = bound`` (``y`` when ``vertical``), kept between ``p`` and
     ``q``. On a ridge (``u >= 0``, the vertex across): from the bisector of
@@ -875,6 +885,7 @@ def crossing(vx, vy, vw, v, u, px, py, qx, qy, vertical, bound):
     with the pair in increasing order, so both cells get the same point;
     else (far box and clip box sides) interpolated from the end that comes
     first lexicographically."""
+    vx, vy, vw = sites
     if u >= 0:
         i, j = min(u, v), max(u, v)
         nx = vx[j] - vx[i]

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .borrow import unowned
 from .insertion import insert_vertex
 from .jit import entry, kernel
 from .mesh import DEAD
@@ -67,7 +68,14 @@ def insert_points(tri, twin, cons, x, y, w, inf, meta, px, py, stack, grid, fram
     place; the caller made room for every point (``nv + len(px) <= inf``) and
     keeps the flip ``stack`` (at least ``inf + 16``). Returns ``(status,
     slots)``: ``slots[k]`` is the slot of point ``k`` (an existing vertex's for
-    a point that repeats one)."""
+    a point that repeats one).
+
+    (The store's arrays come one by one, not as a ``mesh`` tuple: this entry is
+    called from Python once per point in a loop of single inserts, and numba's
+    dispatch of a tuple of arrays costs 0.5-0.9 us a call.)"""
+    # (borrowed views: unpacking the bundles in the kernels below counts no references)
+    mesh = (unowned(tri), unowned(twin), unowned(cons), unowned(x), unowned(y), inf)
+    unweighted = (unowned(w), np.bool_(False))
     ntri = meta[0]
     nv = meta[1]
     last = meta[2]
@@ -83,8 +91,8 @@ def insert_points(tri, twin, cons, x, y, w, inf, meta, px, py, stack, grid, fram
         start = grid[c]
         if start < 0 or start >= ntri or tri[3 * start] == DEAD:
             start = last          # (a grid made for an earlier store)
-        code, v, ntri, last = insert_vertex(tri, twin, cons, x, y, w, np.bool_(False), inf, nv,
-                                            start, ntri, np.bool_(False), submerged, counts, stack)
+        code, v, ntri, last = insert_vertex(mesh, unweighted, nv, start, ntri, np.bool_(False),
+                                            submerged, counts, stack)
         if code == LOCATE_FAILED:
             status = np.int64(code)
             break
@@ -108,11 +116,9 @@ def insert_segments(store, tasks, seg_ends, split, limit):
     Returns ``(status, info, store)`` with the status of
     :func:`.pipeline.insert_all_segments` (``ALL_DONE`` or why it stopped; on
     a stop the store is left half edited: the caller keeps a copy)."""
-    tri, twin, cons, x, y, w, inf, ntri, nv = store
     info = np.zeros(4, np.int64)
     seg_counts = np.zeros(3, np.int64)
-    status, out = insert_all_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks,
-                                      np.int64(tasks.shape[0]), seg_ends, split, limit,
+    status, out = insert_all_segments(store, tasks, np.int64(tasks.shape[0]), seg_ends, split, limit,
                                       seg_counts, info)
     return np.int64(status), info, out
 

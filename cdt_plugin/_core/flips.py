@@ -27,19 +27,22 @@ def flip_to_delaunay(tri, twin, cons, x, y, w, weighted, inf, ntri, max_flips=-1
         if e < twin[e]:
             stack[sp] = e
             sp += 1
-    return flip_from_stack(tri, twin, cons, x, y, w, weighted, inf, stack, sp, np.int64(max_flips))
+    return flip_from_stack((tri, twin, cons, x, y, inf), (w, weighted), stack, sp, np.int64(max_flips))
 
 
 @kernel
-def flip_from_stack(tri, twin, cons, x, y, w, weighted, inf, stack, sp, max_flips):
+def flip_from_stack(mesh, weights, stack, sp, max_flips):
     """The flip loop: pop an edge, flip it if it is not locally Delaunay (and not
-    a segment), push the four outer edges of its quadrilateral.
+    a segment), push the four outer edges of its quadrilateral. ``mesh`` is
+    ``(tri, twin, cons, x, y, inf)``, ``weights`` ``(w, weighted)`` (see :mod:`.mesh`).
 
     No "queued" flags: a flip rewrites the half-edge slots of two triangles, so
     a flag per slot would go stale. Pushing duplicates is harmless (each pop
     re-tests whatever edge sits in that slot now) and keeps the invariant that
     every edge not on the stack is locally Delaunay.
     """
+    tri, twin, cons, x, y, inf = mesh
+    w, weighted = weights
     flips = 0
     while sp > 0:
         sp -= 1

@@ -14,15 +14,18 @@ from .status import INSIDE, LOCATE_FAILED, LOCATION_FAILED, OK, ON_VERTEX, SUBME
 
 
 @kernel
-def legalize(tri, twin, cons, x, y, w, weighted, inf, p, stack, sp, hull_only, submerged, counts):
+def legalize(mesh, weights, p, stack, sp, hull_only, submerged, counts):
     """Flip the edges on ``stack`` (each opposite the new vertex ``p``) until they
-    are all locally (weighted) Delaunay. ``counts[0]`` counts 2-2 flips,
+    are all locally (weighted) Delaunay. ``mesh`` is ``(tri, twin, cons, x, y,
+    inf)`` and ``weights`` ``(w, weighted)`` (see :mod:`.mesh`). ``counts[0]`` counts 2-2 flips,
     ``counts[1]`` the vertices submerged by 3-1 flips. With ``hull_only`` only
     edges at the infinite vertex are flipped (building the lexicographic
     triangulation of Sec. 2.1). The stack never outgrows its capacity: each
     flip pops one edge and pushes two, and a vertex gains one edge per flip, so
     ``sp <= 4 + number of vertices``. (A fixed array avoids the reference
     counting that returning a grown array costs in the hot loop.)"""
+    tri, twin, cons, x, y, inf = mesh
+    w, weighted = weights
     # (borrowed views: in a caller that counts references, the helpers inlined
     # in this loop counted them on every edge popped)
     tri, twin, cons, stack = unowned(tri), unowned(twin), unowned(cons), unowned(stack)
@@ -93,16 +96,18 @@ def submerged_at(tri, twin, x, y, w, inf, code, e, q):
     return lifted_test(x, y, w, True, a, b, c, q) < 0
 
 
-@kernel
-def insert_vertex(tri, twin, cons, x, y, w, weighted, inf, q, last, ntri, hull_only,
-                  submerged, counts, stack):
-    """Insert vertex ``q``: locate it from triangle ``last``, split, flip.
+@kernel(_nrt=False)   # allocates nothing: unpacking the bundles counts no references
+def insert_vertex(mesh, weights, q, last, ntri, hull_only, submerged, counts, stack):
+    """Insert vertex ``q``: locate it from triangle ``last``, split, flip
+    (``mesh`` and ``weights`` as in :func:`legalize`).
 
     Returns ``(code, v, ntri, last)``: code ``ON_VERTEX`` with ``v`` the vertex
     ``q`` coincides with (not inserted), ``SUBMERGED`` if ``q`` is submerged (weighted),
     ``LOCATE_FAILED`` if location failed, else the located code (``INSIDE``/``ON_EDGE``)
     with ``v == q``. ``last`` is a live triangle near ``q`` for the next walk.
     """
+    tri, twin, cons, x, y, inf = mesh
+    w, weighted = weights
     code, e = locate(tri, twin, x, y, inf, q, last, ntri)
     if code < 0:
         return LOCATE_FAILED, -1, ntri, last
@@ -127,8 +132,7 @@ def insert_vertex(tri, twin, cons, x, y, w, weighted, inf, q, last, ntri, hull_o
         stack[2] = 3 * (ntri - 2)
         stack[3] = 3 * (ntri - 1)
         sp = 4
-    legalize(tri, twin, cons, x, y, w, weighted, inf, q, stack, sp,
-             hull_only, submerged, counts)
+    legalize(mesh, weights, q, stack, sp, hull_only, submerged, counts)
     last = t
     while tri[3 * last] == DEAD:  # killed by a 3-1 flip: any live triangle will do
         last = (last + ntri - 1) % ntri
@@ -136,25 +140,23 @@ def insert_vertex(tri, twin, cons, x, y, w, weighted, inf, q, last, ntri, hull_o
 
 
 @kernel(inline="always")
-def insert_vertices(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
-                    hull_only, dup_of, submerged, counts):
-    """Insert ``order[first:]`` one by one. Exact duplicates are not inserted:
-    ``dup_of[q]`` receives the vertex they coincide with. Returns
-    ``(status, ntri)``."""
-    return insert_vertices_loop(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
-                                hull_only, dup_of, submerged, counts,
-                                np.empty(order.shape[0] + 8, np.int64))
+def insert_vertices(mesh, weights, order, first, ntri, hull_only, dup_of, submerged, counts):
+    """Insert ``order[first:]`` one by one (``mesh`` and ``weights`` as in
+    :func:`legalize`). Exact duplicates are not inserted: ``dup_of[q]``
+    receives the vertex they coincide with. Returns ``(status, ntri)``."""
+    return insert_vertices_loop(mesh, weights, order, first, ntri, hull_only, dup_of, submerged,
+                                counts, np.empty(order.shape[0] + 8, np.int64))
 
 
 @kernel(_nrt=False)   # allocates nothing: no reference counting either
-def insert_vertices_loop(tri, twin, cons, x, y, w, weighted, inf, order, first, ntri,
-                         hull_only, dup_of, submerged, counts, stack):
+def insert_vertices_loop(mesh, weights, order, first, ntri, hull_only, dup_of, submerged, counts,
+                         stack):
     """The loop of :func:`insert_vertices`, with its flip stack passed in."""
     last = np.int64(0)
     for k in range(first, order.shape[0]):
         q = order[k]
-        code, v, ntri, last = insert_vertex(tri, twin, cons, x, y, w, weighted, inf, q, last,
-                                            ntri, hull_only, submerged, counts, stack)
+        code, v, ntri, last = insert_vertex(mesh, weights, q, last, ntri, hull_only, submerged,
+                                            counts, stack)
         if code == LOCATE_FAILED:
             return LOCATION_FAILED, ntri
         if code == ON_VERTEX:

@@ -12,6 +12,18 @@ the convex hull is the link of ``inf``. A dead triangle (removed by a 3-1 flip)
 has ``tri[3t] == DEAD``.
 
 These functions only rewire indices; they know nothing of coordinates.
+
+The kernels that edit a store with coordinates take it bundled, so that they
+keep to a few arguments: ``mesh = (tri, twin, cons, x, y, inf)``, unpacked at
+the kernel's top (``tri, twin, cons, x, y, inf = mesh``), and, where weights
+count, ``weights = (w, weighted)`` (unweighted callers pass ``(x, False)``:
+the weights are read only when ``weighted``). numba passes a tuple's members
+as it would separate arguments, but unpacking it counts references on each
+array: where that runs per point, the bundle holds borrowed views
+(:func:`.borrow.unowned`, as segment insertion and the live insert make them)
+or the kernel is compiled with ``_nrt=False`` (``insertion.insert_vertex``).
+Entries called from Python take the arrays one by one instead, where the
+dispatch of a tuple of arrays (0.5-0.9 us) would show.
 """
 from __future__ import annotations
 

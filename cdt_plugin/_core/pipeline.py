@@ -27,7 +27,7 @@ from .construct import (DIVIDE, FLIP, build_mesh, gather_coords, horizontal_orde
                         store_room, to_input_ids)
 from .flips import flip_to_delaunay
 from .insertion import insert_vertex
-from .jit import B1, F8, F8_2, I32, I64, I64_2, STORE, Tuple, b1, entry, i8, kernel
+from .jit import B1, F8_2, I64, I64_2, STORE, Tuple, b1, entry, i8, kernel
 from .mesh import DEAD, IDX, grow_store, nxt
 from .options import ROUTE_OPTIONS, named
 from .ordering import HILBERT_BITS, hilbert_keys, lexicographic_order_compiled
@@ -113,10 +113,12 @@ def float_bits(v):
 
 
 @kernel
-def insert_points_at(tri, twin, cons, x, y, w, inf, ntri, nv, px, py):
+def insert_points_at(mesh, w, ntri, nv, px, py):
     """Insert points ``px, py`` (distinct, none at a vertex; room made) as
-    vertices ``nv, nv + 1, ...``, in Hilbert order (short walks). Returns
-    ``(ntri, nv, status)``."""
+    vertices ``nv, nv + 1, ...`` of ``mesh`` (``(tri, twin, cons, x, y, inf)``,
+    see :mod:`.mesh`; weights ``w`` zero), in Hilbert order (short walks).
+    Returns ``(ntri, nv, status)``."""
+    x, y, inf = mesh[3], mesh[4], mesh[5]
     k = px.shape[0]
     for j in range(k):
         x[nv + j] = px[j]
@@ -133,8 +135,8 @@ def insert_points_at(tri, twin, cons, x, y, w, inf, ntri, nv, px, py):
     hint = np.int64(0)
     for r in range(k):
         q = nv + order[r]
-        code, p, ntri, hint = insert_vertex(tri, twin, cons, x, y, w, np.bool_(False), inf, q, hint,
-                                            ntri, np.bool_(False), no_weights, flip_counts, stack)
+        code, p, ntri, hint = insert_vertex(mesh, (w, np.bool_(False)), q, hint, ntri,
+                                            np.bool_(False), no_weights, flip_counts, stack)
         if code == LOCATE_FAILED or p != q:
             return ntri, nv, LOCATION_FAILED
     return ntri, nv + k, OK
@@ -165,21 +167,21 @@ def chain_tasks(chains, first, segs, mesh_of, n):
     return tasks, ntask, passed
 
 
-@kernel(apart=True, ahead=(I32, I32, I32, F8, F8, F8, i8, i8, i8, I64_2, i8, I64_2, b1, i8, I64, I64),
-        returns=Tuple((i8, STORE)))
-def insert_all_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_ends, split,
-                        limit, seg_counts, info):
-    """Run the segment tasks to the end, growing the store and the walk buffers
-    as asked. Returns ``(status, (tri, twin, cons, x, y, w, inf, ntri, nv))``
-    with the status of :func:`segments.insert_segments` (ALL_DONE or a stop)."""
+@kernel(apart=True, ahead=(STORE, I64_2, i8, I64_2, b1, i8, I64, I64), returns=Tuple((i8, STORE)))
+def insert_all_segments(store, tasks, ntask, seg_ends, split, limit, seg_counts, info):
+    """Run the segment tasks to the end in ``store`` (``(tri, twin, cons, x, y,
+    w, inf, ntri, nv)``), growing it and the walk buffers as asked
+    (:func:`segments.insert_segments` has the arguments). Returns ``(status,
+    store)`` with the status of :func:`segments.insert_segments` (ALL_DONE or a stop)."""
     # the walk buffers: made now on small meshes (asking for them later would redo the
     # pass over the edges that are segments already), on the first walk on large ones
+    tri, twin, cons, x, y, w, inf, ntri, nv = store
     buf = make_buffers(ntri if ntri <= SMALL_MESH else np.int64(0))
     while True:
         stack = np.empty(inf + 16, np.int64)
-        status, ntri, nv, ntask = insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks,
-                                                  ntask, seg_ends, split, limit, seg_counts, info,
-                                                  stack, buf)
+        status, ntri, nv, ntask = insert_segments((tri, twin, cons, x, y, inf), ntri, nv, tasks,
+                                                  ntask, seg_ends, split, limit, (seg_counts, info),
+                                                  (stack, buf))
         if status == NEED_VERTEX_ROOM:
             tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, np.int64(0))
             grown = np.empty((2 * tasks.shape[0] + 16, 3), np.int64)
@@ -550,7 +552,7 @@ def cdt_route(plc, orders, options, snapped, prebuilt):
         if algorithm == DIVIDE:
             horizontal = horizontal_order(xi, yi, n, horizontal_in, mesh_of)
         # (np.bool_: literal constants would compile the whole construction a second time)
-        status, tri, twin, cons, ntri, dup, sub = build_mesh(xi, yi, wi, np.bool_(False), n, inf,
+        status, tri, twin, cons, ntri, dup, sub = build_mesh(xi, yi, (wi, np.bool_(False)), n, inf,
                                                              algorithm, horizontal, extra,
                                                              np.bool_(True), build_counts)
     if status != OK:  # (a located point always exists)
@@ -579,7 +581,8 @@ def cdt_route(plc, orders, options, snapped, prebuilt):
         if shift != 0:
             snap_x = scaled(snap_x, shift)
             snap_y = scaled(snap_y, shift)
-        ntri, nv, status = insert_points_at(tri, twin, cons, xi, yi, wi, inf, ntri, n, snap_x, snap_y)
+        ntri, nv, status = insert_points_at((tri, twin, cons, xi, yi, inf), wi, ntri, n, snap_x,
+                                            snap_y)
         if status != OK:
             info[0] = 3
             info[1] = status
@@ -593,7 +596,7 @@ def cdt_route(plc, orders, options, snapped, prebuilt):
         cap = np.int64(0)
     elif max_steiner >= 0:
         cap = limit - (nv - n)
-    status, store = insert_all_segments(tri, twin, cons, xi, yi, wi, inf, ntri, nv, tasks, ntask,
+    status, store = insert_all_segments((tri, twin, cons, xi, yi, wi, inf, ntri, nv), tasks, ntask,
                                         seg_ends, split, cap, seg_counts, info)
     tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
     if split and status == STOP_LIMIT and chains.shape[0] == 0:

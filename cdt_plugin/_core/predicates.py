@@ -123,6 +123,14 @@ ICCW_ERRBOUND_A = (16.0 + 256.0 * EPSILON) * EPSILON
 # never evaluated in overflowing int64). They are compiled on first use
 # (:class:`.jit.DeclaredKernel`), not at import: a process whose routes load
 # from the cache never loads them.
+#
+# The predicates and their stages take the coordinates of their three or four
+# points (and weights) as scalars, as Shewchuk's do, which makes up to a dozen
+# arguments and up to 18 in the exact stages' helpers: that is the algorithm
+# (each term of the determinant is a product of these scalars), and scalars stay
+# in registers where a tuple would have to be taken apart at every stage. The
+# store-threading kernels elsewhere keep to about ten arguments with bundles
+# (see :mod:`.mesh`).
 _f8 = types.float64
 _i8 = types.int64
 _b1 = types.boolean

@@ -618,10 +618,10 @@ def flip_edges_at(mesh, q, slot, c, d, stack, counts):
 @kernel
 def _legalize(mesh, q, sp, work, counts):
     """Flip from the ``sp`` half-edges on ``work[0]`` (the stack), counting the flips."""
-    tri, twin, cons, x, y, inf = mesh
+    x = mesh[3]
     stack, fc, no_sub = work
     fc[0] = 0
-    legalize(tri, twin, cons, x, y, x, np.bool_(False), inf, q, stack, sp, np.bool_(False), no_sub, fc)
+    legalize(mesh, (x, np.bool_(False)), q, stack, sp, np.bool_(False), no_sub, fc)
     counts[C_FLIPS] += fc[0]
 
 

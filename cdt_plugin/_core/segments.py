@@ -152,15 +152,18 @@ def edge_from(tri, twin, x, y, inf, v, hint, ntri, vedge):
 
 
 @kernel
-def first_crossing(tri, twin, x, y, inf, a, b, e0, A, B, off_line):
-    """Look around ``a`` (``e0`` leaves ``a``) for the way towards ``b``.
+def first_crossing(mesh, a, b, e0, ends, off_line):
+    """Look around ``a`` (``e0`` leaves ``a``) for the way towards ``b`` in
+    ``mesh`` (``(tri, twin, cons, x, y, inf)``, see :mod:`.mesh`).
 
     Returns ``(kind, e)``: ``(DONE, a->b)`` if the edge exists; ``(SPLIT_AT,
     a->v)`` if a neighbour ``v`` lies on the open segment (or, for a piece
-    ``off_line`` of its input segment ``A B``, on that:
+    ``off_line`` of its input segment ``ends = (A, B)``, on that:
     :func:`on_input_segment`); else ``(CROSSING, u->w)``: the first edge the
     segment crosses, ``u`` right and ``w`` left of ``a -> b``.
     """
+    tri, twin, x, y, inf = mesh[0], mesh[1], mesh[3], mesh[4], mesh[5]
+    A, B = ends
     e = e0
     for _ in range(tri.shape[0]):
         u = tri[nxt(e)]
@@ -187,16 +190,19 @@ def first_crossing(tri, twin, x, y, inf, a, b, e0, A, B, off_line):
 
 
 @kernel
-def crossed_edges(tri, twin, cons, x, y, a, b, h, qu, qw, qh, slots, A, B, off_line):
+def crossed_edges(mesh, a, b, h, buf, ends, off_line):
     """Walk from crossing half-edge ``h`` (``u -> w``) towards ``b``, recording
-    every crossed edge (``qu, qw, qh``: endpoints and half-edge) and every
-    crossed triangle (``slots``). Stops at ``b`` or at the first vertex on the
-    segment. Nothing is modified.
+    every crossed edge (``qu, qw, qh`` of ``buf``: endpoints and half-edge) and
+    every crossed triangle (``slots``; ``buf`` is :func:`make_buffers`'). Stops
+    at ``b`` or at the first vertex on the segment. Nothing is modified.
 
     Returns ``(end vertex, crossed edges, triangles, constrained half-edge hit
-    or -1, or -2 when the end is a vertex on the input segment ``A B`` but off
+    or -1, or -2 when the end is a vertex on the input segment ``ends`` but off
     this piece: see :func:`first_crossing`)``.
     """
+    tri, twin, cons, x, y = mesh[0], mesh[1], mesh[2], mesh[3], mesh[4]
+    qu, qw, qh, slots = buf[0], buf[1], buf[2], buf[3]
+    A, B = ends
     k = 0
     slots[0] = h // 3
     ns = 1
@@ -237,12 +243,15 @@ def find_edge_near(tri, twin, x, y, inf, u, w, hint, ntri):
 
 
 @kernel
-def flip_in_segment(tri, twin, cons, x, y, inf, ntri, a, b, qu, qw, qh, k, hint):
-    """Flip the crossed edges until none crosses segment ``a b`` (Sloan 1993):
+def flip_in_segment(mesh, ntri, a, b, buf, k, hint):
+    """Flip the ``k`` crossed edges on ``buf``'s queue (:func:`crossed_edges`)
+    until none crosses segment ``a b`` (Sloan 1993):
     a crossed edge with a convex quadrilateral is flipped, and its new diagonal
     goes back on the (circular) queue if it still crosses; an edge that cannot
     be flipped yet goes back too. Returns False if the loop (finite in theory)
     ran away."""
+    tri, twin, cons, x, y, inf = mesh
+    qu, qw, qh = buf[0], buf[1], buf[2]
     head = 0
     size = k
     cap = qu.shape[0]
@@ -282,9 +291,10 @@ def flip_in_segment(tri, twin, cons, x, y, inf, ntri, a, b, qu, qw, qh, k, hint)
 
 
 @kernel(inline="always")
-def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge, A, B):
+def insert_one(mesh, ntri, a, b, sid, ends, hint, buf, vedge):
     """Make ``a -> b`` (or its first piece, up to a vertex on it) a constrained
-    edge with id ``sid``, a piece of input segment ``A -> B``, then restore the
+    edge of ``mesh`` with id ``sid``, a piece of input segment ``ends = (A,
+    B)``, then restore the
     constrained Delaunay property around it with flips that never flip a
     segment (Lemma 2.14).
 
@@ -296,12 +306,14 @@ def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge,
     crossed); TASK_LOST on an internal failure, BUFFERS_TOO_SMALL if the walk
     buffers are too small.
     """
-    qu, qw, qh, slots, stack = buf
+    tri, twin, cons, x, y, inf = mesh
+    A, B = ends
+    qu, slots, stack = buf[0], buf[3], buf[4]
     e0 = edge_from(tri, twin, x, y, inf, a, hint, ntri, vedge)
     if e0 < 0:
         return TASK_LOST, -1, hint
     off_line = off_input_line(x, y, A, B, a, b)
-    kind, e = first_crossing(tri, twin, x, y, inf, a, b, e0, A, B, off_line)
+    kind, e = first_crossing(mesh, a, b, e0, ends, off_line)
     if kind == DONE or kind == SPLIT_AT:
         if kind == SPLIT_AT and tri[e] != a:
             e = twin[e]
@@ -315,13 +327,12 @@ def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge,
         return TASK_LOST, -1, hint
     if qu.shape[0] < ntri + 3:  # room for the longest possible walk
         return BUFFERS_TOO_SMALL, -1, hint
-    end, k, ns, hit = crossed_edges(tri, twin, cons, x, y, a, b, e, qu, qw, qh, slots, A, B,
-                                    off_line)
+    end, k, ns, hit = crossed_edges(mesh, a, b, e, buf, ends, off_line)
     if hit >= 0:
         return CROSSING, hit, hint
     if hit == -2:
         return ON_INPUT, end, hint
-    if not flip_in_segment(tri, twin, cons, x, y, inf, ntri, a, end, qu, qw, qh, k, slots[0]):
+    if not flip_in_segment(mesh, ntri, a, end, buf, k, slots[0]):
         return TASK_LOST, -1, hint
     s = find_edge_near(tri, twin, x, y, inf, a, end, slots[0], ntri)
     if s < 0:
@@ -334,7 +345,7 @@ def insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge,
         for j in range(3):
             stack[sp] = 3 * slots[i] + j
             sp += 1
-    flip_from_stack(tri, twin, cons, x, y, w, np.bool_(False), inf, stack, sp, np.int64(-1))
+    flip_from_stack(mesh, (x, np.bool_(False)), stack, sp, np.int64(-1))
     return DONE, end, slots[0]
 
 
@@ -405,20 +416,27 @@ def make_buffers(n):
 
 
 @kernel
-def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_ends,
-                    split, max_steiner, counts, info, stack, buf):
-    """Process the segment tasks ``tasks[:ntask]`` (rows ``a, b, sid``; LIFO).
+def insert_segments(mesh, ntri, nv, tasks, ntask, seg_ends, split, max_steiner, report, work):
+    """Process the segment tasks ``tasks[:ntask]`` (rows ``a, b, sid``; LIFO)
+    in ``mesh`` (``(tri, twin, cons, x, y, inf)``, see :mod:`.mesh`).
 
     ``seg_ends[sid - 1]`` are the original endpoints of segment ``sid`` (for
     intersection points). With ``split`` False a crossing or an overlap stops
     the loop (``info`` names the two segment ids); with ``split`` True the
     crossing point is inserted as a Steiner vertex ``nv`` (room permitting),
     both segments are split there, and overlaps are merged.
-    ``counts``: [T-junction splits, merged overlaps, Steiner points].
+    ``report`` is ``(counts, info)``, ``counts``: [T-junction splits, merged
+    overlaps, Steiner points]; ``work`` is ``(stack, buf)``: the flip stack of
+    a vertex insertion (at least ``inf + 16``) and :func:`make_buffers`'.
     Returns ``(status, ntri, nv, ntask)``; on NEED_* the unfinished task is back
     on the queue so the caller can grow the arrays and call again.
     """
-    tri, twin, cons, x, y, w = unowned(tri), unowned(twin), unowned(cons), unowned(x), unowned(y), unowned(w)
+    tri, twin, cons, x, y, inf = mesh
+    counts, info = report
+    stack, buf = work
+    tri, twin, cons, x, y = unowned(tri), unowned(twin), unowned(cons), unowned(x), unowned(y)
+    mesh = (tri, twin, cons, x, y, inf)
+    unweighted = (x, np.bool_(False))       # (weights are read only when weighted)
     tasks, seg_ends, counts, info, stack = (unowned(tasks), unowned(seg_ends), unowned(counts),
                                             unowned(info), unowned(stack))
     buf = (unowned(buf[0]), unowned(buf[1]), unowned(buf[2]), unowned(buf[3]), unowned(buf[4]))
@@ -433,8 +451,8 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
         a = tasks[ntask, 0]
         b = tasks[ntask, 1]
         sid = tasks[ntask, 2]
-        kind, res, hint = insert_one(tri, twin, cons, x, y, w, inf, a, b, sid, hint, ntri, buf, vedge,
-                                     seg_ends[sid - 1, 0], seg_ends[sid - 1, 1])
+        kind, res, hint = insert_one(mesh, ntri, a, b, sid, (seg_ends[sid - 1, 0], seg_ends[sid - 1, 1]),
+                                     hint, buf, vedge)
         if kind == BUFFERS_TOO_SMALL:
             ntask += 1
             return NEED_EDGE_ROOM, ntri, nv, ntask
@@ -496,8 +514,8 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
                                 seg_ends[other - 1, 0], seg_ends[other - 1, 1])
         x[nv] = on_grid(px)
         y[nv] = on_grid(py)
-        code, p, ntri, hint = insert_vertex(tri, twin, cons, x, y, w, np.bool_(False), inf, nv, hint,
-                                            ntri, np.bool_(False), no_weights, flip_counts, stack)
+        code, p, ntri, hint = insert_vertex(mesh, unweighted, nv, hint, ntri, np.bool_(False),
+                                            no_weights, flip_counts, stack)
         if code == LOCATE_FAILED:
             info[0] = sid
             return LOST, ntri, nv, ntask
@@ -511,8 +529,7 @@ def insert_segments(tri, twin, cons, x, y, w, inf, ntri, nv, tasks, ntask, seg_e
             cons[twin[e]] = 0
             fstack = buf[4]
             fstack[0] = e  # no longer a segment: it may need a flip now
-            flip_from_stack(tri, twin, cons, x, y, w, np.bool_(False), inf, fstack, np.int64(1),
-                            np.int64(-1))
+            flip_from_stack(mesh, unweighted, fstack, np.int64(1), np.int64(-1))
             ntask = push_task(tasks, ntask, u, p, other)
             ntask = push_task(tasks, ntask, p, v2, other)
         # (p may be a or b itself when the crossing rounds onto an end: then

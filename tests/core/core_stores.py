@@ -43,11 +43,16 @@ def delaunay_store(points, algorithm=DIVIDE, extra=0, with_cons=True):
     mesh_of[order] = np.arange(n)
     horizontal = horizontal_order(x, y, n, NO_IDS, mesh_of) if algorithm == DIVIDE else NO_IDS
     counts = np.zeros(2, np.int64)
-    status, tri, twin, cons, ntri, dup, sub = build_mesh(x, y, w, False, n, inf, algorithm,
+    status, tri, twin, cons, ntri, dup, sub = build_mesh(x, y, (w, False), n, inf, algorithm,
                                                          horizontal, extra, with_cons, counts)
     return SimpleNamespace(tri=tri, twin=twin, cons=cons, ntri=int(ntri), inf=int(inf), x=x, y=y,
                            w=w, order=order, mesh_of=mesh_of, dup=dup, sub=sub, nv=n,
                            status=int(status), counts=counts, points=P)
+
+
+def mesh(s):
+    """The ``mesh`` bundle of store ``s`` that the kernels take (see ``_core.mesh``)."""
+    return (s.tri, s.twin, s.cons, s.x, s.y, s.inf)
 
 
 def add_segments(s, segments, split=False, max_steiner=100):
@@ -67,9 +72,8 @@ def add_segments(s, segments, split=False, max_steiner=100):
     info = np.zeros(4, np.int64)
     stack = np.empty(s.inf + 16, np.int64)
     buf = make_buffers(2 * s.tri.shape[0] // 3 + 8)
-    status, ntri, nv, ntask = insert_segments(s.tri, s.twin, s.cons, s.x, s.y, s.w, s.inf, s.ntri,
-                                              s.nv, tasks, m, seg_ends, split, max_steiner,
-                                              counts, info, stack, buf)
+    status, ntri, nv, ntask = insert_segments(mesh(s), s.ntri, s.nv, tasks, m, seg_ends, split,
+                                              max_steiner, (counts, info), (stack, buf))
     s.ntri, s.nv, s.ntask = int(ntri), int(nv), int(ntask)
     return int(status), info, counts
 

@@ -12,7 +12,7 @@ from cdt_plugin._core.locate import locate, locate_by_scan
 from cdt_plugin._core.mesh import ghost_hull_edge, is_ghost, nxt
 from cdt_plugin._core.status import INSIDE, ON_EDGE, ON_VERTEX, SUBMERGED
 from checker import orient2d_exact
-from core_stores import delaunay_store, store_triangles
+from core_stores import delaunay_store, mesh, store_triangles
 from store_check import check_store, live_triangles, sanity_check
 
 GRID = np.array([(i, j) for i in range(4) for j in range(4)], float)   # 0..3 x 0..3
@@ -101,9 +101,8 @@ def test_locate_does_not_modify_the_store():
 def insert(s, q, last=0, weighted=False, counts=None):
     sub = np.zeros(s.inf + 1, np.int8)
     counts = np.zeros(2, np.int64) if counts is None else counts
-    code, v, ntri, last = insert_vertex(s.tri, s.twin, s.cons, s.x, s.y, s.w, weighted, s.inf, q,
-                                        last, s.ntri, False, sub, counts,
-                                        np.empty(s.inf + 16, np.int64))
+    code, v, ntri, last = insert_vertex(mesh(s), (s.w, weighted), q, last, s.ntri, False, sub,
+                                        counts, np.empty(s.inf + 16, np.int64))
     s.ntri = int(ntri)
     return code, v, last, sub
 
@@ -172,8 +171,8 @@ def test_insert_vertices_marks_duplicates():
     order = np.arange(n + len(new))
     dup_of = np.full(s.inf + 1, -1, np.int64)
     counts = np.zeros(2, np.int64)
-    status, ntri = insert_vertices(s.tri, s.twin, s.cons, s.x, s.y, s.w, False, s.inf, order, n,
-                                   s.ntri, False, dup_of, np.zeros(s.inf + 1, np.int8), counts)
+    status, ntri = insert_vertices(mesh(s), (s.w, False), order, n, s.ntri, False, dup_of,
+                                   np.zeros(s.inf + 1, np.int8), counts)
     assert status == 0
     got = {int(i): int(dup_of[i]) for i in np.flatnonzero(dup_of >= 0)}
     assert sorted(got) == [n + 1, n + 3, n + 5]

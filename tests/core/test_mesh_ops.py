@@ -328,8 +328,8 @@ def test_grown_store_takes_more_vertices():
                                                s.nv, 0)
     q = s.nv
     x[q], y[q] = x[:q].mean(), y[:q].mean()
-    code, v, ntri, last = insert_vertex(tri, twin, cons, x, y, w, False, inf, q, 0, s.ntri, False,
-                                        np.zeros(inf + 1, np.int8), np.zeros(2, np.int64),
+    code, v, ntri, last = insert_vertex((tri, twin, cons, x, y, inf), (w, False), q, 0, s.ntri,
+                                        False, np.zeros(inf + 1, np.int8), np.zeros(2, np.int64),
                                         np.empty(inf + 16, np.int64))
     assert code == INSIDE and v == q and ntri == s.ntri + 2
     c = check_store(tri, twin, cons, ntri, inf, x, y)
