@@ -564,9 +564,10 @@ def _vertex_map(n, dup_of, submerged):
     """Output index of every input point, the input index kept for each output
     vertex (the first appearance of each distinct point, in input order; None
     when every point is kept, in order) and the number of repeated points."""
-    dups = np.flatnonzero(dup_of >= 0)
-    if dups.size == 0 and not submerged.any():  # the common case: nothing merged
+    merged = dup_of >= 0
+    if not merged.any() and not submerged.any():  # the common case: nothing merged
         return np.arange(n), None, 0
+    dups = np.flatnonzero(merged)
     root = np.where(dup_of >= 0, dup_of, np.arange(n))
     in_mesh = (dup_of < 0) & (submerged == 0)
     rep = np.arange(n)
