@@ -77,8 +77,9 @@ def _read_geometry(obj, required):
     shapely = _shapely_of(obj)
     if shapely is not None and (type(obj) is shapely.Polygon or type(obj) is shapely.MultiPolygon):
         rings = shapely_polygon_rings(shapely, obj)
-        return ring_plc(rings.xy, rings.ring_start[:-1], rings.ring_start[1:], rings.ring_polygon,
-                        rings.ring_is_hole, rings.z)[0]
+        if len(rings.ring_start):     # (else a ring that does not close, an EMPTY hole: the builder names it)
+            return ring_plc(rings.xy, rings.ring_start[:-1], rings.ring_start[1:], rings.ring_polygon,
+                            rings.ring_is_hole, rings.z)[0]
     gi = _mapping(obj, required)
     if gi is None:
         return None
@@ -118,7 +119,7 @@ def shapely_polygon_rings(shapely: Any, geoms: Any) -> PolygonRings:
     coords = shapely.get_coordinates(geoms, include_z=bool(shapely.has_z(geoms).any()))
     ring_len, ring_geom, ring_polygon, ring_is_hole = _layer_layout(shapely, geoms)
     geom_ring_start = np.searchsorted(ring_geom, np.arange(len(geoms) + 1)).astype(np.int64)
-    points, ring_start = drop_closing_points(coords, ring_len)
+    points, ring_start = _open_rings(coords, ring_len)
     return PolygonRings(np.ascontiguousarray(points[:, :2]),
                         points[:, 2].copy() if points.shape[1] > 2 else None, ring_start,
                         geom_ring_start, ring_polygon, ring_is_hole)
@@ -147,6 +148,22 @@ def _one_polygon_rings(shapely, polygon):
                         ring_is_hole)
 
 
+def _open_rings(coords, ring_len):
+    """:func:`~cdt_plugin._core.rings.drop_closing_points` of rings as GEOS
+    holds them, where an EMPTY ring (a hole without points) has no closing
+    point: it stays a ring of no points, which the PLC names as degenerate,
+    rather than refusing every ring of the layer."""
+    empty = ring_len == 0
+    if not empty.any():
+        return drop_closing_points(coords, ring_len)
+    points, start = drop_closing_points(coords, ring_len[~empty])
+    if len(start) == 0:
+        return points, start
+    sizes = np.zeros(len(ring_len), np.int64)
+    sizes[~empty] = np.diff(start)
+    return points, np.concatenate([[0], np.cumsum(sizes)])
+
+
 _ONE_RING = np.array([0, 1])            # (geom_ring_start of a Polygon without holes: read only)
 _ONE_RING.flags.writeable = False
 
@@ -156,7 +173,7 @@ def _one_multipolygon_rings(shapely, multipolygon):
     has_z = multipolygon.has_z
     coords = shapely.get_coordinates(multipolygon, include_z=has_z)
     ring_len, _, ring_is_hole = _rings_of_polygons(shapely, shapely.get_parts(multipolygon))
-    points, ring_start = drop_closing_points(coords, ring_len)
+    points, ring_start = _open_rings(coords, ring_len)
     return PolygonRings(np.ascontiguousarray(points[:, :2]), points[:, 2].copy() if has_z else None,
                         ring_start, np.array([0, len(ring_len)]), np.cumsum(~ring_is_hole) - 1,
                         ring_is_hole)

@@ -176,3 +176,25 @@ def test_meshes_of_the_reader_and_the_walker_agree_and_check(name):
     report = check_triangulation(read.vertices, read.triangles, segments=read.segments,
                                  domain="segments", require_all_vertices=False)
     assert report.ok, report
+
+
+@pytest.mark.parametrize("wkt", ["POLYGON ((0 0, 2 0, 2 2, 0 0), EMPTY)",
+                                 "MULTIPOLYGON (((0 0, 2 0, 2 2, 0 0), EMPTY), ((5 5, 6 5, 6 6, 5 5)))"])
+def test_an_empty_hole_is_named_as_a_degenerate_ring(wkt):
+    # GEOS holds an EMPTY hole as a ring of no points, with no closing point to drop:
+    # the one call names it, and the layer's other geometries are read as before
+    from cdt_plugin import InvalidGeometryError
+    from cdt_plugin.adapters.shapely import triangulate_batch
+    geometry = shapely.from_wkt(wkt)
+    with pytest.raises(InvalidGeometryError, match="ring 1 of polygon 0 has fewer than three"):
+        cdt_plugin.triangulate(geometry)
+    rings = shapely_polygon_rings(shapely, np.array([geometry, shapely.box(0, 0, 1, 1)]))
+    assert np.diff(rings.ring_start).tolist()[:2] == [3, 0] and np.diff(rings.ring_start)[-1] == 4
+    with pytest.raises(InvalidGeometryError, match="geometry 0: a ring has fewer than three"):
+        triangulate_batch(np.array([geometry, shapely.box(0, 0, 1, 1)]))
+    batch = triangulate_batch(np.array([geometry, shapely.box(0, 0, 1, 1)]), errors="skip")
+    assert list(batch.errors) == [0]
+    box = batch.triangles[batch.geometry == 1]
+    used, local = np.unique(box, return_inverse=True)
+    report = check_triangulation(batch.vertices[used], local.reshape(box.shape))
+    assert report.ok and len(box) == 2, report
