@@ -16,7 +16,7 @@ from typing import Callable, Iterable
 
 import numpy as np
 
-from ._core.rings import open_rings, polygon_rings
+from ._core.rings import drop_closing_points, open_rings, polygon_rings
 from .batch import triangulate_rings
 from .cdt import PARALLEL_VERTICES, triangulate
 from .compiling import ROUTES
@@ -44,6 +44,7 @@ def _triangulate():
     tri.is_delaunay()
     xy, bounds = open_rings(np.zeros((4, 2)), np.zeros(0, np.int64))    # the reader of shapely Polygons
     polygon_rings(xy, bounds[:-1], bounds[1:])
+    drop_closing_points(np.zeros((4, 2)), np.array([4]))    # ... of MultiPolygons and layers
     n = PARALLEL_VERTICES
     t = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
     ring = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])
