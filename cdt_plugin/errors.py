@@ -147,6 +147,13 @@ class RefinementLimitError(CDTError):
         self.triangulation = triangulation
 
 
+class SwitchError(CDTError):
+    """A Triangle switch string cannot be read: an unknown switch, a number where
+    Triangle would read something else than what was written (``a1e-3``), or a switch
+    whose meaning needs what the call lacks (``r`` without a mesh). The message
+    names the switch and the position in the string."""
+
+
 class PrecisionWarning(UserWarning):
     """Input numbers that float64 cannot hold exactly (integers beyond 2**53) were
     rounded; the message names the rows. Rounded points may coincide, and are then
