@@ -154,6 +154,11 @@ class SwitchError(CDTError):
     names the switch and the position in the string."""
 
 
+class SampleDataError(CDTError):
+    """Triangle's sample files (``cdt_plugin.triangle.get_data``) are not where they
+    were looked for; the message names the places and how to point to them."""
+
+
 class PrecisionWarning(UserWarning):
     """Input numbers that float64 cannot hold exactly (integers beyond 2**53) were
     rounded; the message names the rows. Rounded points may coincide, and are then

@@ -25,6 +25,7 @@ OPTIONAL = {
     "cdt_plugin.triangulation": ["matplotlib"],
     "cdt_plugin.cli": ["shapely", "trimesh"],
     "cdt_plugin.hooks": ["shapely"],
+    "cdt_plugin.triangle": ["matplotlib"],
     "cdt_plugin.adapters.shapely": ["shapely"],
     "cdt_plugin.adapters.trimesh": ["shapely", "trimesh"],
     "cdt_plugin.adapters.open3d": ["open3d"],
@@ -58,7 +59,7 @@ def _with_submodules(module) -> list:
     (split by concern)."""
     found = [module]
     if hasattr(module, "__path__") and (module.__name__.startswith("cdt_plugin.adapters.")
-                                        or module.__name__ == "cdt_plugin.io"):
+                                        or module.__name__ in ("cdt_plugin.io", "cdt_plugin.triangle")):
         found += [importlib.import_module(m.name)
                   for m in pkgutil.iter_modules(module.__path__, module.__name__ + ".")]
     return found

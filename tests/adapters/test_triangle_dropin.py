@@ -1,0 +1,395 @@
+"""``cdt_plugin.triangle`` against the ``triangle`` package: Triangle's own data set
+through both with the same switch strings, compared by the properties Triangle
+promises (keys, dtypes and shapes; the same triangles without refinement; the
+bounds of q, a, D, Y and YY; markers per vertex), every mesh checked with the exact
+checker; the package's examples and typical programs run unchanged but for the
+import; one test per named error."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import cdt_plugin
+from cdt_plugin import triangle as tr
+from cdt_plugin.errors import (InputShapeError, NonFiniteCoordinateError, SegmentIndexError,
+                               SwitchError, TooFewPointsError)
+from cdt_plugin.switches import read_switches
+from tests.support.checker import (assert_valid, canonical_triangles,
+                                   check_empty_circumcircles, incircle_exact)
+from tests.support.corpus import corpus_dir
+
+triangle = pytest.importorskip("triangle")
+
+FOLDER = corpus_dir() / "triangle"
+NAMES = sorted({p.name.split(".")[0] for p in FOLDER.glob("*.*")})
+MATRIX = ["p", "pq", "pq30a0.01", "pa", "pAa", "pc", "pD", "pY", "pYY", "pe", "pn", "pv", "po2",
+          "pq30Aao2", "r", "ra", "rpq", "pj", "pS10", "", "c", "pB", "pP", "pN", "pE", "pO", "pi"]
+# what the other parts of issue 44 bring (the markers and refine branches), by attribute
+MARKERS = hasattr(cdt_plugin.Triangulation, "vertex_markers")
+REFINE = hasattr(cdt_plugin.Triangulation, "refine")
+QUADRATIC = hasattr(cdt_plugin.Triangulation, "quadratic")
+
+
+def _missing(switches: str) -> str | None:
+    """What ``switches`` needs that has not landed yet (None: nothing)."""
+    s = read_switches(switches)
+    if not s.no_markers and not MARKERS:
+        return "boundary markers (tri.vertex_markers) not merged yet"
+    if s.refine and not REFINE or s.split > 1 and not REFINE:
+        return "refinement of a mesh (tri.refine, split_segments) not merged yet"
+    if s.order == 2 and not QUADRATIC:
+        return "six-node triangles (tri.quadratic) not merged yet"
+    return None
+
+
+def _input(name: str, switches: str) -> dict:
+    """The sample ``name`` as both packages take it (read by our loader); for ``r``
+    the package's ``pq`` mesh of it, with a bound per triangle for a bare ``a``."""
+    data = tr.load(FOLDER, name)
+    if read_switches(switches).refine:
+        if "segments" not in data:
+            pytest.skip("r refines a mesh of a PSLG sample")
+        mesh = triangle.triangulate(data, "pq")
+        data = {k: mesh[k] for k in ("vertices", "vertex_markers", "triangles", "segments",
+                                     "segment_markers") if k in mesh}
+        areas = _areas(mesh["vertices"], mesh["triangles"])
+        data["triangle_max_area"] = (areas / 4)[:, None]
+    return data
+
+
+def _areas(V, T) -> np.ndarray:
+    a, b, c = (V[T[:, i]] for i in range(3))
+    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+def _min_angles(V, T) -> np.ndarray:
+    P = V[T[:, :3]]
+    out = np.full(len(T), 180.0)
+    for i in range(3):
+        u, v = P[:, (i + 1) % 3] - P[:, i], P[:, (i + 2) % 3] - P[:, i]
+        cos = (u * v).sum(1) / np.hypot(*u.T) / np.hypot(*v.T)
+        out = np.minimum(out, np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    return out
+
+
+def _layout(d: dict) -> dict:
+    return {k: (str(v.dtype), v.shape[1:]) for k, v in d.items()}
+
+
+def _compare(name: str, switches: str) -> tuple[dict, dict, dict]:
+    """Both outputs of ``switches`` on ``name``, after the key/dtype/shape check."""
+    missing = _missing(switches)
+    if missing:
+        pytest.skip(missing)
+    data = _input(name, switches)
+    if "vertex_attributes" in data and not MARKERS:
+        pytest.skip("vertex attributes (tri.vertex_attributes) not merged yet")
+    theirs = triangle.triangulate(data, switches)
+    ours = tr.triangulate(data, switches)
+    assert _layout(ours) == _layout(theirs)
+    return data, theirs, ours
+
+
+def _boundary(T) -> np.ndarray:
+    """The edges of the triangles ``T`` that only one of them has."""
+    edges, counts = np.unique(np.sort(np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]),
+                                      axis=1), axis=0, return_counts=True)
+    return edges[counts == 1]
+
+
+def _check_mesh(data: dict, ours: dict, switches: str, theirs: dict) -> None:
+    """Our mesh exactly valid (its segments in it), and the bounds the switches ask for."""
+    s = read_switches(switches)
+    if "triangles" not in ours or "vertices" not in ours:
+        return
+    V, T = ours["vertices"], ours["triangles"][:, :3]
+    used = np.unique(T)
+    segments = ours.get("segments", data.get("segments") if s.pslg else None)
+    if s.refine and segments is None:          # (r keeps the input mesh's boundary)
+        segments = _boundary(np.asarray(data["triangles"])[:, :3])
+    assert_valid(V, T, segments=segments, domain="hull" if segments is None else "segments",
+                 require_all_vertices=False)
+    n_in = len(data["vertices"])
+    if s.min_angle:
+        # Triangle's promise holds except at small input angles: no more triangles miss
+        # it than miss it in Triangle's mesh
+        low = (_min_angles(V, T) < s.min_angle - 1e-9).sum()
+        assert low <= (_min_angles(theirs["vertices"], theirs["triangles"][:, :3])
+                       < s.min_angle - 1e-9).sum()
+    if s.max_area:
+        assert (_areas(V, T) <= s.max_area * (1 + 1e-12)).all()
+    if s.conforming_delaunay:
+        assert check_empty_circumcircles(V, T).ok
+    if s.split and "segments" in ours:
+        steiner = used[used >= n_in]
+        on = _boundary(T) if s.split == 1 else ours["segments"]
+        assert not np.isin(steiner, on).any()
+
+
+def _same_triangles(V1, T1, V2, T2) -> None:
+    """The same triangles as sets of coordinates, but where four or more vertices are
+    cocircular (either diagonal is Delaunay: Triangle's choice is its own): every
+    triangle of one mesh missing from the other has a vertex of the other's missing
+    triangles on its circumcircle."""
+    ours, theirs = canonical_triangles(V1, T1), canonical_triangles(V2, T2)
+    extra, missing = ours - theirs, theirs - ours
+    assert len(extra) == len(missing)
+    others = {p for t in missing for p in t}
+    for t in extra:
+        assert any(incircle_exact(*t, p) == 0 for p in others - set(t)), t
+
+
+@pytest.mark.parametrize("switches", MATRIX)
+@pytest.mark.parametrize("name", NAMES)
+def test_matrix_against_triangle(name, switches):
+    if (name, switches) == ("face", "pq30a0.01"):
+        pytest.skip("3.2 million triangles: a benchmark's size, not a test's")
+    data, theirs, ours = _compare(name, switches)
+    _check_mesh(data, ours, switches, theirs)
+    s = read_switches(switches)
+    if not s.quality and not s.conforming_delaunay and not s.refine and "triangles" in ours \
+            and s.order == 1:
+        _same_triangles(ours["vertices"], ours["triangles"], theirs["vertices"], theirs["triangles"])
+        if "vertex_markers" in ours:          # the same vertices: the same markers
+            assert np.array_equal(ours["vertex_markers"], theirs["vertex_markers"])
+
+
+@pytest.mark.parametrize("switches", [s + "B" for s in MATRIX if "B" not in s])
+@pytest.mark.parametrize("name", ["A", "face", "la", "double_hex", "dots"])
+def test_matrix_without_markers(name, switches):
+    if (name, switches) == ("face", "pq30a0.01B"):
+        pytest.skip("3.2 million triangles: a benchmark's size, not a test's")
+    data, theirs, ours = _compare(name, switches)
+    _check_mesh(data, ours, switches, theirs)
+
+
+def test_region_areas_only_with_a():
+    data = tr.load(FOLDER, "la")
+    with_a, without = tr.triangulate(data, "pAaB"), tr.triangulate(data, "pAB")
+    assert len(without["triangles"]) == len(triangle.triangulate(data, "pAB")["triangles"])
+    V, T = with_a["vertices"], with_a["triangles"]
+    bound = dict(zip(data["regions"][:, 2], data["regions"][:, 3]))
+    limit = np.array([bound.get(a, np.inf) for a in with_a["triangle_attributes"][:, 0]])
+    limit[limit <= 0] = np.inf
+    assert (_areas(V, T) <= limit * (1 + 1e-12)).all()
+    assert len(T) > len(without["triangles"])
+
+
+def test_holes_ignored_with_O():
+    data = tr.load(FOLDER, "face")
+    _same_triangles(*_mesh(tr.triangulate(data, "pOB")), *_mesh(triangle.triangulate(data, "pOB")))
+    assert len(tr.triangulate(data, "pOB")["triangles"]) > len(tr.triangulate(data, "pB")["triangles"])
+
+
+def _mesh(d: dict):
+    return d["vertices"], d["triangles"]
+
+
+def test_duplicate_vertices_keep_triangles_numbering():
+    v = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [1, 0]], float)
+    out = tr.triangulate({"vertices": v}, "B")
+    assert len(out["vertices"]) == 5 and 4 not in out["triangles"]
+    assert np.array_equal(out["vertices"], v)
+    assert len(tr.triangulate({"vertices": v}, "jB")["vertices"]) == 4
+    assert_valid(out["vertices"], out["triangles"], require_all_vertices=False)
+
+
+# ------------------------------------------------------------------------------------------
+# the package's own examples (tri.py's docstrings), run with our module, compared by what
+# Triangle promises (its numbering and triangle order are not ours)
+# ------------------------------------------------------------------------------------------
+
+def test_package_example_triangulate():
+    if not MARKERS:
+        pytest.skip("boundary markers (tri.vertex_markers) not merged yet")
+    v = [[0, 0], [0, 1], [1, 1], [1, 0]]
+    t = tr.triangulate({'vertices': v}, 'a0.2')
+    assert t['vertices'][:4].tolist() == [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]
+    assert (_areas(t['vertices'], t['triangles']) <= 0.2).all()
+    x, y = t['vertices'].T
+    boundary = (x == 0) | (x == 1) | (y == 0) | (y == 1)
+    assert t['vertex_markers'].ravel().tolist() == boundary.astype(int).tolist()
+    assert_valid(t['vertices'], t['triangles'])
+
+
+def test_package_example_delaunay():
+    pts = [[0, 0], [0, 1], [0.5, 0.5], [1, 1], [1, 0]]
+    tri = tr.delaunay(pts)
+    assert tri.dtype == np.int32
+    assert canonical_triangles(pts, tri) == canonical_triangles(pts, triangle.delaunay(pts))
+
+
+def test_package_example_convex_hull():
+    pts = [[0, 0], [0, 1], [1, 1], [1, 0], [0.5, 0.5], [0, 1]]
+    segments = tr.convex_hull(pts)
+    theirs = triangle.convex_hull(np.array(pts, float)[:5])
+    assert segments.dtype == np.int32
+    assert {frozenset(s) for s in segments.tolist()} == {frozenset(s) for s in theirs.tolist()}
+
+
+def test_package_example_voronoi():
+    pts = [[0, 0], [0, 1], [0.5, 0.5], [1, 1], [1, 0]]
+    points, edges, ray_origin, ray_direct = tr.voronoi(pts)
+    p2, e2, o2, d2 = triangle.voronoi(pts)
+    assert sorted(points.tolist()) == sorted(p2.tolist())
+    assert [a.dtype for a in (points, edges, ray_origin, ray_direct)] == \
+        [a.dtype for a in (p2, e2, o2, d2)]
+    rays = sorted((tuple(points[o]), tuple(d)) for o, d in zip(ray_origin, ray_direct))
+    assert rays == sorted((tuple(p2[o]), tuple(d)) for o, d in zip(o2, d2))
+    assert sorted(map(sorted, points[edges].tolist())) == sorted(map(sorted, p2[e2].tolist()))
+
+
+def test_load_and_get_data_as_the_package():
+    for name in ("A", "face", "la", "box", "dots"):
+        ours, theirs = tr.load(FOLDER, name), triangle.get_data(name)
+        assert _layout(ours) == _layout(theirs)
+        for key in ("vertices", "segments", "holes", "vertex_markers", "segment_markers"):
+            if key in theirs:
+                assert np.array_equal(ours[key], theirs[key])
+    assert _layout(tr.get_data("ell")) == _layout(triangle.get_data("ell"))
+
+
+def test_loads_reads_texts():
+    node = "4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n"
+    ele = "2 3 0\n1 1 2 3\n2 1 3 4\n"
+    ours, theirs = tr.loads(node=node, ele=ele), triangle.loads(node=node, ele=ele)
+    assert _layout(ours) == _layout(theirs)
+    assert np.array_equal(ours["triangles"], theirs["triangles"])
+
+
+# ------------------------------------------------------------------------------------------
+# typical programs, unchanged but for the import
+# ------------------------------------------------------------------------------------------
+
+def _section_properties(tr, geometry: dict) -> tuple[float, float, float]:
+    """A section-property calculator: six-node triangles of the section, area and
+    centroid by the midpoint rule of each six-node triangle."""
+    mesh = tr.triangulate(geometry, "pq30Aao2")
+    V, T = mesh["vertices"], mesh["triangles"]
+    area = _areas(V, T[:, :3])
+    mid = V[T[:, 3:]].mean(axis=1)
+    return float(area.sum()), *(area[:, None] * mid).sum(axis=0) / area.sum()
+
+
+def test_section_property_calculator():
+    if _missing("po2"):
+        pytest.skip(_missing("po2"))
+    outer = [[0, 0], [100, 0], [100, 10], [55, 10], [55, 190], [100, 190], [100, 200], [0, 200],
+             [0, 190], [45, 190], [45, 10], [0, 10]]
+    geometry = {"vertices": np.array(outer, float),
+                "segments": np.array([[i, (i + 1) % 12] for i in range(12)]),
+                "regions": np.array([[50, 100, 1, 5.0]])}
+    ours, theirs = _section_properties(tr, geometry), _section_properties(triangle, geometry)
+    assert ours == pytest.approx(theirs, rel=1e-12)
+    assert ours[0] == pytest.approx(2 * 100 * 10 + 10 * 180)
+
+
+def _flood_mesh(tr, domain: dict) -> dict:
+    """A flood model: regions (channel, floodplain) with their own maximum areas."""
+    return tr.triangulate(domain, "pq30aAB")
+
+
+def test_flood_model_regions():
+    v = np.array([[0, 0], [100, 0], [100, 40], [0, 40], [0, 15], [100, 15], [100, 25], [0, 25]],
+                 float)
+    s = np.array([[0, 1], [1, 5], [5, 6], [6, 2], [2, 3], [3, 7], [7, 4], [4, 0], [4, 5], [6, 7]])
+    regions = np.array([[50, 20, 1, 5.0], [50, 5, 2, 50.0], [50, 35, 2, 50.0]])
+    mesh = _flood_mesh(tr, {"vertices": v, "segments": s, "regions": regions})
+    V, T, attr = mesh["vertices"], mesh["triangles"], mesh["triangle_attributes"][:, 0]
+    areas = _areas(V, T)
+    assert (areas[attr == 1] <= 5.0).all() and (areas[attr == 2] <= 50.0).all()
+    assert areas.sum() == pytest.approx(4000.0)
+    assert (_min_angles(V, T) >= 30 - 1e-9).all()
+    assert_valid(V, T, segments=mesh["segments"], domain="segments")
+
+
+def _trimesh_style(tr, polygon_xy, holes_xy, triangle_args="p"):
+    """What trimesh's ``triangulate_polygon(engine="triangle")`` does with a polygon."""
+    n = len(polygon_xy)
+    arg = {"vertices": np.vstack([polygon_xy, *holes_xy]),
+           "segments": np.vstack([np.column_stack([np.arange(n), np.roll(np.arange(n), -1)])]
+                                 + [np.column_stack([np.arange(len(h)), np.roll(np.arange(len(h)), -1)])
+                                    + n + sum(len(g) for g in holes_xy[:i])
+                                    for i, h in enumerate(holes_xy)]),
+           "holes": np.array([h.mean(axis=0) for h in holes_xy])}
+    result = tr.triangulate(arg, triangle_args)
+    return result["vertices"], result["triangles"]
+
+
+@pytest.mark.parametrize("args", ["p", "pq30a0.5"])
+def test_trimesh_triangle_args(args):
+    if _missing(args):
+        pytest.skip(_missing(args))
+    square = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    hole = np.array([[1, 1], [1, 3], [3, 3], [3, 1]], float)
+    V, T = _trimesh_style(tr, square, [hole], args)
+    assert _areas(V, T).sum() == pytest.approx(12.0)
+    assert_valid(V, T, domain="segments", require_all_vertices=False)
+    if args == "p":
+        assert canonical_triangles(V, T) == canonical_triangles(*_trimesh_style(triangle, square,
+                                                                                 [hole], args))
+
+
+# ------------------------------------------------------------------------------------------
+# malformed input: a named error where Triangle crashes, loops or skips
+# ------------------------------------------------------------------------------------------
+
+SQUARE = {"vertices": [[0, 0], [1, 0], [1, 1], [0, 1]], "segments": [[0, 1], [1, 2], [2, 3], [3, 0]]}
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf])
+def test_non_finite_coordinates(bad):
+    with pytest.raises(NonFiniteCoordinateError):
+        tr.triangulate({"vertices": [[0, 0], [1, 0], [bad, 1]]}, "pB")
+
+
+@pytest.mark.parametrize("segment", [[0, 4], [-1, 2]])
+def test_segment_index_out_of_range(segment):
+    with pytest.raises(SegmentIndexError):
+        tr.triangulate(dict(SQUARE, segments=[[0, 1], segment]), "pB")
+
+
+def test_fewer_than_three_points():
+    with pytest.raises(TooFewPointsError):
+        tr.triangulate({"vertices": [[0, 0], [1, 0]]}, "")
+    with pytest.raises(TooFewPointsError):
+        tr.delaunay([[0, 0], [1, 1]])
+
+
+@pytest.mark.parametrize("switches", ["pk", "pa1e-3", "pS5.5", "pYYY", "po3", "ph", "pq.5.5"])
+def test_switch_triangle_would_misread(switches):
+    with pytest.raises(SwitchError, match="position"):
+        tr.triangulate(SQUARE, switches)
+
+
+def test_user_test_switch():
+    with pytest.raises(SwitchError, match="triunsuitable"):
+        tr.triangulate(SQUARE, "pu")
+
+
+def test_unknown_key():
+    with pytest.raises(InputShapeError, match="'vertex'"):
+        tr.triangulate({"vertex": [[0, 0], [1, 0], [0, 1]]}, "")
+
+
+def test_refine_without_triangles():
+    with pytest.raises(InputShapeError, match="triangles"):
+        tr.triangulate(SQUARE, "r")
+
+
+def test_bad_refine_triangle():
+    if not REFINE:
+        pytest.skip("refinement of a mesh (tri.refine) not merged yet")
+    with pytest.raises(cdt_plugin.CDTError, match="triangle"):
+        tr.triangulate(dict(SQUARE, triangles=[[0, 1, 2], [0, 2, 7]]), "rq")
+
+
+def test_sample_data_missing(monkeypatch, tmp_path):
+    from cdt_plugin.errors import SampleDataError
+    monkeypatch.setenv("CDT_TRIANGLE_DATA", str(tmp_path))
+    with pytest.raises(SampleDataError, match="'face'"):
+        tr.get_data("face")
+    monkeypatch.setenv("CDT_TRIANGLE_DATA", str(FOLDER))
+    assert len(tr.get_data("face")["vertices"]) == 26
