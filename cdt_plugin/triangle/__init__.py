@@ -13,7 +13,7 @@ which keys are present for each switch): :func:`triangulate`, :func:`delaunay`,
 >>> t = tr.triangulate({"vertices": [[0, 0], [1, 0], [1, 1], [0, 1]],
 ...                     "segments": [[0, 1], [1, 2], [2, 3], [3, 0]]}, "p")
 >>> sorted(t), t["triangles"].dtype, t["triangles"].shape
-(['segments', 'triangles', 'vertices'], dtype('int32'), (2, 3))
+(['segment_markers', 'segments', 'triangles', 'vertex_markers', 'vertices'], dtype('int32'), (2, 3))
 """
 from __future__ import annotations
 

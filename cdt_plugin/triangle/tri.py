@@ -50,16 +50,19 @@ from ..switches import Switches, read_switches, user_test_error
 from ..triangulation import Triangulation
 from ..validate import as_points
 
+#: A dictionary of the ``triangle`` package: Triangle's lists by name (:data:`KEYS`).
+TriangleDict = Mapping[str, Any]
 #: The keys of the package's dictionaries (Triangle's lists), in its order.
 KEYS = ("vertices", "vertex_attributes", "vertex_markers", "triangles", "triangle_max_area",
         "triangle_attributes", "segments", "segment_markers", "holes", "regions", "neighbors",
         "edges", "edge_markers")
+_KEYSET = frozenset(KEYS)
 _NO_HOLES = np.empty((0, 2))
 _I32 = np.int32
 _NO_ROWS = np.empty(0, np.int64)
 
 
-def triangulate(tri: Mapping[str, ArrayLike], opts: str = "") -> dict[str, NDArray[Any]]:
+def triangulate(tri: TriangleDict, opts: str = "") -> dict[str, NDArray[Any]]:
     """Triangulate the dictionary ``tri`` with Triangle's switches ``opts``, as
     ``triangle.triangulate`` does (which prepends ``Qz``: so do we).
 
@@ -101,7 +104,9 @@ def triangulate(tri: Mapping[str, ArrayLike], opts: str = "") -> dict[str, NDArr
     return out
 
 
-def _check_keys(tri: Mapping[str, ArrayLike]) -> None:
+def _check_keys(tri: TriangleDict) -> None:
+    if _KEYSET.issuperset(tri) and "vertices" in tri and isinstance(tri, Mapping):
+        return                 # (the common case in one look-up of each key)
     if not isinstance(tri, Mapping):
         raise InputShapeError(f"triangulate takes a dict of arrays (keys {', '.join(KEYS)}), "
                               f"got {type(tri).__name__}")
@@ -118,7 +123,7 @@ def _column(a: ArrayLike | None) -> NDArray[Any] | None:
     return None if a is None else np.asarray(a).reshape(-1)
 
 
-def _meshed(tri: Mapping[str, ArrayLike], s: Switches) -> Triangulation:
+def _meshed(tri: TriangleDict, s: Switches) -> Triangulation:
     """``p``, ``c``, quality switches: one call of :func:`cdt_plugin.triangulate`."""
     vertices = tri["vertices"]
     if len(vertices) < 3:
@@ -138,9 +143,19 @@ def _meshed(tri: Mapping[str, ArrayLike], s: Switches) -> Triangulation:
     if "vertex_attributes" in tri:
         marks["vertex_attributes"] = tri["vertex_attributes"]
     keywords = _keywords(s)
-    if s.max_area and s.max_steiner is None:
-        keywords = {**keywords, "max_steiner": _steiner_cap(vertices, s.max_area)}
+    smallest = _smallest_area(s, regions)
+    if smallest and s.max_steiner is None:
+        keywords = {**keywords, "max_steiner": _steiner_cap(vertices, smallest)}
     return cdt_triangulate(vertices, segments, holes=holes, regions=regions, **keywords, **marks)
+
+
+def _smallest_area(s: Switches, regions: NDArray[np.float64] | None) -> float | None:
+    """The smallest area bound of ``a<area>`` and (bare ``a``) the regions', or None."""
+    bounds = [s.max_area] if s.max_area else []
+    if regions is not None and s.area_from_input:
+        positive = regions[:, 3][regions[:, 3] > 0]
+        bounds += [float(positive.min())] if len(positive) else []
+    return min(bounds) if bounds else None
 
 
 def _steiner_cap(vertices: ArrayLike, max_area: float) -> int:
@@ -154,7 +169,7 @@ def _steiner_cap(vertices: ArrayLike, max_area: float) -> int:
     return 100 * len(xy) + 100_000 + int(min(8 * box / max_area, 2.0 ** 62))
 
 
-def _eaten(tri: Mapping[str, ArrayLike], s: Switches) -> dict[str, NDArray[Any]]:
+def _eaten(tri: TriangleDict, s: Switches) -> dict[str, NDArray[Any]]:
     """``p`` with no segments and no ``c``: Triangle removes every triangle (nothing
     stops the removal that starts at the convex hull) and returns the vertices."""
     vertices = as_points(tri["vertices"], "vertices")
@@ -174,12 +189,12 @@ def _eaten(tri: Mapping[str, ArrayLike], s: Switches) -> dict[str, NDArray[Any]]
     return out
 
 
-def _regions(regions: ArrayLike | None, s: Switches) -> NDArray[np.float64] | None:
+def _regions(given: ArrayLike | None, s: Switches) -> NDArray[np.float64] | None:
     """The regions as the engine reads them: a region's maximum area (4th column)
     bounds it only with a bare ``a``, as in Triangle."""
+    regions = None if given is None else np.asarray(given, dtype=np.float64)
     if regions is None or len(regions) == 0:
         return None
-    regions = np.asarray(regions, dtype=np.float64)
     return regions if s.area_from_input else regions[:, :3]
 
 
@@ -190,7 +205,7 @@ def _keywords(s: Switches) -> dict[str, Any]:
 _KEYWORDS: dict[Switches, dict[str, Any]] = {}
 
 
-def _refined(tri: Mapping[str, ArrayLike], s: Switches) -> Triangulation:
+def _refined(tri: TriangleDict, s: Switches) -> Triangulation:
     """``r``: the input mesh (``triangles``; with ``p`` its ``segments``) refined with
     the quality switches; a bare ``a`` reads ``triangle_max_area`` (<= 0: no bound),
     combined with ``a<area>`` by the smaller bound, as in Triangle."""
@@ -224,7 +239,7 @@ def _refined(tri: Mapping[str, ArrayLike], s: Switches) -> Triangulation:
                        max_steiner=s.max_steiner)
 
 
-def _output(mesh: Triangulation, tri: Mapping[str, ArrayLike], s: Switches) -> dict[str, NDArray[Any]]:
+def _output(mesh: Triangulation, tri: TriangleDict, s: Switches) -> dict[str, NDArray[Any]]:
     """Triangle's output dictionary of ``mesh``, with the keys ``s`` asks for."""
     vertices, triangles = mesh.vertices, mesh.triangles
     vertex_markers = None if s.no_markers else mesh.vertex_markers
@@ -266,7 +281,7 @@ def _output(mesh: Triangulation, tri: Mapping[str, ArrayLike], s: Switches) -> d
     return out
 
 
-def _copy_holes_regions(out: dict[str, NDArray[Any]], tri: Mapping[str, ArrayLike],
+def _copy_holes_regions(out: dict[str, NDArray[Any]], tri: TriangleDict,
                         s: Switches) -> None:
     """With ``p`` (and no ``P``) Triangle's output has the input's holes and regions."""
     if s.pslg and not s.no_poly:
@@ -335,7 +350,7 @@ def _segments(mesh: Triangulation, s: Switches) -> tuple[NDArray[np.int64], NDAr
     return segments, markers
 
 
-def _triangle_attributes(mesh: Triangulation, tri: Mapping[str, ArrayLike],
+def _triangle_attributes(mesh: Triangulation, tri: TriangleDict,
                          s: Switches) -> NDArray[np.float64] | None:
     """``A`` with ``p``: each triangle's regional attribute (0 outside every region,
     as Triangle); with ``r``: the input's ``triangle_attributes`` carried."""
@@ -409,9 +424,10 @@ def voronoi(pts: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.int32],
 
 def _points(pts: ArrayLike) -> Triangulation:
     """The Delaunay triangulation of a point set, three points at least."""
-    if len(pts) < 3:
-        raise TooFewPointsError(f"Triangle needs at least three vertices, got {len(pts)}")
-    return cdt_delaunay(pts)
+    points = as_points(pts, "pts")
+    if len(points) < 3:
+        raise TooFewPointsError(f"Triangle needs at least three vertices, got {len(points)}")
+    return cdt_delaunay(points)
 
 
 def _input_numbers(mesh: Triangulation) -> NDArray[np.int64]:

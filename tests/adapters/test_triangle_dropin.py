@@ -183,6 +183,17 @@ def test_holes_ignored_with_O():
     assert len(tr.triangulate(data, "pOB")["triangles"]) > len(tr.triangulate(data, "pB")["triangles"])
 
 
+def test_switches_that_change_nothing_here(capsys):
+    data = tr.load(FOLDER, "face")
+    plain = tr.triangulate(data, "pB")
+    same = tr.triangulate(data, "pXFlsQIgzvCB")
+    assert _layout(same) == _layout(plain)
+    assert canonical_triangles(*_mesh(same)) == canonical_triangles(*_mesh(plain))
+    assert capsys.readouterr().err == ""
+    tr.triangulate(data, "pVB")
+    assert "36 triangles" in capsys.readouterr().err
+
+
 def _mesh(d: dict):
     return d["vertices"], d["triangles"]
 
