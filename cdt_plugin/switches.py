@@ -117,6 +117,22 @@ class Switches(NamedTuple):
         return self.min_angle is not None or self.max_area is not None or self.area_from_input \
             or self.user_test
 
+    @property
+    def files(self) -> tuple[str, ...]:
+        """The files the Triangle program writes with these switches, by extension
+        (``.node`` unless ``N``, ``.ele`` unless ``E``, ``.poly`` with ``p`` or ``c``
+        unless ``P``, ``.edge`` with ``e``, ``.neigh`` with ``n``, ``.v.node`` and
+        ``.v.edge`` with ``v``, ``.off`` with ``g``): what a command line honours.
+
+        >>> read_switches("pevN").files
+        ('.ele', '.poly', '.edge', '.v.node', '.v.edge')
+        """
+        wanted = ((".node", not self.no_nodes), (".ele", not self.no_elements),
+                  (".poly", (self.pslg or self.convex_hull) and not self.no_poly),
+                  (".edge", self.edges), (".neigh", self.neighbors),
+                  (".v.node", self.voronoi), (".v.edge", self.voronoi), (".off", self.geomview))
+        return tuple(ext for ext, on in wanted if on)
+
     def keywords(self) -> dict[str, float | bool | int | str]:
         """The :func:`cdt_plugin.triangulate` keywords these switches ask for
         (``q`` ``min_angle``, ``a<area>`` ``max_area``, ``D`` ``conforming_delaunay``,

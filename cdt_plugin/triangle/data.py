@@ -75,10 +75,13 @@ def load(directory: str | os.PathLike[str], name: str) -> dict[str, NDArray[Any]
     if path["area"].exists():
         _put(data, "triangle_max_area", _read_area(path["area"]))
     if path["edge"].exists():
-        edge = read_edge(path["edge"], first if n is not None else None, n)
-        _put(data, "edges", edge.edges.astype(np.intc))
-        if edge.markers is not None:
-            _put(data, "edge_markers", _column(edge.markers))
+        if _has_rays(path["edge"]):
+            _voronoi_edges(data, path["edge"], first)
+        else:
+            edge = read_edge(path["edge"], first if n is not None else None, n)
+            _put(data, "edges", edge.edges.astype(np.intc))
+            if edge.markers is not None:
+                _put(data, "edge_markers", _column(edge.markers))
     if path["neigh"].exists():
         _put(data, "triangle_neighbors", read_neigh(path["neigh"], first).astype(np.intc))
     return data
@@ -160,6 +163,37 @@ def _column(markers: NDArray[np.int64]) -> NDArray[np.intc]:
 def _put(data: dict[str, NDArray[Any]], key: str, value: NDArray[Any]) -> None:
     if len(value):          # (the package leaves out what a file has none of)
         data[key] = value
+
+
+def _has_rays(path: Path) -> bool:
+    """Whether an ``.edge`` file is a Voronoi diagram's (``-v``): a ray's second
+    endpoint is ``-1``, followed by its direction."""
+    return any(len(toks) >= 5 and toks[2] == "-1" for _, toks in Records(path).recs[1:])
+
+
+def _voronoi_edges(data: dict[str, NDArray[Any]], path: Path, first: int) -> None:
+    """A Voronoi ``.edge`` file (``<edge#> <v1> <v2>``, a ray ``<edge#> <v1> -1 <dx>
+    <dy>``) as the package reads it: ``edges`` (finite), ``ray_origins`` (r, 1) and
+    ``ray_directions`` (r, 2)."""
+    recs = Records(path)
+    ln, head = recs.next("the header '<#edges> <#boundary markers>'")
+    m = recs.count(ln, head[0], "number of edges")
+    edges, origins, directions = [], [], []
+    for i in range(m):
+        ln, toks = recs.next_of(m, i, "edges")
+        recs.need(ln, toks, 3, "index endpoint endpoint")
+        a, b = (recs.int_(ln, t, f"an endpoint of edge {toks[0]}") for t in toks[1:3])
+        if b == -1:
+            recs.need(ln, toks, 5, "index endpoint -1 dx dy")
+            origins.append(a - first)
+            directions.append([recs.float_(ln, t, f"the direction of ray {toks[0]}")
+                               for t in toks[3:5]])
+        else:
+            edges.append([a - first, b - first])
+    recs.expect_end(f"the {m} edges")
+    _put(data, "edges", np.array(edges, np.intc).reshape(-1, 2))
+    _put(data, "ray_origins", np.array(origins, np.intc).reshape(-1, 1))
+    _put(data, "ray_directions", np.array(directions, np.float64).reshape(-1, 2))
 
 
 def _read_area(path: Path) -> NDArray[np.float64]:

@@ -90,18 +90,11 @@ def triangulate(tri: TriangleDict, opts: str = "") -> dict[str, NDArray[Any]]:
         raise user_test_error(opts)
     _check_keys(tri)
     if s.refine:
-        mesh = _refined(tri, s)
-    elif s.pslg and not s.convex_hull and not len(tri.get("segments", ())):
+        return _output(*_refined(tri, s), tri=tri, s=s)
+    if s.pslg and not s.convex_hull and not len(tri.get("segments", ())):
         return _eaten(tri, s)
-    else:
-        mesh = _meshed(tri, s)
-    if s.check and not mesh.is_delaunay():
-        raise NotDelaunayError(f"the mesh of {opts!r} fails its constrained Delaunay certificate "
-                               f"at edges {mesh.non_delaunay_edges()[:5].tolist()}")
-    out = _output(mesh, tri, s)
-    if s.verbose:
-        print(report(mesh, s), file=sys.stderr)
-    return out
+    mesh = _meshed(tri, s)
+    return _output(mesh, _region_attributes(mesh, s), tri=tri, s=s)
 
 
 def _check_keys(tri: TriangleDict) -> None:
@@ -205,7 +198,7 @@ def _keywords(s: Switches) -> dict[str, Any]:
 _KEYWORDS: dict[Switches, dict[str, Any]] = {}
 
 
-def _refined(tri: TriangleDict, s: Switches) -> Triangulation:
+def _refined(tri: TriangleDict, s: Switches) -> tuple[Triangulation, NDArray[np.float64] | None]:
     """``r``: the input mesh (``triangles``; with ``p`` its ``segments``) refined with
     the quality switches; a bare ``a`` reads ``triangle_max_area`` (<= 0: no bound),
     combined with ``a<area>`` by the smaller bound, as in Triangle."""
@@ -223,8 +216,9 @@ def _refined(tri: TriangleDict, s: Switches) -> Triangulation:
     if segments is not None and not s.no_markers and "segment_markers" in tri:
         marks["segment_markers"] = _column(tri["segment_markers"])
     base = Triangulation.from_triangles(tri["vertices"], triangles, segments=segments, **marks)
+    attributes = tri.get("triangle_attributes")
     if not s.quality and not s.conforming_delaunay:
-        return base
+        return base, _carried_attributes(base, base, attributes)
     max_area: Any = s.max_area
     if s.area_from_input and "triangle_max_area" in tri:
         bound = np.asarray(tri["triangle_max_area"], dtype=np.float64).reshape(-1)
@@ -232,15 +226,23 @@ def _refined(tri: TriangleDict, s: Switches) -> Triangulation:
             bound = np.where(bound > 0, np.minimum(bound, s.max_area), s.max_area)
         max_area = bound
     kw = _keywords(s)
-    return base.refine(min_angle=s.min_angle, max_area=max_area,
+    mesh = base.refine(min_angle=s.min_angle, max_area=max_area,
                        conforming_delaunay=s.conforming_delaunay,
                        split_boundary=kw.get("split_boundary", True),
                        split_segments=kw.get("split_segments", True),
                        max_steiner=s.max_steiner)
+    return mesh, _carried_attributes(base, mesh, attributes)
 
 
-def _output(mesh: Triangulation, tri: TriangleDict, s: Switches) -> dict[str, NDArray[Any]]:
-    """Triangle's output dictionary of ``mesh``, with the keys ``s`` asks for."""
+def _output(mesh: Triangulation, triangle_attributes: NDArray[np.float64] | None, *,
+            tri: TriangleDict, s: Switches) -> dict[str, NDArray[Any]]:
+    """Triangle's output dictionary of ``mesh``, with the keys ``s`` asks for (after
+    ``C``'s check; ``V``'s line on stderr)."""
+    if s.check and not mesh.is_delaunay():
+        raise NotDelaunayError(f"the mesh of {s.text!r} fails its constrained Delaunay "
+                               f"certificate at edges {mesh.non_delaunay_edges()[:5].tolist()}")
+    if s.verbose:
+        print(report(mesh, s), file=sys.stderr)
     vertices, triangles = mesh.vertices, mesh.triangles
     vertex_markers = None if s.no_markers else mesh.vertex_markers
     attributes = mesh.vertex_attributes if "vertex_attributes" in tri else None
@@ -264,9 +266,8 @@ def _output(mesh: Triangulation, tri: TriangleDict, s: Switches) -> dict[str, ND
             _put(out, "vertex_markers", _i32(vertex_markers if keep is None else vertex_markers[keep]))
     if not s.no_elements and len(triangles):
         _put(out, "triangles", _i32(triangles, renumber))
-        attribute = _triangle_attributes(mesh, tri, s)
-        if attribute is not None:
-            _put(out, "triangle_attributes", attribute)
+        if triangle_attributes is not None:
+            _put(out, "triangle_attributes", triangle_attributes)
     if s.neighbors and len(triangles):
         _put(out, "neighbors", mesh.neighbors.astype(_I32))
     if segments is not None:
@@ -350,16 +351,27 @@ def _segments(mesh: Triangulation, s: Switches) -> tuple[NDArray[np.int64], NDAr
     return segments, markers
 
 
-def _triangle_attributes(mesh: Triangulation, tri: TriangleDict,
-                         s: Switches) -> NDArray[np.float64] | None:
-    """``A`` with ``p``: each triangle's regional attribute (0 outside every region,
-    as Triangle); with ``r``: the input's ``triangle_attributes`` carried."""
-    if s.refine:
-        carried = getattr(mesh, "triangle_attributes", None)
-        return None if carried is None else np.asarray(carried, dtype=np.float64)
+def _region_attributes(mesh: Triangulation, s: Switches) -> NDArray[np.float64] | None:
+    """``A`` with ``p``: each triangle's regional attribute, (k, 1) (0 outside every
+    region, as in Triangle); None without ``A`` or without regions."""
     if not (s.region_attributes and s.pslg) or mesh.region_attributes is None:
         return None
     return np.nan_to_num(mesh.region_attributes, nan=0.0).reshape(-1, 1)
+
+
+def _carried_attributes(base: Triangulation, mesh: Triangulation,
+                        attributes: ArrayLike | None) -> NDArray[np.float64] | None:
+    """``r``: the input's ``triangle_attributes`` on the refined triangles, each
+    taking those of the input triangle that holds its centroid (refinement splits
+    the input triangles; a triangle of a flip across two input triangles with
+    different attributes takes the one its centroid lies in)."""
+    if attributes is None:
+        return None
+    values = np.asarray(attributes, dtype=np.float64).reshape(len(base.triangles), -1)
+    if mesh is base:
+        return values
+    centroids = mesh.vertices[mesh.triangles].mean(axis=1)
+    return values[base.locate(centroids)]
 
 
 def report(mesh: Triangulation, s: Switches) -> str:

@@ -152,8 +152,20 @@ def test_matrix_against_triangle(name, switches):
     if not s.quality and not s.conforming_delaunay and not s.refine and "triangles" in ours \
             and s.order == 1:
         _same_triangles(ours["vertices"], ours["triangles"], theirs["vertices"], theirs["triangles"])
-        if "vertex_markers" in ours:          # the same vertices: the same markers
-            assert np.array_equal(ours["vertex_markers"], theirs["vertex_markers"])
+    for key in ("vertex_markers", "vertex_attributes"):
+        if key in ours:
+            _same_per_vertex(ours, theirs, key)
+
+
+def _same_per_vertex(ours: dict, theirs: dict, key: str) -> None:
+    """``key`` equal at every vertex both meshes have (by coordinates: Steiner points
+    are numbered differently), attributes up to rounding (linear interpolation)."""
+    mine = {tuple(v): a for v, a in zip(ours["vertices"].tolist(), ours[key].tolist())}
+    common = [(mine[tuple(v)], a) for v, a in zip(theirs["vertices"].tolist(), theirs[key].tolist())
+              if tuple(v) in mine]
+    assert common
+    for a, b in common:
+        assert a == pytest.approx(b, rel=1e-9, abs=1e-12)
 
 
 @pytest.mark.parametrize("switches", [s + "B" for s in MATRIX if "B" not in s])
@@ -260,6 +272,13 @@ def test_load_and_get_data_as_the_package():
             if key in theirs:
                 assert np.array_equal(ours[key], theirs[key])
     assert _layout(tr.get_data("ell")) == _layout(triangle.get_data("ell"))
+
+
+def test_voronoi_edge_files_as_the_package():
+    for name in ("dots.1.v", "diamond_02_00009.1.v"):
+        ours, theirs = tr.get_data(name), triangle.get_data(name)
+        assert _layout(ours) == _layout(theirs)
+        assert all(np.array_equal(ours[k], theirs[k]) for k in theirs)
 
 
 def test_loads_reads_texts():
