@@ -122,19 +122,13 @@ def _meshed(tri: TriangleDict, s: Switches) -> Triangulation:
     if len(vertices) < 3:
         raise TooFewPointsError(f"Triangle needs at least three vertices, got {len(vertices)}")
     segments = holes = regions = None
-    marks: dict[str, Any] = {}
     if s.pslg:
         segments = tri.get("segments")
         # (holes given, even none: the triangles outside the segments are removed, as
         # Triangle removes them; depth parity would keep an unholed nested polygon's)
         holes = _NO_HOLES if s.no_holes else tri.get("holes", _NO_HOLES)
         regions = _regions(tri.get("regions"), s)
-        if segments is not None and not s.no_markers and "segment_markers" in tri:
-            marks["segment_markers"] = _column(tri["segment_markers"])
-    if not s.no_markers and "vertex_markers" in tri:
-        marks["vertex_markers"] = _column(tri["vertex_markers"])
-    if "vertex_attributes" in tri:
-        marks["vertex_attributes"] = tri["vertex_attributes"]
+    marks = _marks(tri, s, segments is not None)
     keywords = _keywords(s)
     smallest = _smallest_area(s, regions)
     if smallest and s.max_steiner is None:
@@ -192,10 +186,15 @@ def _regions(given: ArrayLike | None, s: Switches) -> NDArray[np.float64] | None
 
 
 def _keywords(s: Switches) -> dict[str, Any]:
-    return _KEYWORDS.get(s) or _KEYWORDS.setdefault(s, s.keywords())
+    """:meth:`Switches.keywords`, made once per switch string (a string's hash is
+    kept by Python: a look-up, where hashing the record would cost a microsecond)."""
+    found = _KEYWORDS.get(s.text)
+    if found is None:
+        found = _KEYWORDS[s.text] = s.keywords()
+    return found
 
 
-_KEYWORDS: dict[Switches, dict[str, Any]] = {}
+_KEYWORDS: dict[str, dict[str, Any]] = {}
 
 
 def _refined(tri: TriangleDict, s: Switches) -> tuple[Triangulation, NDArray[np.float64] | None]:
@@ -207,31 +206,49 @@ def _refined(tri: TriangleDict, s: Switches) -> tuple[Triangulation, NDArray[np.
     triangles = np.asarray(tri["triangles"])
     if triangles.ndim == 2 and triangles.shape[1] == 6:
         triangles = triangles[:, :3]      # (a six-node mesh: its corners)
-    marks: dict[str, Any] = {}
-    if not s.no_markers and "vertex_markers" in tri:
-        marks["vertex_markers"] = _column(tri["vertex_markers"])
-    if "vertex_attributes" in tri:
-        marks["vertex_attributes"] = tri["vertex_attributes"]
     segments = tri.get("segments") if s.pslg else None
-    if segments is not None and not s.no_markers and "segment_markers" in tri:
-        marks["segment_markers"] = _column(tri["segment_markers"])
-    base = Triangulation.from_triangles(tri["vertices"], triangles, segments=segments, **marks)
+    base = Triangulation.from_triangles(tri["vertices"], triangles, segments=segments,
+                                        **_marks(tri, s, segments is not None))
     attributes = tri.get("triangle_attributes")
     if not s.quality and not s.conforming_delaunay:
         return base, _carried_attributes(base, base, attributes)
-    max_area: Any = s.max_area
-    if s.area_from_input and "triangle_max_area" in tri:
-        bound = np.asarray(tri["triangle_max_area"], dtype=np.float64).reshape(-1)
-        if s.max_area is not None:
-            bound = np.where(bound > 0, np.minimum(bound, s.max_area), s.max_area)
-        max_area = bound
+    max_area, smallest = _area_bounds(tri, s)
     kw = _keywords(s)
+    steiner = s.max_steiner
+    if steiner is None and smallest:
+        steiner = _steiner_cap(base.vertices, smallest)
     mesh = base.refine(min_angle=s.min_angle, max_area=max_area,
                        conforming_delaunay=s.conforming_delaunay,
                        split_boundary=kw.get("split_boundary", True),
                        split_segments=kw.get("split_segments", True),
-                       max_steiner=s.max_steiner)
+                       max_steiner=steiner)
     return mesh, _carried_attributes(base, mesh, attributes)
+
+
+def _marks(tri: TriangleDict, s: Switches, segments: bool) -> dict[str, Any]:
+    """The markers and attributes of the input, as the engine's keywords (no markers
+    with ``B``; segment markers only where segments are read)."""
+    marks: dict[str, Any] = {}
+    if not s.no_markers:
+        if "vertex_markers" in tri:
+            marks["vertex_markers"] = _column(tri["vertex_markers"])
+        if segments and "segment_markers" in tri:
+            marks["segment_markers"] = _column(tri["segment_markers"])
+    if "vertex_attributes" in tri:
+        marks["vertex_attributes"] = tri["vertex_attributes"]
+    return marks
+
+
+def _area_bounds(tri: TriangleDict, s: Switches) -> tuple[Any, float | None]:
+    """``r``'s area bound (a number, one per triangle with a bare ``a``: the smaller
+    of ``triangle_max_area`` and ``a<area>``, <= 0 none) and its smallest positive value."""
+    if not (s.area_from_input and "triangle_max_area" in tri):
+        return s.max_area, s.max_area
+    bound = np.asarray(tri["triangle_max_area"], dtype=np.float64).reshape(-1)
+    if s.max_area is not None:
+        bound = np.where(bound > 0, np.minimum(bound, s.max_area), s.max_area)
+    positive = bound[bound > 0]
+    return bound, float(positive.min()) if len(positive) else s.max_area
 
 
 def _output(mesh: Triangulation, triangle_attributes: NDArray[np.float64] | None, *,

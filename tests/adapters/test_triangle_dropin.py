@@ -120,12 +120,24 @@ def _check_mesh(data: dict, ours: dict, switches: str, theirs: dict) -> None:
                        < s.min_angle - 1e-9).sum()
     if s.max_area:
         assert (_areas(V, T) <= s.max_area * (1 + 1e-12)).all()
+    if s.refine and s.area_from_input:
+        # each input triangle's bound, at the triangles whose centroid it holds: no more
+        # of ours above it than of Triangle's (it averages bounds where it flips)
+        assert _over_bound(data, V, T) <= _over_bound(data, theirs["vertices"], theirs["triangles"])
     if s.conforming_delaunay:
         assert check_empty_circumcircles(V, T).ok
     if s.split and "segments" in ours:
         steiner = used[used >= n_in]
         on = _boundary(T) if s.split == 1 else ours["segments"]
         assert not np.isin(steiner, on).any()
+
+
+def _over_bound(data: dict, V, T) -> int:
+    """How many of the triangles ``V[T]`` are larger than the ``triangle_max_area`` of
+    the input triangle holding their centroid."""
+    base = cdt_plugin.Triangulation.from_triangles(data["vertices"], np.asarray(data["triangles"])[:, :3])
+    bound = np.asarray(data["triangle_max_area"], float).ravel()[base.locate(V[T].mean(axis=1))]
+    return int(((bound > 0) & (_areas(V, T) > bound * (1 + 1e-12))).sum())
 
 
 def _same_triangles(V1, T1, V2, T2) -> None:
