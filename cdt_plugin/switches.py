@@ -6,43 +6,39 @@ trimesh's ``triangle_args``.
 
 Every switch of Triangle 1.6 is read (the letters, their numbers, their meaning):
 
-======  =====================================================  ================================
-switch  Triangle                                                here
-======  =====================================================  ================================
-``p``   triangulate a PSLG (segments, holes, regions)          ``pslg``
-``r``   refine a previous mesh                                 ``refine``
-``q``   quality: minimum angle (20 without a number)           ``min_angle``
-``a``   maximum area: ``a<area>`` for every triangle, a bare   ``max_area``, ``area_from_input``
-        ``a`` from the regions (``p``) or per triangle (``r``)
-``u``   the user's size test compiled into Triangle            ``user_test``
-``A``   regional attribute of each triangle                    ``region_attributes``
-``c``   keep the convex hull (enclose it with segments)        ``convex_hull``
-``D``   conforming Delaunay                                    ``conforming_delaunay``
-``j``   drop vertices that no triangle uses                    ``jettison``
-``e``   output the edges (and their markers)                   ``edges``
-``v``   the Voronoi diagram                                    ``voronoi``
-``n``   output the neighbours of each triangle                 ``neighbors``
-``g``   write an Object File Format (``.off``) file            ``geomview``
-``B``   no boundary markers in the output                      ``no_markers``
-``P``   no output segments (``.poly`` file)                    ``no_poly``
-``N``   no output vertices (``.node`` file)                    ``no_nodes``
-``E``   no output triangles (``.ele`` file)                    ``no_elements``
-``I``   no iteration numbers in the file names                 ``no_iteration_numbers``
-``O``   ignore the holes                                       ``no_holes``
-``X``   no exact arithmetic                                    ``no_exact``
-``z``   number everything from zero                            ``zero_index``
-``o2``  six-node (second-order) triangles                      ``order`` = 2
-``Y``   no Steiner point on the boundary; ``YY``: on no        ``split`` = 1 (``Y``) or 2 (``YY``)
-        segment
-``S``   maximum number of Steiner points (``S`` alone: 0)      ``max_steiner``
-``i``   incremental Delaunay                                   ``incremental``
-``F``   Fortune's sweepline Delaunay                           ``sweepline``
-``l``   vertical cuts only in divide and conquer               ``vertical_cuts``
-``s``   split segments instead of a constrained triangulation  ``split_segments_first``
-``C``   check the final mesh                                   ``check``
-``Q``   quiet                                                  ``quiet``
-``V``   verbose (``VV``, ``VVV``... more)                      ``verbose`` (the count)
-======  =====================================================  ================================
+| switch | Triangle | here |
+|---|---|---|
+| ``p`` | triangulate a PSLG (segments, holes, regions) | ``pslg`` |
+| ``r`` | refine a previous mesh | ``refine`` |
+| ``q`` | quality: minimum angle (20 without a number) | ``min_angle`` |
+| ``a`` | maximum area: ``a<area>`` for every triangle, a bare ``a`` from the regions (``p``) or per triangle (``r``) | ``max_area``, ``area_from_input`` |
+| ``u`` | the user's size test compiled into Triangle | ``user_test`` |
+| ``A`` | regional attribute of each triangle | ``region_attributes`` |
+| ``c`` | keep the convex hull (enclose it with segments) | ``convex_hull`` |
+| ``D`` | conforming Delaunay | ``conforming_delaunay`` |
+| ``j`` | drop vertices that no triangle uses | ``jettison`` |
+| ``e`` | output the edges (and their markers) | ``edges`` |
+| ``v`` | the Voronoi diagram | ``voronoi`` |
+| ``n`` | output the neighbours of each triangle | ``neighbors`` |
+| ``g`` | write an Object File Format (``.off``) file | ``geomview`` |
+| ``B`` | no boundary markers in the output | ``no_markers`` |
+| ``P`` | no output segments (``.poly`` file) | ``no_poly`` |
+| ``N`` | no output vertices (``.node`` file) | ``no_nodes`` |
+| ``E`` | no output triangles (``.ele`` file) | ``no_elements`` |
+| ``I`` | no iteration numbers in the file names | ``no_iteration_numbers`` |
+| ``O`` | ignore the holes | ``no_holes`` |
+| ``X`` | no exact arithmetic | ``no_exact`` |
+| ``z`` | number everything from zero | ``zero_index`` |
+| ``o2`` | six-node (second-order) triangles | ``order`` = 2 |
+| ``Y`` | no Steiner point on the boundary; ``YY``: on no segment | ``split`` = 1 (``Y``) or 2 (``YY``) |
+| ``S`` | maximum number of Steiner points (``S`` alone: 0) | ``max_steiner`` |
+| ``i`` | incremental Delaunay | ``incremental`` |
+| ``F`` | Fortune's sweepline Delaunay | ``sweepline`` |
+| ``l`` | vertical cuts only in divide and conquer | ``vertical_cuts`` |
+| ``s`` | split segments instead of a constrained triangulation | ``split_segments_first`` |
+| ``C`` | check the final mesh | ``check`` |
+| ``Q`` | quiet | ``quiet`` |
+| ``V`` | verbose (``VV``, ``VVV``... more) | ``verbose`` (the count) |
 
 Numbers are read as ``triangle.c`` reads them: the digits and dots that follow the
 letter (``q``, ``a``; only digits for ``S``). Where Triangle would silently read
