@@ -260,15 +260,12 @@ def _output(mesh: Triangulation, triangle_attributes: NDArray[np.float64] | None
                                f"certificate at edges {mesh.non_delaunay_edges()[:5].tolist()}")
     if s.verbose:
         print(report(mesh, s), file=sys.stderr)
-    vertices, triangles = mesh.vertices, mesh.triangles
-    vertex_markers = None if s.no_markers else mesh.vertex_markers
-    attributes = mesh.vertex_attributes if "vertex_attributes" in tri else None
+    nodes = mesh.quadratic() if s.order == 2 else mesh      # (the same names of both)
+    vertices, triangles = nodes.vertices, nodes.triangles
+    vertex_markers = None if s.no_markers or s.no_nodes else nodes.vertex_markers
+    attributes = (nodes.vertex_attributes if "vertex_attributes" in tri and not s.no_nodes
+                  else None)
     edges = mesh.edges if s.edges else None
-    if s.order == 2:
-        quadratic = mesh.quadratic()
-        vertices, triangles = quadratic.vertices, quadratic.triangles
-        vertex_markers = None if s.no_markers else quadratic.vertex_markers
-        attributes = quadratic.vertex_attributes if attributes is not None else None
     segments = segment_markers = None
     if (s.pslg or s.convex_hull) and not s.no_poly:
         segments, segment_markers = _segments(mesh, s)
