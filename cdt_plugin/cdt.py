@@ -32,7 +32,7 @@ from ._routes import build_divide_two_threads
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError, UnresolvedCrossingError)
 from .interrupts import deferred_interrupt
-from .options import MeshOptions
+from .options import MeshOptions, checked_options, route_plan
 from .parallel import check_workers, resolve_workers
 from .plc import PLC, GeometryLike, as_plc
 from .triangulation import Triangulation
@@ -157,10 +157,14 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     (8, True)
     """
     t0 = time.perf_counter()
-    options = MeshOptions.check(intersections=intersections, algorithm=algorithm,
-                                keep_hull=keep_hull, min_angle=min_angle, max_area=max_area,
-                                conforming_delaunay=conforming_delaunay,
-                                split_boundary=split_boundary, max_steiner=max_steiner)
+    try:     # (cached: a small call pays for every Python call the checks make)
+        options = checked_options(intersections, algorithm, keep_hull, min_angle, max_area,
+                                  conforming_delaunay, split_boundary, max_steiner)
+    except TypeError:      # an unhashable value: checked anew, and named
+        options = MeshOptions.check(intersections=intersections, algorithm=algorithm,
+                                    keep_hull=keep_hull, min_angle=min_angle, max_area=max_area,
+                                    conforming_delaunay=conforming_delaunay,
+                                    split_boundary=split_boundary, max_steiner=max_steiner)
     workers = check_workers(workers)
     plc = as_plc(vertices, segments, holes, regions)
     return triangulate_plc(plc, options, t0=t0, workers=workers)
@@ -174,9 +178,11 @@ def triangulate_plc(plc: PLC, options: MeshOptions, *, t0: float | None = None,
     triangulation of divide and conquer is built on two threads first
     (:func:`_threaded_store`)."""
     t0 = time.perf_counter() if t0 is None else t0
-    algorithm, split = options.algorithm, options.split
+    algorithm, split = options.algorithm, options.intersections == "split"
     # a region seed's max_area refines on its own (Triangle's -a)
-    refine = options.refines or (plc.regions is not None and bool((plc.regions[:, 3] > 0).any()))
+    refine, route_options = route_plan(
+        options, plc.holes is not None or plc.regions is not None,
+        plc.regions is not None and bool((plc.regions[:, 3] > 0).any()))
     if plc.degenerate_rings and not split:
         p, r = plc.degenerate_rings[0]
         raise InvalidGeometryError(
@@ -195,29 +201,30 @@ def triangulate_plc(plc: PLC, options: MeshOptions, *, t0: float | None = None,
         if algorithm == "divide" and not on_threads:
             horizontal = lexicographic_order(y, -x)
     rings = plc.has_rings
-    route_options = options.route_args(use_seeds=plc.holes is not None or plc.regions is not None,
-                                       refine=refine)
     holes = plc.holes if plc.holes is not None and len(plc.holes) else _NO_SEEDS
     regions = plc.regions if plc.regions is not None and len(plc.regions) else _NO_REGIONS
-    def run_route(snapped):
+    segment_ring = plc.segment_ring if rings else _NO_IDS
+    ring_polygon = plc.ring_polygon if rings else _NO_IDS
+    ring_is_hole = plc.ring_is_hole if rings else _NO_RINGS
+    snapped = _NOT_SNAPPED
+    while True:   # (a loop, not a helper: a small call pays for every Python call)
         with deferred_interrupt(n):
             prebuilt, order_in = _NO_STORE, order
             if on_threads:
                 prebuilt, order_in = _threaded_store(x, y, order, len(plc.segments), snapped,
                                                      route_options)
-            return cdt_route_packed(
-                x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
-                plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
-                holes, regions, order_in, horizontal, route_options, snapped, prebuilt)
-
-    status, ints, vertices = run_route(_NOT_SNAPPED)
-    if status == ROUTE_NEEDS_SNAP:
-        # segments cross: snap-round them all (compiled apart: only such inputs pay for it)
+            status, ints, vertices = cdt_route_packed(
+                x, y, plc.segments, segment_ring, ring_polygon, ring_is_hole, holes, regions,
+                order_in, horizontal, route_options, snapped, prebuilt)
+        if status != ROUTE_NEEDS_SNAP or snapped is not _NOT_SNAPPED:
+            break
+        # segments cross: snap-round them all (compiled apart: only such inputs pay for
+        # it), then run the route again on the snapped segments
         with deferred_interrupt(n):
             status, info, *plan = snap_route(x, y, plc.segments, options.steiner_cap)
         if status != ROUTE_OK:
             _raise_stop(status, info, plc)
-        status, ints, vertices = run_route(tuple(plan))
+        snapped = tuple(plan)
     info, counts = ints[PACK_HEADER:PACK_HEADER + 4], ints[PACK_HEADER + 4:PACK_ARRAYS]
     if status == ROUTE_COLLINEAR:
         return _collinear_result(plc, algorithm, t0)

@@ -75,8 +75,11 @@ def _read_geometry(obj, required):
     mapping (:func:`geojson_parts`). None for input that is no geometry,
     unless ``required``."""
     shapely = _shapely_of(obj)
-    if shapely is not None and (type(obj) is shapely.Polygon or type(obj) is shapely.MultiPolygon):
-        rings = shapely_polygon_rings(shapely, obj)
+    kind = type(obj)
+    if shapely is not None and (kind is shapely.Polygon or kind is shapely.MultiPolygon):
+        # (the one Polygon's reader called directly: a small call pays for every Python call)
+        rings = (_one_polygon_rings(shapely, obj) if kind is shapely.Polygon
+                 else shapely_polygon_rings(shapely, obj))
         if len(rings.ring_start):     # (else a ring that does not close, an EMPTY hole: the builder names it)
             return ring_plc(rings.xy, rings.ring_start[:-1], rings.ring_start[1:], rings.ring_polygon,
                             rings.ring_is_hole, rings.z)[0]
