@@ -39,6 +39,11 @@ class PLC:
     z : (n,) float64 or None, a third coordinate carried along (not used in meshing)
     degenerate_rings : list of (polygon, ring) rings dropped as rings (too few
         distinct points or zero area); their vertices stay as isolated vertices
+    vertex_markers, segment_markers : (n,) and (m,) int, or None
+        Boundary markers to carry (:func:`cdt_plugin.triangulate`'s keywords of
+        the same names, which win over these).
+    vertex_attributes : (n,) or (n, k) float, or None
+        Vertex attributes to carry (likewise).
     """
 
     vertices: NDArray[np.float64]
@@ -50,6 +55,9 @@ class PLC:
     ring_is_hole: NDArray[np.bool_] | None = None
     z: NDArray[np.float64] | None = None
     degenerate_rings: list[tuple[int, int]] = field(default_factory=list)
+    vertex_markers: ArrayLike | None = None
+    segment_markers: ArrayLike | None = None
+    vertex_attributes: ArrayLike | None = None
 
     @property
     def has_rings(self) -> bool:

@@ -14,7 +14,7 @@ from ._core.output import (relabel_store, rotate_min_first,
                            store_neighbors, store_triangles)
 from ._routes import (DelaunayBuild, build_delaunay, collinear_chain, flip_moved, route_arrays,
                       route_triangles)
-from . import hooks, queries
+from . import hooks, markers, queries
 from .errors import CDTError, InputShapeError, InvertedTriangleError
 from .options import resolve_algorithm
 from .optional import require
@@ -49,6 +49,8 @@ def _frozen_empty(shape: int | tuple[int, ...]) -> NDArray[np.int64]:
 _NO_SEGMENTS = _frozen_empty((0, 2))   # shared defaults: empty and read-only
 _NO_IDS = _frozen_empty(0)
 # the attributes of a route's result that are made on first access (Triangulation.from_route)
+# the markers and attributes made on first access (functools.cached_property)
+_MARKED = ("vertex_markers", "segment_markers", "edge_markers", "vertex_attributes")
 _LAZY_ATTRIBUTES = frozenset({"neighbors", "vertex_map", "constrained", "regions", "segments",
                               "segment_ids", "steiner", "below_min_angle", "region_attributes"})
 
@@ -92,6 +94,10 @@ class Triangulation:
     below_min_angle : (q,) int64
         After refinement with ``min_angle``: the triangles that still miss the
         bound (at small input angles); empty otherwise.
+    tags : :class:`~cdt_plugin.markers.Tags` or None
+        The markers and attributes given with the input (None: none given);
+        ``vertex_markers``, ``segment_markers``, ``edge_markers`` and
+        ``vertex_attributes`` are derived from it on first access.
     """
 
     vertices: NDArray[np.float64]
@@ -106,6 +112,7 @@ class Triangulation:
     steiner: NDArray[np.int64]
     below_min_angle: NDArray[np.int64]
     region_attributes: NDArray[np.float64] | None
+    tags: markers.Tags | None = None      # (set only when markers or attributes are given)
     _stats: Stats
     _edges: NDArray[np.int64] | None
     _mesh: MeshStore | None
@@ -304,6 +311,34 @@ class Triangulation:
             keep = (nb[k, j] < 0) | (k < nb[k, j])
             self._edges = np.column_stack([t[k, (j + 1) % 3], t[k, (j + 2) % 3]])[keep]
         return self._edges
+
+    # ------------------------------------------- markers and attributes (lazy)
+    @functools.cached_property
+    def vertex_markers(self) -> NDArray[np.int64]:
+        """(n,) int64 boundary marker of each vertex, Triangle's rules: its input
+        marker if nonzero, else the nonzero marker of a segment it lies on, else
+        1 on the boundary, else 0 (see :mod:`cdt_plugin.markers`)."""
+        return markers.vertex_markers(self, self.tags)
+
+    @functools.cached_property
+    def segment_markers(self) -> NDArray[np.int64]:
+        """(s,) int64 marker of each row of ``segments``: its input segment's
+        marker if nonzero, else 1 on the boundary, else 0."""
+        return markers.segment_markers(self, self.tags)
+
+    @functools.cached_property
+    def edge_markers(self) -> NDArray[np.int64]:
+        """(e,) int64 marker of each row of ``edges``: the marker of the segment
+        piece it is, else 1 on the boundary, else 0."""
+        return markers.edge_markers(self, self.tags)
+
+    @functools.cached_property
+    def vertex_attributes(self) -> NDArray[np.float64] | None:
+        """(n, k) float64 attributes of every vertex, or None when none were
+        given: input vertices keep theirs, Steiner points get the linear
+        interpolation on their segment, or on the triangle of the unrefined
+        mesh that holds them (see :mod:`cdt_plugin.markers`)."""
+        return markers.vertex_attributes(self, self.tags)
 
     @property
     def submerged(self) -> NDArray[np.intp]:
@@ -521,8 +556,8 @@ class Triangulation:
         flips = defect = -1
         if self._mesh is not None and self.weights is None:
             (tri, twin, cons, ntri, inf), flips, defect = flip_moved(self._mesh, new)
-        self.__dict__.pop("_walk", None)       # the queries' meshes follow the vertices
-        self.__dict__.pop("_blocked", None)
+        for derived in ("_walk", "_blocked", *_MARKED):   # the queries' meshes and markers follow
+            self.__dict__.pop(derived, None)
         if flips >= 0 and defect < 0:
             self._mesh = (tri, twin, cons, ntri, inf)
             self.__dict__.pop("_lazy", None)     # every array is made here
