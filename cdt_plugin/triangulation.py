@@ -30,6 +30,7 @@ if TYPE_CHECKING:
     import trimesh
     from matplotlib.axes import Axes
 
+    from .quadratic import QuadraticMesh
     from .report import Report
     from .voronoi import Subdivision, Voronoi
 
@@ -230,9 +231,15 @@ class Triangulation:
         return tri
 
     @classmethod
-    def from_triangles(cls, vertices: ArrayLike, triangles: ArrayLike) -> Triangulation:
+    def from_triangles(cls, vertices: ArrayLike, triangles: ArrayLike, *,
+                       vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
+                       vertex_attributes: ArrayLike | None = None) -> Triangulation:
         """A triangulation given as vertices and index triangles (a mesh made
         elsewhere, a TIN read back from a file), for queries and certificates.
+
+        ``vertex_markers``, ``segment_markers`` (one per row of ``segments``) and
+        ``vertex_attributes`` as for :func:`cdt_plugin.triangulate`: kept in
+        ``tags`` and carried by refinement.
 
         Triangles may turn either way (clockwise ones are turned round). Raises
         :class:`InputShapeError` for bad shapes or indices,
@@ -277,7 +284,10 @@ class Triangulation:
                            "or in two on the same side")
         T, nb = np.ascontiguousarray(T), np.ascontiguousarray(nb)
         rotate_min_first(T, nb)
-        return cls(V, T, nb, np.arange(n, dtype=np.int64), {"triangles": len(T)})
+        out = cls(V, T, nb, np.arange(n, dtype=np.int64), {"triangles": len(T)})
+        if vertex_markers is not None or segment_markers is not None or vertex_attributes is not None:
+            out.tags = markers.make_tags(n, out.segments, vertex_markers, segment_markers, vertex_attributes)
+        return out
 
     def __getattr__(self, name: str) -> Any:
         # only called when ``name`` is not set: the route's arrays made on first access
@@ -339,6 +349,22 @@ class Triangulation:
         interpolation on their segment, or on the triangle of the unrefined
         mesh that holds them (see :mod:`cdt_plugin.markers`)."""
         return markers.vertex_attributes(self, self.tags)
+
+    def quadratic(self) -> QuadraticMesh:
+        """Second-order elements (Triangle's ``-o2``): the six-node triangles of
+        this triangulation, node ``3 + i`` of each at the midpoint of the edge
+        opposite corner ``i``, one midpoint per row of ``edges`` after the
+        vertices, shared by the edge's triangles; a midpoint has its edge's
+        marker and the mean of its ends' attributes
+        (see :class:`cdt_plugin.quadratic.QuadraticMesh`).
+
+        >>> import cdt_plugin
+        >>> mesh = cdt_plugin.triangulate([[0, 0], [2, 0], [0, 2]], [[0, 1], [1, 2], [2, 0]]).quadratic()
+        >>> mesh.triangles.tolist(), mesh.vertices[3:].tolist()
+        ([[0, 1, 2, 3, 4, 5]], [[1.0, 1.0], [0.0, 1.0], [1.0, 0.0]])
+        """
+        from .quadratic import quadratic      # (loaded on first use)
+        return quadratic(self, self.vertex_markers, self.edge_markers, self.vertex_attributes)
 
     @property
     def submerged(self) -> NDArray[np.intp]:

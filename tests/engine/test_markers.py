@@ -370,3 +370,71 @@ def test_markers_accept_triangle_columns_and_whole_floats():
                                  vertex_markers=np.array([[3], [0], [0]], np.int32),
                                  segment_markers=[2.0])
     assert tri.vertex_markers.tolist() == [3, 2, 1] and tri.vertex_markers.dtype == np.int64
+
+
+def test_from_triangles_keeps_markers_and_attributes():
+    V = [[0, 0], [2, 0], [2, 2], [0, 2], [1, 1]]
+    T = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
+    tri = cdt_plugin.Triangulation.from_triangles(V, T, vertex_markers=[0, 3, 0, 0, 0],
+                                                  vertex_attributes=np.arange(10.0).reshape(5, 2))
+    assert tri.vertex_markers.tolist() == [1, 3, 1, 1, 0]
+    assert tri.vertex_attributes.tolist() == np.arange(10.0).reshape(5, 2).tolist()
+    assert tri.edge_markers.tolist() == [int(4 not in e) for e in tri.edges.tolist()]
+    with pytest.raises(InputShapeError, match="one marker per input vertex"):
+        cdt_plugin.Triangulation.from_triangles(V, T, vertex_markers=[1])
+
+
+def _six_node(vertices, triangles, markers, attributes):
+    """{corner coordinates of a triangle: {corner: (opposite midpoint, its marker,
+    its attributes)}} of a six-node mesh."""
+    V = np.asarray(vertices).tolist()
+    return {frozenset(tuple(V[c]) for c in t[:3]):
+            {tuple(V[t[i]]): (tuple(V[t[3 + i]]), int(np.ravel(markers)[t[3 + i]]),
+                              tuple(np.round(attributes[t[3 + i]], 12))) for i in range(3)}
+            for t in np.asarray(triangles)}
+
+
+@pytest.mark.parametrize("path", POLYS, ids=os.path.basename)
+def test_quadratic_matches_triangles_o2(path):
+    d = _poly(path)
+    V = d["vertices"]
+    d["vertex_attributes"] = np.column_stack([V[:, 0] ** 2, V[:, 1]])
+    ours = _ours(d)
+    mesh = ours.quadratic()
+    theirs = triangle.triangulate(d, "po2")
+    n, e = len(ours.vertices), len(ours.edges)
+    assert mesh.vertices.shape == (n + e, 2) and mesh.triangles.shape == (len(ours.triangles), 6)
+    assert (mesh.triangles[:, :3] == ours.triangles).all()
+    # every midpoint is shared by the triangles of its edge: one node per edge
+    assert len(np.unique(mesh.triangles[:, 3:])) == e
+    if "triangles" not in theirs:
+        assert len(ours.triangles) == 0
+        return
+    assert len(np.unique(theirs["triangles"][:, 3:])) == e
+    # Triangle's node convention, midpoints, markers and attributes, on every triangle
+    # both meshes have (cocircular ties may give other diagonals)
+    mine = _six_node(mesh.vertices, mesh.triangles, mesh.vertex_markers, mesh.vertex_attributes)
+    yours = _six_node(theirs["vertices"], theirs["triangles"], theirs["vertex_markers"],
+                      theirs["vertex_attributes"])
+    common = mine.keys() & yours.keys()
+    assert len(common) >= 0.8 * len(yours)
+    assert {k: mine[k] for k in common} == {k: yours[k] for k in common}
+
+
+def test_quadratic_to_meshio():
+    meshio = pytest.importorskip("meshio")
+    tri = cdt_plugin.triangulate([[0, 0], [2, 0], [2, 2], [0, 2]], [[0, 1], [1, 2], [2, 3], [3, 0]],
+                                 segment_markers=[3, 0, 0, 0], vertex_attributes=[0.0, 2, 4, 2],
+                                 max_area=0.5)
+    mesh = tri.quadratic()
+    m = mesh.to_meshio()
+    assert isinstance(m, meshio.Mesh) and m.cells[0].type == "triangle6"
+    cells = m.cells[0].data
+    P = m.points
+    # meshio's order: corners, then the midpoints of 01, 12, 20
+    for j, (a, b) in enumerate([(0, 1), (1, 2), (2, 0)]):
+        np.testing.assert_array_equal(P[cells[:, 3 + j]], (P[cells[:, a]] + P[cells[:, b]]) / 2)
+    np.testing.assert_array_equal(m.point_data["vertex_markers"], mesh.vertex_markers)
+    on_bottom = mesh.vertices[:, 1] == 0
+    assert set(mesh.vertex_markers[on_bottom].tolist()) == {3}
+    np.testing.assert_allclose(mesh.vertex_attributes[:, 0], mesh.vertices.sum(axis=1), atol=1e-12)
