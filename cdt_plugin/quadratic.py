@@ -6,6 +6,19 @@ edge; node ``3 + i`` of a triangle is the midpoint of the edge opposite its
 corner ``i``, as in Triangle. The midpoints follow the corners, one per row of
 the triangulation's ``edges``, in that order. A midpoint's marker is its
 edge's (:mod:`cdt_plugin.markers`), its attributes the mean of its ends'.
+
+>>> import cdt_plugin
+>>> tri = cdt_plugin.triangulate([[0, 0], [2, 0], [2, 2], [0, 2]], [[0, 1], [1, 2], [2, 3], [3, 0]],
+...                              segment_markers=[5, 0, 0, 0], vertex_attributes=[0.0, 2, 4, 2])
+>>> mesh = tri.quadratic()
+>>> mesh
+QuadraticMesh(9 nodes, 2 six-node triangles)
+>>> mesh.triangles.tolist()
+[[0, 2, 3, 4, 5, 6], [0, 1, 2, 7, 6, 8]]
+>>> mesh.vertices[4:].tolist(), mesh.vertex_markers[4:].tolist()
+([[1.0, 2.0], [0.0, 1.0], [1.0, 1.0], [2.0, 1.0], [1.0, 0.0]], [1, 1, 0, 1, 5])
+>>> mesh.vertex_attributes[4:, 0].tolist()
+[3.0, 1.0, 2.0, 3.0, 1.0]
 """
 from __future__ import annotations
 
