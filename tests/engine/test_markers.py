@@ -126,12 +126,20 @@ def _segment_of(V, S, p):
     return np.flatnonzero(gap <= 1e-9 * scale)
 
 
-def _markers_by_rule(V, S, smarks, vertices, triangles, segments, segment_markers, vertex_markers,
-                     steiner):
-    """Every Steiner point on a marked input segment has the marker of the first
-    such segment (or its own input... none: it is no input point); every segment
-    piece on a marked segment has that segment's marker, on an unmarked boundary
-    segment 1."""
+def _arrays(tri):
+    """A Triangulation's arrays as the ``triangle`` package's dict names them."""
+    return {k: getattr(tri, k) for k in ("vertices", "triangles", "segments", "segment_markers",
+                                         "vertex_markers", "steiner")}
+
+
+def _markers_by_rule(V, S, smarks, mesh):
+    """On ``mesh`` (a ``triangle``-style dict) of the input ``V``, ``S`` with
+    segment markers ``smarks``: every Steiner point on a marked input segment has
+    the marker of the first such segment; every segment piece on a marked segment
+    has that segment's marker, on an unmarked one 1 on the boundary, else 0."""
+    vertices, triangles, segments = mesh["vertices"], mesh["triangles"], mesh["segments"]
+    steiner = mesh.get("steiner", np.arange(len(V), len(vertices)))     # (Triangle's: after the input)
+    segment_markers, vertex_markers = np.ravel(mesh["segment_markers"]), np.ravel(mesh["vertex_markers"])
     for v in steiner:
         on = _segment_of(V, S, vertices[v])
         marked = [s for s in on if smarks[s] != 0]
@@ -164,11 +172,8 @@ def test_corpus_markers_and_attributes_with_refinement(path):
         return
     _check(ours, V, S)
     smarks = d.get("segment_markers", np.zeros(len(S), np.int64))
-    for mesh in (ours, theirs):           # the same rules hold for both
-        get = mesh.get if isinstance(mesh, dict) else lambda k: getattr(mesh, k)
-        steiner = (ours.steiner if mesh is ours else np.arange(len(V), len(theirs["vertices"])))
-        _markers_by_rule(V, S, smarks, get("vertices"), get("triangles"), get("segments"),
-                         np.ravel(get("segment_markers")), np.ravel(get("vertex_markers")), steiner)
+    for mesh in (_arrays(ours), theirs):           # the same rules hold for both
+        _markers_by_rule(V, S, smarks, mesh)
     W = ours.vertices
     want = np.column_stack([1 + 2 * W[:, 0] - 3 * W[:, 1], 0.5 * W[:, 1] - W[:, 0]])
     scale = np.abs(V).max() * 4 + 1
@@ -212,11 +217,8 @@ def test_random_pslgs_against_triangle(seed):
     refined = _ours(d, min_angle=25, max_area=0.01)
     _check(refined, V, d["segments"])
     theirs = triangle.triangulate(d, "pq25a0.01")
-    for mesh, steiner in ((refined, refined.steiner), (theirs, np.arange(len(V), len(theirs["vertices"])))):
-        get = mesh.get if isinstance(mesh, dict) else lambda k, m=mesh: getattr(m, k)
-        _markers_by_rule(V, d["segments"], d["segment_markers"], get("vertices"), get("triangles"),
-                         get("segments"), np.ravel(get("segment_markers")), np.ravel(get("vertex_markers")),
-                         steiner)
+    for mesh in (_arrays(refined), theirs):
+        _markers_by_rule(V, d["segments"], d["segment_markers"], mesh)
     W = refined.vertices
     np.testing.assert_allclose(refined.vertex_attributes[:, 0], 3 * W[:, 0] - W[:, 1] + 2, atol=1e-12)
     # Triangle interpolates as linearly
@@ -438,3 +440,25 @@ def test_quadratic_to_meshio():
     on_bottom = mesh.vertices[:, 1] == 0
     assert set(mesh.vertex_markers[on_bottom].tolist()) == {3}
     np.testing.assert_allclose(mesh.vertex_attributes[:, 0], mesh.vertices.sum(axis=1), atol=1e-12)
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_triangle_files_round_trip_markers_attributes_and_six_nodes(tmp_path, order):
+    """write_triangulation(markers=True, order=) read back by cdt_plugin.io, and the
+    .node/.ele files Triangle's own reader (triangle.load) takes."""
+    V = np.array([[0, 0], [3, 0], [3, 2], [0, 2], [1, 1]], float)
+    S = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
+    tri = cdt_plugin.triangulate(V, S, segment_markers=[4, 0, 0, 6], vertex_markers=[0, 0, 0, 0, 9],
+                                 vertex_attributes=np.column_stack([V[:, 0], V[:, 1] * 2]), max_area=0.4)
+    paths = tio.write_triangulation(tmp_path / "mesh", tri, markers=True, order=order)
+    node, ele, poly = tio.read_node(paths[0]), tio.read_ele(paths[1]), tio.read_poly(paths[2])
+    mesh = tri.quadratic() if order == 2 else tri
+    np.testing.assert_array_equal(node.vertices, mesh.vertices)
+    np.testing.assert_array_equal(node.attributes, mesh.vertex_attributes)
+    np.testing.assert_array_equal(node.markers, mesh.vertex_markers)
+    np.testing.assert_array_equal(ele.triangles, mesh.triangles)
+    np.testing.assert_array_equal(poly.segments, tri.segments)
+    np.testing.assert_array_equal(poly.segment_markers, tri.segment_markers)
+    loaded = triangle.load(str(tmp_path), "mesh")
+    np.testing.assert_array_equal(loaded["vertex_markers"].ravel(), mesh.vertex_markers)
+    np.testing.assert_array_equal(loaded["triangles"], mesh.triangles)
