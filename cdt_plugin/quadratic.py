@@ -23,7 +23,7 @@ QuadraticMesh(9 nodes, 2 six-node triangles)
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -75,7 +75,7 @@ class QuadraticMesh:
         midpoints of edges 01, 12, 20), point data ``"vertex_markers"`` and,
         with attributes, ``"vertex_attributes"``."""
         meshio = require("meshio", "QuadraticMesh.to_meshio")
-        point_data = {"vertex_markers": self.vertex_markers}
+        point_data: dict[str, NDArray[Any]] = {"vertex_markers": self.vertex_markers}
         if self.vertex_attributes is not None:
             point_data["vertex_attributes"] = self.vertex_attributes
         # meshio's triangle6: corners, then midpoints of 0-1, 1-2, 2-0 (opposite 2, 0, 1)
