@@ -37,7 +37,8 @@ constrained Delaunay triangulation of the input before refinement
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from functools import partial
 from typing import Callable, Tuple
 
 import numpy as np
@@ -49,8 +50,8 @@ from ._routes import hull_triangles
 from .types import TriangulationLike
 from .validate import as_attributes, as_index, as_markers, as_points, exact_range, near_unit
 
-__all__ = ["Tags", "carry_attributes", "edge_markers", "make_tags", "segment_markers",
-           "vertex_attributes", "vertex_markers"]
+__all__ = ["Tags", "carry_attributes", "edge_markers", "make_tags", "refined_tags",
+           "segment_markers", "vertex_attributes", "vertex_markers"]
 
 #: A base mesh for interpolation: vertices (n, 2), triangles (k, 3), attributes (n, k).
 BaseMesh = Tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]
@@ -100,6 +101,26 @@ def make_tags(n: int, segments: NDArray[np.int64], vertex_markers: ArrayLike | N
         None if segment_markers is None else as_markers(segment_markers, len(segments),
                                                         "segment_markers", "input segment"),
         None if vertex_attributes is None else as_attributes(vertex_attributes, n))
+
+
+def refined_tags(tags: Tags | None, tri: TriangulationLike,
+                 attributes: Callable[[], NDArray[np.float64] | None]) -> Tags | None:
+    """The tags of a refinement of ``tri`` (its vertices first, in order, then the
+    new Steiner points; ``vertex_map`` and ``segment_ids`` still naming the
+    original input): the same markers and attributes, and a refinement point
+    off the segments interpolated on the triangle of ``tri`` that holds it
+    (``attributes()``: ``tri``'s vertex attributes, made when first needed), as
+    Triangle's ``-r`` interpolates in the mesh it refines."""
+    if tags is None or tags.vertex_attributes is None:
+        return tags
+    return replace(tags, base=partial(_mesh_with, tri.vertices, tri.triangles, attributes))
+
+
+def _mesh_with(vertices: NDArray[np.float64], triangles: NDArray[np.int64],
+               attributes: Callable[[], NDArray[np.float64] | None]) -> BaseMesh:
+    values = attributes()
+    assert values is not None, "a triangulation with attribute tags has attributes"
+    return vertices, triangles, values
 
 
 # ------------------------------------------------------------------ markers

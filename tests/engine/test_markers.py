@@ -462,3 +462,56 @@ def test_triangle_files_round_trip_markers_attributes_and_six_nodes(tmp_path, or
     loaded = triangle.load(str(tmp_path), "mesh")
     np.testing.assert_array_equal(loaded["vertex_markers"].ravel(), mesh.vertex_markers)
     np.testing.assert_array_equal(loaded["triangles"], mesh.triangles)
+
+
+def test_keep_hull_and_regions_with_refinement():
+    """``keep_hull`` (Triangle's -c): the hull's pieces (``segment_ids`` -1) and the
+    Steiner points on them are boundary, 1; region seeds with areas; a linear
+    attribute exact everywhere, the hull's Steiner points too."""
+    V = np.array([[0, 0], [4, 0], [5, 3], [0, 4], [1, 1], [3, 1], [3, 3], [1, 3]], float)
+    S = np.array([[4, 5], [5, 6], [6, 7], [7, 4], [0, 6]])
+    smarks = np.array([0, 3, 0, 4, 6])
+    d = {"vertices": V, "segments": S, "segment_markers": smarks,
+         "vertex_attributes": 2 * V[:, 0] + V[:, 1], "regions": [[2, 2, 1, 0.05], [4, 0.5, 2, 0.3]]}
+    ours = cdt_plugin.triangulate(V, S, keep_hull=True, min_angle=25, regions=d["regions"],
+                                  segment_markers=smarks, vertex_attributes=d["vertex_attributes"])
+    assert_valid(ours.vertices, ours.triangles, segments=ours.segments)
+    assert (ours.segment_ids == -1).any()
+    theirs = triangle.triangulate(d, "pcq25aA")
+    for mesh in (_arrays(ours), theirs):
+        _markers_by_rule(V, S, smarks, mesh)
+    W = ours.vertices
+    np.testing.assert_allclose(ours.vertex_attributes[:, 0], 2 * W[:, 0] + W[:, 1], atol=1e-12)
+    hull = ours.segment_ids == -1
+    assert (ours.segment_markers[hull] == 1).all()
+    assert (ours.vertex_markers[np.unique(ours.segments[hull])] != 0).all()
+
+
+def test_refined_tags_interpolate_in_the_mesh_refined():
+    """What a refinement of ``tri`` carries (``markers.refined_tags``): the input
+    vertices and old Steiner points keep their attributes exactly, a new point on a
+    segment is interpolated along it, a new interior point in ``tri``'s triangle."""
+    from types import SimpleNamespace
+    from cdt_plugin.markers import refined_tags, vertex_attributes
+    V = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    S = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
+    a = V[:, 0] ** 2 + V[:, 1]                        # not linear: the base mesh shows
+    tri = cdt_plugin.triangulate(V, S, vertex_attributes=a, max_area=2)
+    new = np.array([[1.3, 0], [1.1, 2.7]])
+    if any((tri.vertices == p).all(axis=1).any() for p in new):
+        pytest.skip("the refinement placed a vertex there already")
+    n = len(tri.vertices)
+    u, v = tri.segments[np.flatnonzero(tri.segment_ids == 0)[0]]   # (the pieces as a refinement lists them)
+    refined = SimpleNamespace(
+        vertices=np.concatenate([tri.vertices, new]), vertex_map=tri.vertex_map,
+        steiner=np.concatenate([tri.steiner, [n, n + 1]]),
+        segments=np.concatenate([tri.segments, [[u, n], [n, v]]]),
+        segment_ids=np.concatenate([tri.segment_ids, [0, 0]]))
+    tags = refined_tags(tri.tags, tri, lambda: tri.vertex_attributes)
+    got = vertex_attributes(refined, tags)
+    np.testing.assert_array_equal(got[:n], tri.vertex_attributes)
+    assert abs(got[n, 0] - 16 * 1.3 / 4) < 1e-12        # linear along segment 0, from 0 to 16
+    k = tri.locate(new[1:])[0]
+    want = tri.interpolate(tri.vertex_attributes[:, 0], new[1:])[0]
+    assert k >= 0 and abs(got[n + 1, 0] - want) < 1e-12
+    assert refined_tags(None, tri, lambda: None) is None
