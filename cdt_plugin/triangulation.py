@@ -14,7 +14,7 @@ from ._core.output import (relabel_store, rotate_min_first,
                            store_neighbors, store_triangles)
 from ._routes import (DelaunayBuild, build_delaunay, collinear_chain, flip_moved, route_arrays,
                       route_triangles)
-from . import hooks, queries
+from . import hooks, markers, queries
 from .errors import CDTError, InputShapeError, InvertedTriangleError
 from .options import resolve_algorithm
 from .optional import require
@@ -30,6 +30,7 @@ if TYPE_CHECKING:
     import trimesh
     from matplotlib.axes import Axes
 
+    from .quadratic import QuadraticMesh
     from .report import Report
     from .voronoi import Subdivision, Voronoi
 
@@ -49,6 +50,8 @@ def _frozen_empty(shape: int | tuple[int, ...]) -> NDArray[np.int64]:
 _NO_SEGMENTS = _frozen_empty((0, 2))   # shared defaults: empty and read-only
 _NO_IDS = _frozen_empty(0)
 # the attributes of a route's result that are made on first access (Triangulation.from_route)
+# the markers and attributes made on first access (functools.cached_property)
+_MARKED = ("vertex_markers", "segment_markers", "edge_markers", "vertex_attributes")
 _LAZY_ATTRIBUTES = frozenset({"neighbors", "vertex_map", "constrained", "regions", "segments",
                               "segment_ids", "steiner", "below_min_angle", "region_attributes"})
 
@@ -92,6 +95,10 @@ class Triangulation:
     below_min_angle : (q,) int64
         After refinement with ``min_angle``: the triangles that still miss the
         bound (at small input angles); empty otherwise.
+    tags : :class:`~cdt_plugin.markers.Tags` or None
+        The markers and attributes given with the input (None: none given);
+        ``vertex_markers``, ``segment_markers``, ``edge_markers`` and
+        ``vertex_attributes`` are derived from it on first access.
     """
 
     vertices: NDArray[np.float64]
@@ -106,6 +113,7 @@ class Triangulation:
     steiner: NDArray[np.int64]
     below_min_angle: NDArray[np.int64]
     region_attributes: NDArray[np.float64] | None
+    tags: markers.Tags | None = None      # (set only when markers or attributes are given)
     _stats: Stats
     _edges: NDArray[np.int64] | None
     _mesh: MeshStore | None
@@ -223,9 +231,15 @@ class Triangulation:
         return tri
 
     @classmethod
-    def from_triangles(cls, vertices: ArrayLike, triangles: ArrayLike) -> Triangulation:
+    def from_triangles(cls, vertices: ArrayLike, triangles: ArrayLike, *,
+                       vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
+                       vertex_attributes: ArrayLike | None = None) -> Triangulation:
         """A triangulation given as vertices and index triangles (a mesh made
         elsewhere, a TIN read back from a file), for queries and certificates.
+
+        ``vertex_markers``, ``segment_markers`` (one per row of ``segments``) and
+        ``vertex_attributes`` as for :func:`cdt_plugin.triangulate`: kept in
+        ``tags`` and carried by refinement.
 
         Triangles may turn either way (clockwise ones are turned round). Raises
         :class:`InputShapeError` for bad shapes or indices,
@@ -270,7 +284,10 @@ class Triangulation:
                            "or in two on the same side")
         T, nb = np.ascontiguousarray(T), np.ascontiguousarray(nb)
         rotate_min_first(T, nb)
-        return cls(V, T, nb, np.arange(n, dtype=np.int64), {"triangles": len(T)})
+        out = cls(V, T, nb, np.arange(n, dtype=np.int64), {"triangles": len(T)})
+        if vertex_markers is not None or segment_markers is not None or vertex_attributes is not None:
+            out.tags = markers.make_tags(n, out.segments, vertex_markers, segment_markers, vertex_attributes)
+        return out
 
     def __getattr__(self, name: str) -> Any:
         # only called when ``name`` is not set: the route's arrays made on first access
@@ -304,6 +321,50 @@ class Triangulation:
             keep = (nb[k, j] < 0) | (k < nb[k, j])
             self._edges = np.column_stack([t[k, (j + 1) % 3], t[k, (j + 2) % 3]])[keep]
         return self._edges
+
+    # ------------------------------------------- markers and attributes (lazy)
+    @functools.cached_property
+    def vertex_markers(self) -> NDArray[np.int64]:
+        """(n,) int64 boundary marker of each vertex, Triangle's rules: its input
+        marker if nonzero, else the nonzero marker of a segment it lies on, else
+        1 on the boundary, else 0 (see :mod:`cdt_plugin.markers`)."""
+        return markers.vertex_markers(self, self.tags)
+
+    @functools.cached_property
+    def segment_markers(self) -> NDArray[np.int64]:
+        """(s,) int64 marker of each row of ``segments``: its input segment's
+        marker if nonzero, else 1 on the boundary, else 0."""
+        return markers.segment_markers(self, self.tags)
+
+    @functools.cached_property
+    def edge_markers(self) -> NDArray[np.int64]:
+        """(e,) int64 marker of each row of ``edges``: the marker of the segment
+        piece it is, else 1 on the boundary, else 0."""
+        return markers.edge_markers(self, self.tags)
+
+    @functools.cached_property
+    def vertex_attributes(self) -> NDArray[np.float64] | None:
+        """(n, k) float64 attributes of every vertex, or None when none were
+        given: input vertices keep theirs, Steiner points get the linear
+        interpolation on their segment, or on the triangle of the unrefined
+        mesh that holds them (see :mod:`cdt_plugin.markers`)."""
+        return markers.vertex_attributes(self, self.tags)
+
+    def quadratic(self) -> QuadraticMesh:
+        """Second-order elements (Triangle's ``-o2``): the six-node triangles of
+        this triangulation, node ``3 + i`` of each at the midpoint of the edge
+        opposite corner ``i``, one midpoint per row of ``edges`` after the
+        vertices, shared by the edge's triangles; a midpoint has its edge's
+        marker and the mean of its ends' attributes
+        (see :class:`cdt_plugin.quadratic.QuadraticMesh`).
+
+        >>> import cdt_plugin
+        >>> mesh = cdt_plugin.triangulate([[0, 0], [2, 0], [0, 2]], [[0, 1], [1, 2], [2, 0]]).quadratic()
+        >>> mesh.triangles.tolist(), mesh.vertices[3:].tolist()
+        ([[0, 1, 2, 3, 4, 5]], [[1.0, 1.0], [0.0, 1.0], [1.0, 0.0]])
+        """
+        from .quadratic import quadratic      # (loaded on first use)
+        return quadratic(self, self.vertex_markers, self.edge_markers, self.vertex_attributes)
 
     @property
     def submerged(self) -> NDArray[np.intp]:
@@ -521,8 +582,8 @@ class Triangulation:
         flips = defect = -1
         if self._mesh is not None and self.weights is None:
             (tri, twin, cons, ntri, inf), flips, defect = flip_moved(self._mesh, new)
-        self.__dict__.pop("_walk", None)       # the queries' meshes follow the vertices
-        self.__dict__.pop("_blocked", None)
+        for derived in ("_walk", "_blocked", *_MARKED):   # the queries' meshes and markers follow
+            self.__dict__.pop(derived, None)
         if flips >= 0 and defect < 0:
             self._mesh = (tri, twin, cons, ntri, inf)
             self.__dict__.pop("_lazy", None)     # every array is made here
