@@ -53,15 +53,18 @@ def _switches(base: str, area: float) -> str:
     return base + (np.format_float_positional(area, trim="-") if base.endswith("a") else "") + SUFFIX
 
 
+def _areas(V: np.ndarray, T: np.ndarray) -> np.ndarray:
+    (ax, ay), (bx, by), (cx, cy) = (V[T[:, i]].T for i in range(3))
+    return np.abs((bx - ax) * (cy - ay) - (by - ay) * (cx - ax)) / 2
+
+
 def _domain_area(data: dict) -> float:
     """The area inside the segments (rings oriented, holes clockwise) or of the mesh."""
     import triangle
     mesh = triangle.triangulate(data, "pQ")
     if "triangles" not in mesh:            # (box.poly: its hole takes everything)
         return 0.0
-    V, T = mesh["vertices"], mesh["triangles"]
-    a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
-    return float(np.abs(np.cross(b - a, c - a)).sum() / 2)
+    return float(_areas(mesh["vertices"], mesh["triangles"]).sum())
 
 
 def samples(base: str):
@@ -94,7 +97,7 @@ def refinement() -> list[tuple[dict, str]]:
     mesh = triangle.triangulate({"vertices": star["V"], "segments": star["S"], "holes": star["H"]},
                                 "pQ")
     V, T = mesh["vertices"], mesh["triangles"]
-    area = np.abs(np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])) / 2
+    area = _areas(V, T)
     factor = np.random.default_rng(44).uniform(0.3, 1.0, len(T))
     data = {"vertices": V, "triangles": T, "triangle_max_area": (area * factor)[:, None]}
     return [(data, "ra" + SUFFIX)]
