@@ -45,10 +45,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..cdt import triangulate as cdt_triangulate
 from ..delaunay import delaunay as cdt_delaunay
+from ..markers import make_tags
 from ..errors import InputShapeError, NotDelaunayError, TooFewPointsError
 from ..switches import Switches, read_switches, user_test_error
 from ..triangulation import Triangulation
-from ..validate import as_points
+from ..validate import as_array, as_points, real_array
 
 #: A dictionary of the ``triangle`` package: Triangle's lists by name (:data:`KEYS`).
 TriangleDict = Mapping[str, Any]
@@ -60,6 +61,7 @@ _KEYSET = frozenset(KEYS)
 _NO_HOLES = np.empty((0, 2))
 _I32 = np.int32
 _NO_ROWS = np.empty(0, np.int64)
+_NO_SEGMENTS = np.empty((0, 2), np.int64)
 
 
 def triangulate(tri: TriangleDict, opts: str = "") -> dict[str, NDArray[Any]]:
@@ -98,7 +100,7 @@ def triangulate(tri: TriangleDict, opts: str = "") -> dict[str, NDArray[Any]]:
 
 
 def _check_keys(tri: TriangleDict) -> None:
-    if _KEYSET.issuperset(tri) and "vertices" in tri and isinstance(tri, Mapping):
+    if isinstance(tri, Mapping) and _KEYSET.issuperset(tri) and "vertices" in tri:
         return                 # (the common case in one look-up of each key)
     if not isinstance(tri, Mapping):
         raise InputShapeError(f"triangulate takes a dict of arrays (keys {', '.join(KEYS)}), "
@@ -111,16 +113,14 @@ def _check_keys(tri: TriangleDict) -> None:
         raise InputShapeError("the input dict has no 'vertices'")
 
 
-def _column(a: ArrayLike | None) -> NDArray[Any] | None:
-    """An (n, 1) marker column (or (n,)) as the (n,) the engine takes."""
-    return None if a is None else np.asarray(a).reshape(-1)
+def _column(a: ArrayLike | None, name: str) -> NDArray[Any] | None:
+    """An (n, 1) marker column (or (n,)) as the (n,) the engine takes (which checks
+    its length and values)."""
+    return None if a is None else as_array(a, name).reshape(-1)
 
 
 def _meshed(tri: TriangleDict, s: Switches) -> Triangulation:
     """``p``, ``c``, quality switches: one call of :func:`cdt_plugin.triangulate`."""
-    vertices = tri["vertices"]
-    if len(vertices) < 3:
-        raise TooFewPointsError(f"Triangle needs at least three vertices, got {len(vertices)}")
     segments = holes = regions = None
     if s.pslg:
         segments = tri.get("segments")
@@ -129,11 +129,16 @@ def _meshed(tri: TriangleDict, s: Switches) -> Triangulation:
         holes = _NO_HOLES if s.no_holes else tri.get("holes", _NO_HOLES)
         regions = _regions(tri.get("regions"), s)
     marks = _marks(tri, s, segments is not None)
+    vertices = tri["vertices"]
     keywords = _keywords(s)
     smallest = _smallest_area(s, regions)
     if smallest and s.max_steiner is None:
+        vertices = as_points(vertices, "vertices")      # (checked before it is measured)
         keywords = {**keywords, "max_steiner": _steiner_cap(vertices, smallest)}
-    return cdt_triangulate(vertices, segments, holes=holes, regions=regions, **keywords, **marks)
+    mesh = cdt_triangulate(vertices, segments, holes=holes, regions=regions, **keywords, **marks)
+    if len(mesh.vertex_map) < 3:     # (checked after the engine's checks of the array)
+        raise TooFewPointsError(f"Triangle needs at least three vertices, got {len(mesh.vertex_map)}")
+    return mesh
 
 
 def _smallest_area(s: Switches, regions: NDArray[np.float64] | None) -> float | None:
@@ -145,15 +150,14 @@ def _smallest_area(s: Switches, regions: NDArray[np.float64] | None) -> float | 
     return min(bounds) if bounds else None
 
 
-def _steiner_cap(vertices: ArrayLike, max_area: float) -> int:
+def _steiner_cap(vertices: NDArray[np.float64], max_area: float) -> int:
     """The cap on Steiner points with ``a<area>`` and no ``S``: Triangle has none,
     and the engine's default (at most a million for the area bound) would stop a
     fine mesh Triangle makes; eight points per ``max_area`` of the bounding box
     (a triangle of the mesh is larger than ``max_area / 8`` where it meets the
     bound) plus the engine's allowance for the angle bound."""
-    xy = np.asarray(vertices, dtype=np.float64)
-    box = float(np.prod(np.ptp(xy, axis=0))) if np.isfinite(xy).all() else 0.0
-    return 100 * len(xy) + 100_000 + int(min(8 * box / max_area, 2.0 ** 62))
+    box = float(np.prod(np.ptp(vertices, axis=0)))
+    return 100 * len(vertices) + 100_000 + int(min(8 * box / max_area, 2.0 ** 62))
 
 
 def _eaten(tri: TriangleDict, s: Switches) -> dict[str, NDArray[Any]]:
@@ -162,16 +166,16 @@ def _eaten(tri: TriangleDict, s: Switches) -> dict[str, NDArray[Any]]:
     vertices = as_points(tri["vertices"], "vertices")
     if len(vertices) < 3:
         raise TooFewPointsError(f"Triangle needs at least three vertices, got {len(vertices)}")
+    n = len(vertices)
+    tags = make_tags(n, _NO_SEGMENTS, tri.get("vertex_markers"), None, tri.get("vertex_attributes"))
     out: dict[str, NDArray[Any]] = {}
     if not s.no_nodes and not s.jettison:
         out["vertices"] = vertices
-        if "vertex_attributes" in tri:
-            _put(out, "vertex_attributes", np.asarray(tri["vertex_attributes"], np.float64)
-                 .reshape(len(vertices), -1))
-        if not s.no_markers:
-            given = tri.get("vertex_markers")
-            out["vertex_markers"] = (np.zeros((len(vertices), 1), _I32) if given is None else
-                                     _i32(np.asarray(given).reshape(-1)))
+        if tags is not None and tags.vertex_attributes is not None:
+            _put(out, "vertex_attributes", tags.vertex_attributes)
+        if not s.no_markers:      # (the input's markers, else 0: no triangle, no boundary)
+            given = None if tags is None else tags.vertex_markers
+            out["vertex_markers"] = _i32(np.zeros(n, _I32) if given is None else given)
     _copy_holes_regions(out, tri, s)
     return out
 
@@ -179,7 +183,7 @@ def _eaten(tri: TriangleDict, s: Switches) -> dict[str, NDArray[Any]]:
 def _regions(given: ArrayLike | None, s: Switches) -> NDArray[np.float64] | None:
     """The regions as the engine reads them: a region's maximum area (4th column)
     bounds it only with a bare ``a``, as in Triangle."""
-    regions = None if given is None else np.asarray(given, dtype=np.float64)
+    regions = None if given is None else real_array(given, "regions")
     if regions is None or len(regions) == 0:
         return None
     return regions if s.area_from_input else regions[:, :3]
@@ -231,9 +235,9 @@ def _marks(tri: TriangleDict, s: Switches, segments: bool) -> dict[str, Any]:
     marks: dict[str, Any] = {}
     if not s.no_markers:
         if "vertex_markers" in tri:
-            marks["vertex_markers"] = _column(tri["vertex_markers"])
+            marks["vertex_markers"] = _column(tri["vertex_markers"], "vertex_markers")
         if segments and "segment_markers" in tri:
-            marks["segment_markers"] = _column(tri["segment_markers"])
+            marks["segment_markers"] = _column(tri["segment_markers"], "segment_markers")
     if "vertex_attributes" in tri:
         marks["vertex_attributes"] = tri["vertex_attributes"]
     return marks

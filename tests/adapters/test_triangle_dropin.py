@@ -237,6 +237,16 @@ def _mesh(d: dict):
     return d["vertices"], d["triangles"]
 
 
+@pytest.mark.parametrize("switches", ["p", "pq", "pe", "pB", "pj"])
+def test_p_without_segments_removes_every_triangle(switches):
+    data = {"vertices": np.array([[0, 0], [1, 0], [0, 1], [1, 1.5]]),
+            "vertex_markers": np.array([[3], [0], [2], [0]], np.int32),
+            "vertex_attributes": np.array([[1.0], [2.0], [3.0], [4.0]])}
+    ours, theirs = tr.triangulate(data, switches), triangle.triangulate(data, switches)
+    assert _layout(ours) == _layout(theirs)
+    assert all(np.array_equal(ours[k], theirs[k]) for k in theirs)
+
+
 def test_duplicate_vertices_keep_triangles_numbering():
     v = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [1, 0]], float)
     out = tr.triangulate({"vertices": v}, "B")
