@@ -48,7 +48,9 @@ switch and skips ``-3``), a second dot (``q.5.3``), a dot after ``S`` (``S5.5``:
 Triangle reads 5 and skips ``.5``), ``o`` without ``2``, ``YYY`` (Triangle then
 splits as without ``Y``), ``a0`` (Triangle stops: the area must be positive),
 ``h`` (Triangle prints its help and exits the process), and any other character
-Triangle would skip. A leading ``-`` (the command line's habit) is allowed.
+Triangle would skip. White space between switches and a ``-`` at the start of each
+word (the command line's habit: ``"-p -q30"``) are allowed; ``Y`` and ``V`` are
+counted wherever they stand, as ``triangle.c`` counts them (``pYqY`` is ``pqYY``).
 """
 from __future__ import annotations
 
@@ -185,33 +187,40 @@ without an exponent
     if not isinstance(text, str):
         raise SwitchError(f"Triangle switches must be a string, got {text!r} ({type(text).__name__})")
     fields: dict[str, object] = {"text": text}
-    body = text[1:] if text.startswith("-") else text
-    at = len(text) - len(body)
-    for m in _TOKEN.finditer(body):
-        token, where = m.group(), at + m.start()
-        letter = token[0]
-        if letter in FLAGS:
-            fields[FLAGS[letter]] = True
-        elif token == "o2":
-            fields["order"] = 2
-        elif letter == "Y":
-            if len(token) > 2:
-                raise _error(token, where, text, "Triangle reads three Y or more as neither Y "
-                             "nor YY (it then splits segments as without Y); write Y or YY")
-            fields["split"] = len(token)
-        elif letter == "V":
-            fields["verbose"] = len(token)
-        elif letter in "qaS":
-            _number(fields, token, where, text, body[m.end():])
-        elif letter == "o":
-            raise _error(token, where, text, "o is only read as o2 (six-node triangles); "
-                         "Triangle skips any other o")
-        elif letter == "h":
-            raise _error(token, where, text, "Triangle prints its help and ends the process")
-        else:
-            raise _error(token, where, text, "Triangle 1.6 has no such switch (it would skip "
-                         "the character)")
-    return Switches(**fields)  # type: ignore[arg-type]
+    counts = {"Y": 0, "V": 0}
+    for word in re.finditer(r"\S+", text):        # (words apart, each may start with "-")
+        body = word.group()[1:] if word.group().startswith("-") else word.group()
+        at = word.end() - len(body)
+        for m in _TOKEN.finditer(body):
+            _token(fields, counts, m.group(), at + m.start(), text, body[m.end():])
+    if counts["Y"] > 2:
+        raise SwitchError(f"Triangle switches {text!r} have Y {counts['Y']} times: Triangle "
+                          "reads three or more as neither Y nor YY (it then splits segments as "
+                          "without Y); write Y or YY")
+    return Switches(**fields, split=counts["Y"], verbose=counts["V"])  # type: ignore[arg-type]
+
+
+def _token(fields: dict[str, object], counts: dict[str, int], token: str, where: int, text: str,
+           rest: str) -> None:
+    """Store what one token (a letter and its number) sets (``Y`` and ``V`` in
+    ``counts``); ``rest``: what follows it."""
+    letter = token[0]
+    if letter in FLAGS:
+        fields[FLAGS[letter]] = True
+    elif token == "o2":
+        fields["order"] = 2
+    elif letter in counts:          # (counted, as triangle.c counts them: pYqY is YY)
+        counts[letter] += len(token)
+    elif letter in "qaS":
+        _number(fields, token, where, text, rest)
+    elif letter == "o":
+        raise _error(token, where, text, "o is only read as o2 (six-node triangles); "
+                     "Triangle skips any other o")
+    elif letter == "h":
+        raise _error(token, where, text, "Triangle prints its help and ends the process")
+    else:
+        raise _error(token, where, text, "Triangle 1.6 has no such switch (it would skip "
+                     "the character)")
 
 
 def _number(fields: dict[str, object], token: str, where: int, text: str, rest: str) -> None:

@@ -46,7 +46,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..cdt import triangulate as cdt_triangulate
 from ..delaunay import delaunay as cdt_delaunay
 from ..markers import make_tags
-from ..errors import InputShapeError, NotDelaunayError, TooFewPointsError
+from ..errors import InputShapeError, NotDelaunayError, RefinementLimitError, TooFewPointsError
 from ..switches import Switches, read_switches, user_test_error
 from ..triangulation import Triangulation
 from ..validate import as_array, as_points, real_array
@@ -135,10 +135,21 @@ def _meshed(tri: TriangleDict, s: Switches) -> Triangulation:
     if smallest and s.max_steiner is None:
         vertices = as_points(vertices, "vertices")      # (checked before it is measured)
         keywords = {**keywords, "max_steiner": _steiner_cap(vertices, smallest)}
-    mesh = cdt_triangulate(vertices, segments, holes=holes, regions=regions, **keywords, **marks)
+    try:
+        mesh = cdt_triangulate(vertices, segments, holes=holes, regions=regions, **keywords, **marks)
+    except RefinementLimitError as stop:
+        mesh = _stopped_at_s(stop, s)
     if len(mesh.vertex_map) < 3:     # (checked after the engine's checks of the array)
         raise TooFewPointsError(f"Triangle needs at least three vertices, got {len(mesh.vertex_map)}")
     return mesh
+
+
+def _stopped_at_s(stop: RefinementLimitError, s: Switches) -> Triangulation:
+    """The mesh where ``S<n>`` stopped refinement (Triangle returns it as it is); the
+    error itself where our own cap stopped it (Triangle has none: it would go on)."""
+    if s.max_steiner is None or not isinstance(stop.triangulation, Triangulation):
+        raise stop
+    return stop.triangulation
 
 
 def _smallest_area(s: Switches, regions: NDArray[np.float64] | None) -> float | None:
@@ -221,11 +232,14 @@ def _refined(tri: TriangleDict, s: Switches) -> tuple[Triangulation, NDArray[np.
     steiner = s.max_steiner
     if steiner is None and smallest:
         steiner = _steiner_cap(base.vertices, smallest)
-    mesh = base.refine(min_angle=s.min_angle, max_area=max_area,
-                       conforming_delaunay=s.conforming_delaunay,
-                       split_boundary=kw.get("split_boundary", True),
-                       split_segments=kw.get("split_segments", True),
-                       max_steiner=steiner)
+    try:
+        mesh = base.refine(min_angle=s.min_angle, max_area=max_area,
+                           conforming_delaunay=s.conforming_delaunay,
+                           split_boundary=kw.get("split_boundary", True),
+                           split_segments=kw.get("split_segments", True),
+                           max_steiner=steiner)
+    except RefinementLimitError as stop:
+        mesh = _stopped_at_s(stop, s)
     return mesh, _carried_attributes(base, mesh, attributes)
 
 

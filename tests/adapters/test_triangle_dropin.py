@@ -399,6 +399,35 @@ def test_trimesh_triangle_args(args):
         _same_triangles(V, T, *theirs[:2])
 
 
+@pytest.mark.parametrize("text, same_as", [("pqS", "pqS0"), ("-p -q30 -B", "pq30B"),
+                                           ("pYqYB", "pqYYB"), ("pq.5B", "pq0.5B")])
+def test_switches_read_as_triangle_reads_them(text, same_as):
+    """Spellings Triangle reads alike give the same record here and the same mesh there."""
+    assert read_switches(text)._replace(text="") == read_switches(same_as)._replace(text="")
+    if _missing(same_as):
+        pytest.skip(_missing(same_as))
+    data = tr.load(FOLDER, "face")
+    theirs = [triangle.triangulate(data, t) for t in (text, same_as)]
+    assert canonical_triangles(*_mesh(theirs[0])) == canonical_triangles(*_mesh(theirs[1]))
+    assert len(tr.triangulate(data, text)["vertices"]) == len(tr.triangulate(data, same_as)["vertices"])
+
+
+def test_switch_record():
+    s = read_switches("pq30.5a0.25AcDjenvgBPNEIOXzo2YYS7iFlsCQVV")
+    assert (s.min_angle, s.max_area, s.order, s.split, s.max_steiner, s.verbose) == (30.5, 0.25, 2, 2, 7, 2)
+    assert all(getattr(s, f) for f in ("pslg", "region_attributes", "convex_hull", "conforming_delaunay",
+                                       "jettison", "edges", "voronoi", "neighbors", "geomview",
+                                       "no_markers", "no_poly", "no_nodes", "no_elements",
+                                       "no_iteration_numbers", "no_holes", "no_exact", "zero_index",
+                                       "incremental", "sweepline", "vertical_cuts",
+                                       "split_segments_first", "check", "quiet"))
+    assert read_switches("pq30a0.25YYS7").keywords() == {
+        "min_angle": 30.0, "max_area": 0.25, "split_boundary": False, "split_segments": False,
+        "max_steiner": 7}
+    assert read_switches("rpa").area_from_input and read_switches("ru").user_test
+    assert read_switches("pcevN").files == (".ele", ".poly", ".edge", ".v.node", ".v.edge")
+
+
 # ------------------------------------------------------------------------------------------
 # malformed input: a named error where Triangle crashes, loops or skips
 # ------------------------------------------------------------------------------------------
@@ -427,7 +456,7 @@ def test_fewer_than_three_points():
 
 @pytest.mark.parametrize("switches", ["pk", "pa1e-3", "pS5.5", "pYYY", "po3", "ph", "pq.5.5"])
 def test_switch_triangle_would_misread(switches):
-    with pytest.raises(SwitchError, match="position"):
+    with pytest.raises(SwitchError, match=f"{switches!r}"):
         tr.triangulate(SQUARE, switches)
 
 
