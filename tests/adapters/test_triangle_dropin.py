@@ -19,6 +19,7 @@ from cdt_plugin.switches import read_switches
 from tests.support.checker import (assert_valid, canonical_triangles,
                                    check_empty_circumcircles, incircle_exact)
 from tests.support.corpus import corpus_dir
+from tests.support.fuzz import polygon_with_holes
 
 triangle = pytest.importorskip("triangle")
 
@@ -202,6 +203,35 @@ def test_matrix_without_markers(name, switches):
         pytest.skip("3.2 million triangles: a benchmark's size, not a test's")
     data, theirs, ours = _compare(name, switches)
     _check_mesh(data, ours, switches, theirs)
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_random_pslgs_against_triangle(seed):
+    """Star polygons with square holes and free points, random markers and attributes
+    (some segments and vertices unmarked): the same comparisons as the data set's."""
+    rng = np.random.default_rng(seed)
+    V, S, _ = polygon_with_holes(rng)
+    outer = int(np.flatnonzero(S[:, 1] == 0)[0]) + 1             # (the outer ring's length)
+    squares = [V[outer + 4 * k:outer + 4 * k + 4] for k in range((len(S) - outer) // 4)]
+    holes = [q.mean(axis=0) for q in squares[::2]]               # (every other square a hole)
+    data = {"vertices": V, "segments": S.astype(np.int32),
+            "vertex_markers": rng.integers(0, 3, (len(V), 1)).astype(np.int32),
+            "segment_markers": rng.integers(0, 4, (len(S), 1)).astype(np.int32),
+            "vertex_attributes": rng.random((len(V), 2))}
+    if holes:
+        data["holes"] = np.array(holes)
+    for switches in ("p", "pe", "pq", "pq30a0.02", "pcen", "pDj"):
+        missing = _missing(switches)
+        if missing:
+            pytest.skip(missing)
+        theirs, ours = triangle.triangulate(data, switches), tr.triangulate(data, switches)
+        assert _layout(ours) == _layout(theirs), switches
+        _check_mesh(data, ours, switches, theirs)
+        if switches in ("p", "pe", "pcen"):
+            _same_triangles(*_mesh(ours), *_mesh(theirs))
+        _same_per_vertex(ours, theirs, "vertex_markers")
+        _same_per_vertex(ours, theirs, "vertex_attributes", on=theirs.get("segments"),
+                         inputs=len(V))
 
 
 def test_region_areas_only_with_a():
