@@ -274,6 +274,8 @@ def _stats(plc, algorithm, counts, refine, seconds, tri) -> dict:
              "intersection_points": int(counts[K_INTERSECTIONS]), "flips": int(counts[K_FLIPS]),
              "duplicates": int(counts[K_DUPLICATES]), "submerged": 0, "vertices": len(tri.vertices),
              "triangles": len(tri.triangles), "steiner": len(tri.steiner), "seconds": seconds}
+    if plc.empty_rings:
+        stats["empty_rings"] = list(plc.empty_rings)
     if refine:
         stats.update(refinement_steiner=int(counts[K_REF_STEINER]),
                      refinement_segment_splits=int(counts[K_REF_SPLITS]),

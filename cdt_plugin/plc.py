@@ -39,6 +39,9 @@ class PLC:
     z : (n,) float64 or None, a third coordinate carried along (not used in meshing)
     degenerate_rings : list of (polygon, ring) rings dropped as rings (too few
         distinct points or zero area); their vertices stay as isolated vertices
+    empty_rings : list of (polygon, ring) EMPTY rings (no points at all, as in
+        ``POLYGON ((...), EMPTY)``), dropped as GEOS drops them; named in the
+        triangulation's ``stats["empty_rings"]``
     """
 
     vertices: NDArray[np.float64]
@@ -50,6 +53,7 @@ class PLC:
     ring_is_hole: NDArray[np.bool_] | None = None
     z: NDArray[np.float64] | None = None
     degenerate_rings: list[tuple[int, int]] = field(default_factory=list)
+    empty_rings: list[tuple[int, int]] = field(default_factory=list)
 
     @property
     def has_rings(self) -> bool:
@@ -245,7 +249,8 @@ def ring_plc(xy: NDArray[np.float64], begin: NDArray[np.int64], end: NDArray[np.
     plc : PLC
         The rings' edges as segments (made in one compiled pass); a degenerate
         ring's points kept as isolated vertices and named ``(polygon, ring
-        within it)`` in ``degenerate_rings``.
+        within it)`` in ``degenerate_rings``; a ring without points (EMPTY)
+        dropped and named in ``empty_rings``.
     degenerate : (r,) bool
         Which rings were degenerate.
 
@@ -263,14 +268,18 @@ def ring_plc(xy: NDArray[np.float64], begin: NDArray[np.int64], end: NDArray[np.
         rows = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
         raise NonFiniteCoordinateError(f"geometry has NaN or infinite coordinates at vertex "
                                        f"position(s) {rows[:5].tolist()}")
-    names = []
+    names: list[tuple[int, int]] = []
+    empty_names: list[tuple[int, int]] = []
     if n_degenerate:
         rank = _rank_in_polygon(ring_polygon)
-        names = [(int(ring_polygon[r]), int(rank[r])) for r in np.flatnonzero(degenerate)]
+        empty = degenerate & (end == begin)
+        names = [(int(ring_polygon[r]), int(rank[r])) for r in np.flatnonzero(degenerate & ~empty)]
+        empty_names = [(int(ring_polygon[r]), int(rank[r])) for r in np.flatnonzero(empty)]
         kept = ~degenerate
         ring_polygon, ring_is_hole = ring_polygon[kept], ring_is_hole[kept]
     return PLC(xy, segs, segment_ring=seg_ring, ring_polygon=ring_polygon,
-               ring_is_hole=ring_is_hole, z=z, degenerate_rings=names), degenerate
+               ring_is_hole=ring_is_hole, z=z, degenerate_rings=names,
+               empty_rings=empty_names), degenerate
 
 
 def _rank_in_polygon(ring_polygon: NDArray[np.int64]) -> NDArray[np.int64]:

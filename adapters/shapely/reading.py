@@ -189,7 +189,7 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
                 raise
             failed[i] = e
             arr[i] = shapely.Polygon()
-    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, _ = \
+    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, _, empty = \
         layer_rings_on_threads(arr, workers)
     for i in map(int, np.flatnonzero(bad_geom)):   # not reachable from GEOS-valid polygons
         err = _fail(InvalidGeometryError, "a ring has fewer than three distinct points or zero area",
@@ -201,7 +201,7 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
         drop = np.zeros(len(arr), bool)
         drop[list(failed)] = True
         arr[drop] = shapely.Polygon()
-        xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, _, _ = \
+        xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, _, _, empty = \
             layer_rings_on_threads(arr, workers)
     bar = None
     if progress:
@@ -215,6 +215,8 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
             bar.close()
     batch.errors.update(failed)
     batch.stats["failed"] = len(batch.errors)
+    if len(empty):
+        batch.stats["empty_rings"] = _empty_rings_by_geometry(empty)
     return batch
 
 
@@ -238,8 +240,9 @@ def layer_rings_on_threads(arr: NDArray[np.object_], workers: int | None) -> tup
     pieces = _in_slices(layer_rings, arr, workers)
     if len(pieces) == 1:
         return pieces[0]
-    xys, zs, ring_starts, geom_ring_starts, ring_polys, ring_holes, bads, has_zs = zip(*pieces)
+    xys, zs, ring_starts, geom_ring_starts, ring_polys, ring_holes, bads, has_zs, empties = zip(*pieces)
     vertex0 = np.cumsum([0] + [len(xy) for xy in xys])
+    geom0 = np.cumsum([0] + [len(b) for b in bads])
     ring0 = np.cumsum([0] + [len(r) - 1 for r in ring_starts])
     has_z = np.concatenate(has_zs)
     z = None
@@ -249,7 +252,8 @@ def layer_rings_on_threads(arr: NDArray[np.object_], workers: int | None) -> tup
             z,
             np.concatenate([r[:-1] + v for r, v in zip(ring_starts, vertex0)] + [vertex0[-1:]]),
             np.concatenate([g[:-1] + r for g, r in zip(geom_ring_starts, ring0)] + [ring0[-1:]]),
-            np.concatenate(ring_polys), np.concatenate(ring_holes), np.concatenate(bads), has_z)
+            np.concatenate(ring_polys), np.concatenate(ring_holes), np.concatenate(bads), has_z,
+            np.concatenate([e + [g, 0, 0] for e, g in zip(empties, geom0)]))
 
 
 def repair_method(repair: Repair | None) -> str | None:
@@ -438,23 +442,52 @@ def _polygon_plcs(geoms: NDArray[np.object_]) -> list[PLC | None]:
     equals ``PLC.from_geo_interface`` of each geometry (same vertex order, segments,
     rings, polygon numbering). Geometries with a degenerate ring get ``None``."""
     rings = layer_rings(geoms)
-    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, has_z = rings
-    return [None if bad_geom[g] else
+    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, has_z, empty = rings
+    plcs = [None if bad_geom[g] else
             geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole,
                          z if has_z[g] else None, g)
             for g in range(len(geoms))]
+    for g, names in _empty_rings_by_geometry(empty).items():
+        plc = plcs[g]
+        if plc is not None:
+            plc.empty_rings = names
+    return plcs
+
+
+def _empty_rings_by_geometry(empty: NDArray[np.int64]) -> dict[int, list[tuple[int, int]]]:
+    """Rows ``(geometry, polygon, ring)`` of the EMPTY rings dropped, as
+    ``{geometry: [(polygon, ring), ...]}`` (``stats["empty_rings"]``)."""
+    out: dict[int, list[tuple[int, int]]] = {}
+    for g, p, r in empty.tolist():
+        out.setdefault(g, []).append((p, r))
+    return out
 
 
 def layer_rings(geoms: NDArray[np.object_]) -> tuple[Any, ...]:
     """Flat ring arrays of a 1-D array of Polygons / MultiPolygons (empty parts
-    dropped), read by :func:`cdt_plugin.plc.shapely_polygon_rings`: ``xy, z,
-    ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, has_z``.
+    and EMPTY rings dropped), read by :func:`cdt_plugin.plc.shapely_polygon_rings`:
+    ``xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom,
+    has_z, empty``, ``empty`` the rows ``(geometry, polygon, ring)`` of the EMPTY rings.
     ``z`` is None when no geometry has Z; ``bad_geom`` marks geometries with a
     ring of fewer than three points (a ring of zero area is found exactly, at
     any scale, by the route, which hands its geometry to the single call for
     the precise error)."""
-    rings = shapely_polygon_rings(shapely, geoms)
-    ring_geom = np.repeat(np.arange(len(geoms)), np.diff(rings.geom_ring_start))
+    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole = \
+        shapely_polygon_rings(shapely, geoms)
+    sizes = np.diff(ring_start)
+    ring_geom = np.repeat(np.arange(len(geoms)), np.diff(geom_ring_start))
+    empty = np.empty((0, 3), np.int64)
+    if (sizes == 0).any():   # EMPTY rings (holes without points): dropped, as GEOS does
+        drop = sizes == 0
+        first = np.flatnonzero(~ring_is_hole)            # each polygon's shell
+        shell_of = first[np.searchsorted(first, np.arange(len(sizes)), side="right") - 1]
+        empty = np.column_stack([ring_geom, ring_polygon, np.arange(len(sizes)) - shell_of])[drop]
+        ring_start = np.append(ring_start[:-1][~drop], ring_start[-1])
+        geom_ring_start = geom_ring_start - np.concatenate([[0], np.cumsum(np.bincount(
+            ring_geom[drop], minlength=len(geoms)))])
+        ring_polygon, ring_is_hole, ring_geom = ring_polygon[~drop], ring_is_hole[~drop], ring_geom[~drop]
+        sizes = sizes[~drop]
     bad_geom = np.zeros(len(geoms), bool)
-    bad_geom[ring_geom[np.diff(rings.ring_start) < 3]] = True
-    return (*rings, bad_geom, shapely.has_z(geoms))
+    bad_geom[ring_geom[sizes < 3]] = True
+    return (xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom,
+            shapely.has_z(geoms), empty)
