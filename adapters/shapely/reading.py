@@ -1,4 +1,5 @@
-"""Reading shapely geometries: validation (GEOS ``is_valid``) and repair, the
+"""Reading shapely geometries: validation (GEOS ``is_valid`` at unit size,
+:mod:`.validity`) and repair, the
 PLC of a geometry, one Triangulation per geometry (:func:`triangulate`) or a
 whole batch in one compiled call (:func:`triangulate_batch`)."""
 from __future__ import annotations
@@ -14,6 +15,7 @@ from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, Too
 from cdt_plugin.batch import CHUNK, MeshBatch, check_batch_options, geometry_plc, triangulate_rings
 from cdt_plugin.parallel import map_ordered, resolve_workers
 from cdt_plugin.plc import shapely_polygon_rings
+import cdt_plugin.adapters.shapely.validity as validity
 
 if TYPE_CHECKING:
     import pandas
@@ -58,13 +60,15 @@ def triangulate(geometry: Any, *, repair: Repair = False, **options: Any
         order, a pandas Series or GeoSeries a Series of them with its index;
         ``None`` entries give ``None``.
     repair : bool or {"linework", "structure"}
-        ``False`` (default): a polygon that GEOS finds invalid (bow-tie,
+        ``False`` (default): a polygon that is invalid by GEOS's rules (bow-tie,
         self-touching ring, hole crossing or outside its shell, ...) raises
-        :class:`cdt_plugin.InvalidGeometryError` whose message carries GEOS's
-        reason (``shapely.is_valid_reason``, formerly ``explain_validity``).
+        :class:`cdt_plugin.InvalidGeometryError` whose message gives GEOS's
+        reason, the point and the ring(s) through it. Validity is decided at
+        unit size (:mod:`.validity`), so the verdict is the same at every
+        magnitude. An EMPTY hole is dropped (named in ``stats["empty_rings"]``).
         ``True`` or ``"linework"``: invalid polygonal geometries (and the invalid
         polygonal members of a GeometryCollection) are replaced by
-        ``shapely.make_valid(g, method="linework")`` (shapely's default; a bow-tie
+        ``shapely.make_valid(g, method="linework")`` at unit size (shapely's default; a bow-tie
         becomes two triangles, a hole crossing its shell becomes the symmetric
         difference), keeping only the polygonal parts of the result (collapsed
         lines and points are dropped). ``"structure"``: ``make_valid(g,
@@ -230,8 +234,8 @@ def _in_slices(fn: Any, arr: NDArray[np.object_], workers: int | None) -> list[A
 
 
 def _is_valid(arr: NDArray[np.object_], workers: int | None) -> NDArray[np.bool_]:
-    """``shapely.is_valid`` of every geometry (on the batch's threads)."""
-    return np.concatenate(_in_slices(shapely.is_valid, arr, workers))
+    """:func:`.validity.is_valid` of every geometry (on the batch's threads)."""
+    return np.concatenate(_in_slices(validity.is_valid, arr, workers))
 
 
 def layer_rings_on_threads(arr: NDArray[np.object_], workers: int | None) -> tuple[Any, ...]:
@@ -271,7 +275,7 @@ def plain_polygon(geometry: Any) -> bool:
     element-wise path uses, without that path's array set-up (about half of a
     small drop-in call)."""
     return (type(geometry) is shapely.Polygon and not geometry.is_empty
-            and not geometry.has_z and geometry.is_valid)
+            and not geometry.has_z and validity.at_home(geometry) and geometry.is_valid)
 
 
 def is_array_input(geometry: Any) -> bool:
@@ -345,7 +349,7 @@ def geometry_plcs(arr: NDArray[np.object_], method: str | None,
     # --- validity of polygonal input (GeometryCollections: their polygonal members)
     idx = np.flatnonzero(_CHECKED_FOR_VALIDITY[types + 1])
     if len(idx):
-        valid = shapely.is_valid(arr[idx])
+        valid = validity.is_valid(arr[idx])
         for i in map(int, idx[~valid]):
             arr[i] = _repair_or_raise(arr[i], int(types[i]), method, i, indexed)
         if (~valid).any():
@@ -370,7 +374,7 @@ def geometry_plcs(arr: NDArray[np.object_], method: str | None,
 
 
 def _invalid_message(geom: shapely.Geometry) -> str:
-    return f"{geom.geom_type} is not valid: {shapely.is_valid_reason(geom)}"
+    return validity.reason(geom)
 
 
 def _repair_or_raise(geom: shapely.Geometry, type_id: int, method: str | None, i: int,
@@ -379,7 +383,7 @@ def _repair_or_raise(geom: shapely.Geometry, type_id: int, method: str | None, i
         parts = _flat_parts(geom)
         ptypes = shapely.get_type_id(parts)
         poly = np.isin(ptypes, _POLYGONAL)
-        bad = np.flatnonzero(poly & ~shapely.is_valid(parts))
+        bad = np.flatnonzero(poly & ~validity.is_valid(parts))
         if not len(bad):
             # the members are valid one by one (GEOS checks them separately)
             return geom
@@ -389,7 +393,7 @@ def _repair_or_raise(geom: shapely.Geometry, type_id: int, method: str | None, i
                         "shapely.make_valid", i, indexed)
         parts = parts.copy()
         for b in bad:
-            parts[b] = _make_valid_polygonal(parts[b], method)
+            parts[b] = _make_valid_polygonal(parts[b], method, i, indexed)
         parts = parts[~shapely.is_empty(parts)]
         return shapely.GeometryCollection(list(parts))
     if method is None:
@@ -397,7 +401,7 @@ def _repair_or_raise(geom: shapely.Geometry, type_id: int, method: str | None, i
                     "it with shapely.make_valid", i, indexed)
     if type_id == LINEARRING:
         geom = shapely.Polygon(geom)
-    fixed = _make_valid_polygonal(geom, method)
+    fixed = _make_valid_polygonal(geom, method, i, indexed)
     if fixed.is_empty:
         raise _fail(InvalidGeometryError, f"{_invalid_message(geom)}, and shapely.make_valid "
                     "leaves no polygonal part (it collapses to lines or points)", i, indexed)
@@ -422,11 +426,19 @@ def _flat_parts(geom: shapely.Geometry) -> NDArray[np.object_]:
     return parts
 
 
-def _make_valid_polygonal(geom: shapely.Geometry, method: str) -> shapely.Geometry:
-    if method == "structure":
-        fixed = shapely.make_valid(geom, method="structure", keep_collapsed=False)
-    else:
-        fixed = shapely.make_valid(geom)
+def _make_valid_polygonal(geom: shapely.Geometry, method: str, i: int,
+                          indexed: bool | np.ndarray) -> shapely.Geometry:
+    """The polygonal parts of ``make_valid(geom)`` (at unit size: the same
+    repair at every scale); InvalidGeometryError when GEOS cannot repair it."""
+    try:
+        if method == "structure":
+            fixed = validity.make_valid(geom, method="structure", keep_collapsed=False)
+        else:
+            fixed = validity.make_valid(geom)
+    except shapely.errors.GEOSException as exc:
+        raise _fail(InvalidGeometryError, f"{_invalid_message(geom)}, and shapely.make_valid "
+                    f"cannot repair it ({exc}); mesh it with intersections='split' instead "
+                    "(even-odd depth)", i, indexed) from exc
     parts = _flat_parts(fixed) if fixed.geom_type != "Polygon" else np.array([fixed], object)
     ptypes = shapely.get_type_id(parts)
     polys = shapely.get_parts(parts[(ptypes == POLYGON) | (ptypes == MULTIPOLYGON)])

@@ -436,7 +436,7 @@ def test_errors_skip_leaves_out_failing_features_and_names_them(tmp_path, capsys
     assert cli.main(["mesh", str(src), "-o", str(out), "--errors", "skip"]) == 0
     captured = capsys.readouterr()
     assert captured.err.startswith("cdt-plugin: warning: skipped feature 0 (f0): Polygon is not "
-                                   "valid: Self-intersection[1 1]")
+                                   "valid: Self-intersection at (1.0, 1.0), on ring 0 of polygon 0")
     assert len(captured.err.splitlines()) == 1
     V = tio.read_node(tmp_path / "two.node").vertices
     T = tio.read_ele(out).triangles
