@@ -61,7 +61,12 @@ def clip_cells_to_polygon(vor: cdt_plugin.Voronoi, clip: Any) -> NDArray[np.obje
         raise ClipRegionError(f"the clip polygon contains none of the {len(vor.points)} points")
     boxed = vor.clipped(tuple(geom.bounds))
     assert boxed.cell_offsets is not None and boxed.cell_xy is not None
-    cells = shapely.intersection(_scaled(cells_to_polygons(boxed.cell_offsets, boxed.cell_xy), -e), region)
+    try:
+        cells = shapely.intersection(_scaled(cells_to_polygons(boxed.cell_offsets, boxed.cell_xy), -e),
+                                     region)
+    except shapely.errors.GEOSException as exc:
+        raise ClipRegionError(f"GEOS cannot cut the cells with the clip polygon ({exc}); clip "
+                              "with a box (xmin, ymin, xmax, ymax), which cdt_plugin cuts itself") from exc
     return _polygonal_parts(_scaled(cells, e))
 
 
