@@ -487,6 +487,23 @@ def test_errors_skip_on_a_projected_world_layer(tmp_path, capsys):
         assert mine.area.sum() == pytest.approx(polygon.area, rel=1e-6)
 
 
+def test_errors_skip_skips_a_feature_that_does_not_project(tmp_path, capsys):
+    """A feature whose coordinates do not project (a latitude beyond the pole in Web
+    Mercator) is skipped and named with --errors skip; the other is meshed."""
+    gpd = pytest.importorskip("geopandas")
+    src = tmp_path / "two.json"
+    src.write_text(json.dumps(_collection({"type": "Polygon", "coordinates": [
+        [[0, 80], [10, 80], [10, 95], [0, 95], [0, 80]]]}, SQUARE)))
+    out = tmp_path / "two.gpkg"
+    args = ["mesh", str(src), "-o", str(out), "--project", "EPSG:3857", "--no-progress"]
+    assert cli.main(args) == 1
+    assert "error: feature 0 (f0): coordinates do not project" in capsys.readouterr().err
+    assert cli.main(args + ["--errors", "skip"]) == 0
+    err = capsys.readouterr().err
+    assert "cdt-plugin: warning: skipped feature 0 (f0): coordinates do not project" in err
+    assert len(gpd.read_file(out)) == 2       # the square's two triangles
+
+
 @pytest.mark.parametrize("output", ["out.ply", "out.ele", "out.geojson", "out.gpkg"])
 @pytest.mark.parametrize("content, kinds", [
     (_collection({"type": "Point", "coordinates": [1, 2]}), "1 feature(s): 1 Point"),
