@@ -86,9 +86,24 @@ def is_valid(arr: NDArray[np.object_]) -> NDArray[np.bool_]:
     try:
         if not shifts.any():
             return shapely.is_valid(arr)
-        return _grouped(shapely.is_valid, arr, shifts).astype(bool)
+        valid = _grouped(shapely.is_valid, arr, shifts).astype(bool)
     except shapely.errors.GEOSException:        # one by one, to find the one GEOS fails on
-        return np.array([_valid_or_false(g) for g in arr], dtype=bool)
+        valid = np.array([_valid_or_false(g) for g in arr], dtype=bool)
+    # coordinates spanning more binary orders than doubles hold (1e300 beside 1e-300) do not
+    # scale exactly: GEOS cannot decide them, and the engine names them (CoordinateRangeError)
+    valid[_inexact(arr, shifts)] = True
+    return valid
+
+
+def _inexact(arr: NDArray[np.object_], shifts: NDArray[np.int64]) -> NDArray[np.bool_]:
+    """Which geometries a scale by ``2**shift`` does not keep exactly."""
+    out = np.zeros(len(arr), bool)
+    rows = np.flatnonzero(shifts)
+    xy, which = shapely.get_coordinates(arr[rows], return_index=True)
+    k = shifts[rows][which][:, None]
+    lost = (np.ldexp(np.ldexp(xy, k), -k) != xy).any(axis=1)
+    out[rows[which[lost]]] = True
+    return out
 
 
 def _valid_or_false(geometry: shapely.Geometry) -> bool:

@@ -168,3 +168,14 @@ def test_a_file_that_is_no_layer_is_a_file_format_error(tmp_path):
     with pytest.raises(cdt_plugin.FileFormatError, match="cannot read it as a GIS layer") as info:
         geo.triangulate(path)
     assert info.value.path == path and info.value.__cause__ is not None
+
+
+def test_coordinates_no_scale_keeps_are_the_engines_range_error():
+    # 1e300 beside 1e-300: no power of two brings both into GEOS's range exactly; the
+    # verdict is left to the engine, which names the rows (not GEOS's 'Too few points')
+    thin = shapely.Polygon([(0, 0), (1e300, 0), (1e300, 1e-300)])
+    for call in (sa.triangulate, sa.constrained_delaunay_triangles):
+        with pytest.raises(cdt_plugin.CoordinateRangeError, match="row 2"):
+            call(thin)
+    batch = sa.triangulate_batch([thin, shapely.box(0, 0, 1, 1)], errors="skip")
+    assert list(batch.errors) == [0] and isinstance(batch.errors[0], cdt_plugin.CoordinateRangeError)
