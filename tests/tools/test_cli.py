@@ -457,6 +457,22 @@ def test_errors_skip_with_nothing_left_is_an_error(tmp_path, capsys):
     assert cli.main(["mesh", str(src), "-o", "b.ele", "--errors", "ignore"]) == 2   # usage
 
 
+def test_errors_skip_skips_a_feature_that_is_no_geometry(tmp_path, capsys):
+    """A feature whose GeoJSON geometry shapely cannot read fails alone: --errors skip
+    names it and meshes the others."""
+    pytest.importorskip("shapely")
+    src = tmp_path / "two.json"
+    src.write_text(json.dumps(_collection({"type": "Polygon", "coordinates": [[[0, 0], [1]]]},
+                                          SQUARE)))
+    out = tmp_path / "two.ele"
+    assert cli.main(["mesh", str(src), "-o", str(out)]) == 1
+    assert "feature 0 (f0): not a valid GeoJSON geometry" in capsys.readouterr().err
+    assert cli.main(["mesh", str(src), "-o", str(out), "--errors", "skip"]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("cdt-plugin: warning: skipped feature 0 (f0): not a valid GeoJSON geometry")
+    assert len(tio.read_ele(out).triangles) == 2
+
+
 @needs_corpus
 def test_errors_skip_on_a_projected_world_layer(tmp_path, capsys):
     """The README's world line: in one azimuthal equidistant projection Russia (split
