@@ -24,7 +24,7 @@ from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUP
                              K_REF_COMPLETE, K_REF_FLIPS, K_REF_LIMIT, K_REF_SPLITS, K_REF_STEINER,
                              K_ZERO_SEGMENTS, PACK_ARRAYS, PACK_HEADER, cdt_route_packed,
                              route_points_for_threads)
-from ._core.segments import intersection_point
+from ._core.segments import split_crossing
 from ._core.snap import snap_route
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
                            ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT,
@@ -335,6 +335,8 @@ def _stats(plc, algorithm, counts, refine, seconds, tri) -> dict:
              "intersection_points": int(counts[K_INTERSECTIONS]), "flips": int(counts[K_FLIPS]),
              "duplicates": int(counts[K_DUPLICATES]), "submerged": 0, "vertices": len(tri.vertices),
              "triangles": len(tri.triangles), "steiner": len(tri.steiner), "seconds": seconds}
+    if plc.empty_rings:
+        stats["empty_rings"] = list(plc.empty_rings)
     if refine:
         stats.update(refinement_steiner=int(counts[K_REF_STEINER]),
                      refinement_segment_splits=int(counts[K_REF_SPLITS]),
@@ -409,8 +411,9 @@ def raise_intersection(status: int, info: NDArray[np.int64], plc: Any) -> NoRetu
     a, b = plc.segments[s]
     c, d = plc.segments[t]
     if status == ROUTE_CROSSING:
-        xy = np.array([P[a], P[b], P[c], P[d]])
-        px, py = intersection_point(xy[:, 0].copy(), xy[:, 1].copy(), 0, 1, 2, 3)
+        # (where split would place it: the exact crossing rounded, at every magnitude)
+        px, py = split_crossing(np.ascontiguousarray(P[:, 0]), np.ascontiguousarray(P[:, 1]),
+                                int(a), int(b), int(c), int(d))
         raise SegmentIntersectionError(
             f"segments {s} ({_fmt(P[a])}-{_fmt(P[b])}) and {t} ({_fmt(P[c])}-{_fmt(P[d])}) "
             f"cross at about ({px!r}, {py!r}); use intersections='split' to insert the crossing",

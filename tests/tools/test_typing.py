@@ -34,6 +34,7 @@ TYPED_MODULES = [
     "cdt_plugin.adapters.shapely.cells",
     "cdt_plugin.adapters.shapely.dropins",
     "cdt_plugin.adapters.shapely.reading",
+    "cdt_plugin.adapters.shapely.validity",
     "cdt_plugin.adapters.terrain",
     "cdt_plugin.adapters.trimesh",
     "cdt_plugin.batch",
