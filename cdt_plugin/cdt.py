@@ -61,7 +61,8 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 keep_hull: bool = False, algorithm: str = "auto",
                 min_angle: float | None = None, max_area: float | None = None,
                 conforming_delaunay: bool = False, split_boundary: bool = True,
-                max_steiner: int | None = None, workers: int | None = None) -> Triangulation:
+                max_steiner: int | None = None, workers: int | None = None,
+                split_segments: bool = True) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
     Parameters
@@ -125,6 +126,10 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     split_boundary : bool
         With ``False`` no Steiner point goes on the domain boundary (Triangle's
         ``-Y``); the triangles there may then miss the bounds.
+    split_segments : bool
+        With ``False`` no Steiner point goes on any segment, inside the domain
+        or on its boundary (Triangle's ``-YY``); the triangles at segments may
+        then miss the bounds.
     max_steiner : int, optional
         Cap on Steiner points (intersections with ``"split"`` plus refinement).
         Crossings are counted before anything is built: more than the cap
@@ -160,7 +165,8 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     options = MeshOptions.check(intersections=intersections, algorithm=algorithm,
                                 keep_hull=keep_hull, min_angle=min_angle, max_area=max_area,
                                 conforming_delaunay=conforming_delaunay,
-                                split_boundary=split_boundary, max_steiner=max_steiner)
+                                split_boundary=split_boundary, max_steiner=max_steiner,
+                                split_segments=split_segments)
     workers = check_workers(workers)
     plc = as_plc(vertices, segments, holes, regions)
     return triangulate_plc(plc, options, t0=t0, workers=workers)

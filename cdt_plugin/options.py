@@ -42,12 +42,14 @@ class MeshOptions(NamedTuple):
     conforming_delaunay: bool = False
     split_boundary: bool = True
     max_steiner: int | None = None
+    split_segments: bool = True
 
     @classmethod
     def check(cls, *, intersections: str = "raise", algorithm: str = "auto",
               keep_hull: bool = False, min_angle: float | None = None,
               max_area: float | None = None, conforming_delaunay: bool = False,
-              split_boundary: bool = True, max_steiner: int | None = None) -> MeshOptions:
+              split_boundary: bool = True, max_steiner: int | None = None,
+              split_segments: bool = True) -> MeshOptions:
         """The options of :func:`cdt_plugin.triangulate`'s keywords, or the
         :class:`CDTError` naming the first one that is wrong."""
         if intersections not in INTERSECTIONS:
@@ -64,7 +66,8 @@ class MeshOptions(NamedTuple):
         return cls(intersections, algorithm, bool(keep_hull),
                    None if min_angle is None else float(min_angle),
                    None if max_area is None else float(max_area), bool(conforming_delaunay),
-                   bool(split_boundary), None if max_steiner is None else int(max_steiner))
+                   bool(split_boundary), None if max_steiner is None else int(max_steiner),
+                   bool(split_segments))
 
     @property
     def split(self) -> bool:
@@ -93,7 +96,8 @@ class MeshOptions(NamedTuple):
             refine=self.refines if refine is None else bool(refine),
             refinement=RefineOptions(min_angle=self.min_angle or 0.0, max_area=self.max_area or 0.0,
                                      conforming=self.conforming_delaunay,
-                                     split_boundary=self.split_boundary))
+                                     split_boundary=self.split_boundary,
+                                     split_segments=self.split_segments))
 
     def route_args(self, *, use_seeds: bool = False, refine: bool | None = None) -> tuple:
         """:meth:`route` as a call of the compiled route from Python passes it

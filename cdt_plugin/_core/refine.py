@@ -29,9 +29,11 @@ their orientation exactly; a piece that cannot be split that way is frozen
 (``cons < 0``), as are boundary pieces under ``split_boundary=False``.
 
 Triangle labels ``lab`` travel with the triangles: the region of an inside
-triangle (>= -1) or ``OUT``. Flips never cross a segment and the domain is
-bounded by segments (hull edges are made segments first), so the two
-triangles of a flip always share their label.
+triangle (>= -1), or the triangle of the mesh it came from when an existing
+mesh is refined (:mod:`.remesh`), or ``OUT``. Flips never cross a segment and
+the domain is bounded by segments (hull edges are made segments first), so
+the two triangles of a flip always share their label (an existing mesh's
+edges between triangles with different area bounds are made segments too).
 """
 from __future__ import annotations
 
@@ -850,12 +852,20 @@ def freeze_boundary(tri, twin, cons, lab, ntri):
             cons[twin[e]] = -cons[twin[e]]
 
 
+@kernel
+def freeze_segments(cons, ntri):
+    """``split_segments=False`` (Triangle's -YY): freeze every piece."""
+    for e in range(3 * ntri):
+        if cons[e] > 0:
+            cons[e] = -cons[e]
+
+
 @kernel(apart=True, ahead=(STORE, I64, I64_2, REFINE_OPTIONS, F8, i8, i8),
         returns=Tuple((i8, I64, I64, I64_2, STORE)))
 def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room):
     """Refine the store ``(tri, twin, cons, x, y, w, inf, ntri, nv)`` whose
     triangle labels are ``lab`` as ``refinement`` (a :class:`RefineOptions`:
-    its ``min_angle``, ``conforming`` and ``split_boundary``) asks, with the
+    its ``min_angle``, ``conforming``, ``split_boundary`` and ``split_segments``) asks, with the
     area bound of each label in ``area_of_label`` (:func:`area_bound`; the
     caller derives it from ``refinement.max_area`` and the region seeds), at
     most ``max_new`` Steiner points, and room for at least ``room`` vertices
@@ -876,7 +886,9 @@ def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room)
         if seg_ends[s, 0] > seg_ends[s, 1]:
             seg_ends[s, 0], seg_ends[s, 1] = seg_ends[s, 1], seg_ends[s, 0]
     seg_ends = with_hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends)
-    if not refinement.split_boundary:
+    if not refinement.split_segments:
+        freeze_segments(cons, ntri)
+    elif not refinement.split_boundary:
         freeze_boundary(tri, twin, cons, lab, ntri)
     sin2_bound, offconstant = 0.0, 0.0
     if min_angle > 0:
