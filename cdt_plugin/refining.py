@@ -22,6 +22,13 @@ such a flip the tighter bound keeps the guarantee too, but a tight bound
 then spreads flip by flip over the whole mesh: on a 77,000-triangle mesh
 with every other triangle's bound at 0.3 of its area, 729,000 triangles
 against Triangle's 228,000.)
+
+>>> import cdt_plugin
+>>> from cdt_plugin.options import MeshOptions
+>>> tri = cdt_plugin.Triangulation.from_triangles([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]])
+>>> out = refine_mesh(tri, MeshOptions.check(max_area=0.1), None)
+>>> out.complete, out.vertices[:3].tolist() == tri.vertices.tolist(), bool((out.parents == 0).all())
+(True, True, True)
 """
 from __future__ import annotations
 

@@ -276,3 +276,29 @@ def test_bad_options_before_any_work():
     assert len(new) > 10 and (new[:, 0] - new[:, 1] >= -1e-12).all()
     with pytest.raises(CDTError, match="no triangles"):
         cdt_plugin.delaunay([[0, 0], [1, 1], [2, 2]]).refine(max_area=1)
+
+
+def test_adaptive_refinement_five_rounds():
+    """The loop of adaptive finite elements (the guide's example): estimate an error per
+    triangle, bound the marked ones at a quarter of their area, refine, five times; each
+    round checked exactly, its bounds against every triangle of the round before."""
+    def f(p):
+        return np.tanh(40 * (np.hypot(p[..., 0] - 1, p[..., 1] - 1) - 0.6))
+
+    tri = cdt_plugin.triangulate([[0, 0], [2, 0], [2, 2], [0, 2]], [[0, 1], [1, 2], [2, 3], [3, 0]],
+                                 min_angle=25, max_area=0.05)
+    for _ in range(5):
+        centroids = tri.vertices[tri.triangles].mean(axis=1)
+        error = np.abs(f(centroids) - f(tri.vertices)[tri.triangles].mean(axis=1))
+        a = areas(tri.vertices, tri.triangles)
+        bounds = np.where(error > 0.05, a / 4, -1.0)
+        new = verify(tri, tri.refine(max_area=bounds, min_angle=25), bounds=bounds, min_angle=25,
+                     delaunay=False)
+        rep = check_steiner_segments([[0, 0], [2, 0], [2, 2], [0, 2]], [[0, 1], [1, 2], [2, 3], [3, 0]],
+                                     new.vertices, new.vertex_map, new.segments, new.segment_ids)
+        assert rep.ok, str(rep)
+        assert len(new.triangles) > len(tri.triangles)
+        tri = new
+    # the error went down where it was large
+    centroids = tri.vertices[tri.triangles].mean(axis=1)
+    assert np.abs(f(centroids) - f(tri.vertices)[tri.triangles].mean(axis=1)).max() < 0.1
