@@ -57,7 +57,9 @@ _STORE_OPTIONS = MeshOptions.check(algorithm="divide", keep_hull=True).route_arg
 
 class RefineState(NamedTuple):
     """What a refined mesh keeps for a further refinement (private): its
-    half-edge store (coordinates scaled by ``2**shift``), how many of its
+    half-edge store (coordinates scaled by ``2**shift``), the segment each
+    Steiner point lies on (``vseg``, :func:`cdt_plugin._core.refine.refine_store`:
+    its rule around small input angles goes on working), how many of its
     segments are segments to keep (the first), the ends of each store segment
     (mesh ids), the output id of each mesh vertex below
     ``len(order)`` (``order``; later ones keep their number), the output
@@ -65,6 +67,7 @@ class RefineState(NamedTuple):
     store segment (-1: a piece of the mesh's boundary)."""
 
     store: tuple
+    vseg: NDArray[np.int64]
     kept_segments: int
     seg_ends: NDArray[np.int64]
     order: NDArray[np.int64]
@@ -108,7 +111,7 @@ def refine_mesh(tri: Any, options: MeshOptions, bounds: NDArray[np.float64] | No
         state = read_mesh(V, T, tri.segments, tri.segment_ids)
     else:       # refinement works in place: the state stays as it is for another call
         state = state._replace(store=tuple(a.copy() if isinstance(a, np.ndarray) else a
-                                           for a in state.store))
+                                           for a in state.store), vseg=state.vseg.copy())
     nv = len(V)
     areas = triangle_areas(V, T)
     if bounds is None:
@@ -123,12 +126,12 @@ def refine_mesh(tri: Any, options: MeshOptions, bounds: NDArray[np.float64] | No
     area_of_label[1:] = scaled_areas(bounds, state.shift)
     lab = np.where(state.out_slot >= 0, state.out_slot, OUT)
     with deferred_interrupt(nv):
-        (status, counts, store, seg_ends, out_slot, vertices, triangles, neighbors, constrained,
-         pieces, piece_ids, parents, below) = refine_existing(
+        (status, counts, (store, vseg), seg_ends, out_slot, vertices, triangles, neighbors,
+         constrained, pieces, piece_ids, parents, below) = refine_existing(
             state.store, lab, state.seg_ends, state.kept_segments, tuple(options.route().refinement),
-            area_of_label, max_new, room, state.order, state.shift)
+            area_of_label, max_new, room, state.order, state.shift, state.vseg)
     origin = state.segment_origin
-    new = state._replace(store=store, seg_ends=seg_ends, out_slot=out_slot)
+    new = state._replace(store=store, vseg=vseg, seg_ends=seg_ends, out_slot=out_slot)
     stats = {"algorithm": "refine", "input_points": nv, "input_triangles": len(T),
              "input_segments": len(tri.segments), "vertices": len(vertices),
              "triangles": len(triangles), "refinement_steiner": int(counts[C_STEINER]),
@@ -161,7 +164,7 @@ def read_mesh(V: NDArray[np.float64], T: NDArray[np.int64], segments: NDArray[np
     out_slot = np.where(lab != OUT, lab, -1)
     origin = np.full(len(seg_ends), -1, np.int64)
     origin[:len(segs)] = segment_ids
-    return RefineState(store, len(segs), seg_ends, order, int(shift), out_slot, origin)
+    return RefineState(store, _NO_IDS, len(segs), seg_ends, order, int(shift), out_slot, origin)
 
 
 def raise_mesh_error(status: int, info: NDArray[np.int64], V: NDArray[np.float64],

@@ -10,6 +10,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._core.certify import edge_lifted_values, orientation_signs, submerged_ok
 from ._core.mesh import DEAD
+from ._core.remesh import triangle_neighbors
 from ._core.output import (relabel_store, rotate_min_first,
                            store_neighbors, store_triangles)
 from ._routes import (DelaunayBuild, build_delaunay, collinear_chain, flip_moved, route_arrays,
@@ -261,11 +262,7 @@ class Triangulation:
         bad = np.flatnonzero(((T < 0) | (T >= n)).any(axis=1))
         if len(bad):
             raise InputShapeError(f"triangle {int(bad[0])} {T[bad[0]].tolist()} names a vertex outside 0..{n - 1}")
-        _, first, inverse = np.unique(V, axis=0, return_index=True, return_inverse=True)
-        same = np.flatnonzero(first[inverse.reshape(-1)] != np.arange(n))
-        if len(same):
-            i = int(same[0])
-            raise CDTError(f"vertices {int(first[inverse.reshape(-1)[i]])} and {i} are the same point {V[i].tolist()}")
+        _raise_repeated_vertex(V)
         x, y, _, _ = exact_range(V[:, 0].copy(), V[:, 1].copy(), None, "vertices")
         signs = orientation_signs(x, y, np.ascontiguousarray(T))
         flat = np.flatnonzero(signs == 0)
@@ -273,11 +270,14 @@ class Triangulation:
             t = int(flat[0])
             raise InvertedTriangleError(f"triangle {t} {T[t].tolist()} has no area (its corners are collinear)")
         T = np.where((signs < 0)[:, None], T[:, [0, 2, 1]], T)
-        # (an edge in three triangles is in two of them the same way round)
-        _raise_repeated_edge(T[:, [1, 2, 0]].ravel() * n + T[:, [2, 0, 1]].ravel(), T)
-        from .report import mesh_neighbors     # (the services below load on first use)
-        nb, _ = mesh_neighbors(T)
-        T, nb = np.ascontiguousarray(T), np.ascontiguousarray(nb)
+        T = np.ascontiguousarray(T)
+        nb, t, u = triangle_neighbors(T, n)
+        if t >= 0:
+            raise InvalidMeshError(
+                f"triangles {t} {T[t].tolist()} and {u} {T[u].tolist()} overlap: their edge "
+                f"{[int(v) for v in T[t] if v in T[u]]} lies on the same side of both "
+                "(an edge in more than two triangles, or two triangles folded over)",
+                triangles=(t, u))
         rotate_min_first(T, nb)
         if segments is None:
             return cls(V, T, nb, np.arange(n, dtype=np.int64), {"triangles": len(T)})
@@ -626,18 +626,18 @@ class Triangulation:
         return flips
 
 
-def _raise_repeated_edge(directed: NDArray[np.int64], T: NDArray[np.int64]) -> None:
-    """:class:`InvalidMeshError` naming two triangles that have the same
-    directed edge (keys ``directed``, three per triangle), if two have."""
-    keys, first, count = np.unique(directed, return_index=True, return_counts=True)
-    if (count == 1).all():
+def _raise_repeated_vertex(V: NDArray[np.float64]) -> None:
+    """:class:`CDTError` naming the first vertex that repeats an earlier one (a
+    sort, which ``np.unique(V, axis=0)`` was four times slower at)."""
+    order = np.lexsort((V[:, 1], V[:, 0]))          # (stable: a repeat after its first)
+    Vo = V[order]
+    same = np.r_[False, (Vo[1:] == Vo[:-1]).all(axis=1)]
+    if not same.any():
         return
-    key = keys[np.flatnonzero(count > 1)[0]]
-    t, u = (int(i) // 3 for i in np.flatnonzero(directed == key)[:2])
-    raise InvalidMeshError(
-        f"triangles {t} {T[t].tolist()} and {u} {T[u].tolist()} overlap: their edge "
-        f"{[int(v) for v in T[t] if v in T[u]]} lies on the same side of both "
-        "(an edge in more than two triangles, or two triangles folded over)", triangles=(t, u))
+    head = order[np.maximum.accumulate(np.where(same, 0, np.arange(len(V))))]
+    k = np.flatnonzero(same)[np.argmin(order[same])]
+    i = int(order[k])
+    raise CDTError(f"vertices {int(head[k])} and {i} are the same point {V[i].tolist()}")
 
 
 def _segments_of_mesh(segs: NDArray[np.int64], T: NDArray[np.int64]

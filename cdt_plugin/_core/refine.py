@@ -860,9 +860,9 @@ def freeze_segments(cons, ntri):
             cons[e] = -cons[e]
 
 
-@kernel(apart=True, ahead=(STORE, I64, I64_2, REFINE_OPTIONS, F8, i8, i8),
-        returns=Tuple((i8, I64, I64, I64_2, STORE)))
-def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room):
+@kernel(apart=True, ahead=(STORE, I64, I64_2, REFINE_OPTIONS, F8, i8, i8, I64, i8),
+        returns=Tuple((i8, I64, I64, I64_2, STORE, I64)))
+def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room, vseg, nv0):
     """Refine the store ``(tri, twin, cons, x, y, w, inf, ntri, nv)`` whose
     triangle labels are ``lab`` as ``refinement`` (a :class:`RefineOptions`:
     its ``min_angle``, ``conforming``, ``split_boundary`` and ``split_segments``) asks, with the
@@ -872,10 +872,15 @@ def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room)
     from the start (more is made by doubling). ``seg_ends`` (mesh ids of each
     segment's ends) gains the hull edges made segments. Frozen pieces are
     unfrozen on return. Returns ``(status, counts, lab, seg_ends, (tri, twin,
-    cons, x, y, w, inf, ntri, nv))``."""
+    cons, x, y, w, inf, ntri, nv), vseg)``. ``vseg`` is the segment id of each
+    vertex from ``nv0`` on that a refinement placed on a segment (0: none), as a
+    previous call returned it, or empty (and ``nv0`` -1) for a store no
+    refinement has touched: Shewchuk's rule around small input angles reads it
+    (:func:`at_small_input_angle`)."""
     tri, twin, cons, x, y, w, inf, ntri, nv = store
     min_angle, conforming = refinement.min_angle, refinement.conforming
-    nv0 = nv
+    if nv0 < 0:
+        nv0 = nv
     # the same refined mesh for any order of the input vertices and segments and
     # any segment direction: slots in canonical order (refinement scans them),
     # each segment from its smaller end (split points are placed along it)
@@ -904,7 +909,7 @@ def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room)
     if inf < room:
         tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, room)
     lab = _grown(lab, tri.shape[0] // 3, np.int64(OUT))
-    vseg = np.zeros(inf + 1, np.int64)
+    vseg = _grown(vseg, inf + 1, np.int64(0))
     counts = np.zeros(8, np.int64)
     params = RefineParameters(sin2_bound, offconstant, lens, conforming, max_new, area_of_label)
     heap, pieces = max(1024, ntri), np.int64(256)
@@ -921,7 +926,7 @@ def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room)
         cons[e] = abs(cons[e])
     if counts[C_UNREPAIRED]:   # (never seen: a repair needs a stack as deep as the mesh)
         counts[C_FLIPS] += flip_to_delaunay(tri, twin, cons, x, y, x, np.bool_(False), inf, ntri)
-    return status, counts, lab, seg_ends, (tri, twin, cons, x, y, w, inf, ntri, nv)
+    return status, counts, lab, seg_ends, (tri, twin, cons, x, y, w, inf, ntri, nv), vseg
 
 
 @kernel

@@ -81,6 +81,36 @@ def mesh_edges(T, segs, n):
     return edges[:m], np.int64(-1)
 
 
+@entry
+def triangle_neighbors(T, n):
+    """Neighbours of the counter-clockwise triangles ``T`` over vertices
+    ``0..n-1``: ``neighbors[t, j]`` shares the edge opposite corner ``j`` of
+    ``t`` (-1: none). Returns ``(neighbors, t, u)``: ``t < u`` two triangles
+    with an edge the same way round (they overlap; an edge in three triangles
+    is in two of them so), else -1, -1. Linear time (the half-edges grouped
+    by their smaller end)."""
+    k = T.shape[0]
+    half = np.empty((3 * k, 2), np.int64)        # half-edge 3t+j: opposite corner j
+    for t in range(k):
+        for j in range(3):
+            half[3 * t + j, 0] = T[t, (j + 1) % 3]
+            half[3 * t + j, 1] = T[t, (j + 2) % 3]
+    start, group = by_smaller_end(half, 3 * k, n)
+    nb = np.full((k, 3), -1, np.int64)
+    for a in range(n):
+        for p in range(start[a], start[a + 1]):
+            i = group[p]
+            for q in range(p + 1, start[a + 1]):
+                g = group[q]
+                if max(half[g, 0], half[g, 1]) != max(half[i, 0], half[i, 1]):
+                    continue
+                if half[g, 0] == half[i, 0]:
+                    return nb, min(i, g) // 3, max(i, g) // 3
+                nb[i // 3, i % 3] = g // 3
+                nb[g // 3, g % 3] = i // 3
+    return nb, np.int64(-1), np.int64(-1)
+
+
 @kernel
 def find_edge(half, start, group, u, v):
     """The first half-edge (row of ``half``, grouped by :func:`.segments.by_smaller_end`)
@@ -227,14 +257,17 @@ def bound_borders(tri, twin, cons, ntri, lab, area_of_label, seg_ends):
 
 
 @entry
-def refine_existing(store, lab, seg_ends, m, refinement, area_of_label, max_new, room, order, shift):
+def refine_existing(store, lab, seg_ends, m, refinement, area_of_label, max_new, room, order, shift,
+                    vseg):
     """Refine ``store`` (the coordinates scaled by ``2**shift``, mesh vertex
     ``i < n`` output vertex ``order[i]``, later ones in their order) whose slot
     labels are ``lab``, as ``refinement`` (a plain :class:`.options.RefineOptions`)
     asks, with the area bound of each label in ``area_of_label``
     (:func:`.refine.area_bound`), at most ``max_new`` Steiner points and room
-    for ``room`` vertices from the start. The store's arrays are refined in
-    place (or grown). Returns ``(status, counts, store, seg_ends, out_slot,
+    for ``room`` vertices from the start, ``vseg`` what the refinement before
+    returned (empty for a store none has touched: :func:`.refine.refine_store`).
+    The store's arrays are refined in place (or grown). Returns ``(status,
+    counts, (store, vseg), seg_ends, out_slot,
     vertices, triangles, neighbors, constrained, pieces, piece_ids, parents,
     below)``: the refinement's status and counts, what a further refinement
     needs (the store, its segments' ends and the slot of each output
@@ -257,10 +290,14 @@ def refine_existing(store, lab, seg_ends, m, refinement, area_of_label, max_new,
     # refinement needs a constrained Delaunay triangulation (its walks and cavities do)
     flips = flip_to_delaunay(tri, twin, cons, store[3], store[4], store[3], np.bool_(False), store[6],
                              ntri)
-    status, counts, lab, seg_ends, store = refine_store(store, lab, seg_ends, options, area_of_label,
-                                                        max_new, room)
+    n = order.shape[0]
+    status, counts, lab, seg_ends, store, vseg = refine_store(store, lab, seg_ends, options,
+                                                              area_of_label, max_new, room, vseg, n)
     tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
     free_inner_edges(tri, twin, cons, ntri, lab, m)
+    for v in range(vseg.shape[0]):
+        if vseg[v] > n_base:        # on an edge between two bounds: no segment next time
+            vseg[v] = 0
     counts[C_FLIPS] += flips
     T, N, tid, cflag = solid_with_flags(tri, twin, cons, ntri, inf)
     inside = np.zeros(T.shape[0], np.bool_)
@@ -272,7 +309,6 @@ def refine_existing(store, lab, seg_ends, m, refinement, area_of_label, max_new,
             slot_of[i] = t
             label_of[i] = lab[t]
             inside[i] = lab[t] != OUT
-    n = order.shape[0]
     remap = np.empty(nv, np.int64)
     vertices = np.empty((nv, 2))
     for i in range(nv):
@@ -290,5 +326,5 @@ def refine_existing(store, lab, seg_ends, m, refinement, area_of_label, max_new,
         below = count_below(vertices, triangles, math.sin(math.radians(options.min_angle)) ** 2)
     if shift != 0:
         unscale_rows(vertices, shift)
-    return (status, counts, store, seg_ends[:n_base], out_slot, vertices, triangles, neighbors,
-            constrained, pieces, piece_ids, parents, below)
+    return (status, counts, (store, vseg), seg_ends[:n_base], out_slot, vertices, triangles,
+            neighbors, constrained, pieces, piece_ids, parents, below)

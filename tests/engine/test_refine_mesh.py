@@ -302,3 +302,16 @@ def test_adaptive_refinement_five_rounds():
     # the error went down where it was large
     centroids = tri.vertices[tri.triangles].mean(axis=1)
     assert np.abs(f(centroids) - f(tri.vertices)[tri.triangles].mean(axis=1)).max() < 0.1
+
+
+def test_refining_again_at_a_small_input_angle_adds_nothing():
+    """Shewchuk's rule leaves the triangles at a small input angle alone; a refined
+    result remembers which of its points lie on which segment, so refining it again
+    with the same bound leaves them alone too (and adds no point)."""
+    v = [[0, 0], [10, 0], [10, 1.2], [0, 3], [5, 0.6]]      # a 6.8 degree angle at vertex 0
+    s = [[0, 1], [1, 2], [2, 3], [3, 0], [0, 4]]
+    tri = cdt_plugin.triangulate(v, s)
+    once = verify(tri, tri.refine(min_angle=30), min_angle=30)
+    assert len(once.below_min_angle) > 0
+    twice = verify(once, once.refine(min_angle=30), min_angle=30)
+    assert twice.stats["refinement_steiner"] == 0 and len(twice.triangles) == len(once.triangles)
