@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import functools
 import time
-from typing import TYPE_CHECKING, Any, Callable, Dict, Union
+from typing import TYPE_CHECKING, Any, Callable, Dict, Optional, Union, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -323,11 +323,12 @@ class Triangulation:
         (True, True)
         """
         per_triangle = max_area is not None and np.ndim(max_area) > 0
-        options = MeshOptions.check(min_angle=min_angle, max_area=None if per_triangle else max_area,
+        options = MeshOptions.check(min_angle=min_angle,
+                                    max_area=None if per_triangle else cast(Optional[float], max_area),
                                     conforming_delaunay=conforming_delaunay,
                                     split_boundary=split_boundary, max_steiner=max_steiner,
                                     split_segments=split_segments)
-        bounds = as_triangle_bounds(max_area, len(self.triangles)) if per_triangle else None
+        bounds = as_triangle_bounds(cast(ArrayLike, max_area), len(self.triangles)) if per_triangle else None
         r = refine_mesh(self, options, bounds, self._refinement)
         out = Triangulation(
             r.vertices, r.triangles, r.neighbors, self.vertex_map, r.stats, constrained=r.constrained,

@@ -64,6 +64,7 @@ TYPED_MODULES = [
     "cdt_plugin.plc",
     "cdt_plugin.plot",
     "cdt_plugin.queries",
+    "cdt_plugin.refining",
     "cdt_plugin.report",
     "cdt_plugin.switches",
     "cdt_plugin.triangulation",
