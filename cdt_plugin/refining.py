@@ -63,8 +63,9 @@ class RefineState(NamedTuple):
     segments are segments to keep (the first), the ends of each store segment
     (mesh ids), the output id of each mesh vertex below
     ``len(order)`` (``order``; later ones keep their number), the output
-    triangle of each store slot (-1: none) and the original segment id of each
-    store segment (-1: a piece of the mesh's boundary)."""
+    triangle of each store slot (-1: none), the original segment id of each
+    store segment (-1: a piece of the mesh's boundary), and the angle bound of
+    the refinement that made it and whether it finished."""
 
     store: tuple
     vseg: NDArray[np.int64]
@@ -74,6 +75,8 @@ class RefineState(NamedTuple):
     shift: int
     out_slot: NDArray[np.int64]
     segment_origin: NDArray[np.int64]
+    min_angle: float = -1.0         # the angle bound the mesh was refined with (-1: not refined)
+    complete: bool = False          # whether that refinement finished
 
 
 class Refined(NamedTuple):
@@ -107,16 +110,18 @@ def refine_mesh(tri: Any, options: MeshOptions, bounds: NDArray[np.float64] | No
         raise CDTError(f"{tri!r} has no triangles: there is nothing to refine")
     if tri.weights is not None:
         raise CDTError("refine takes unweighted triangulations: refinement inserts unweighted points")
-    if state is None:
-        state = read_mesh(V, T, tri.segments, tri.segment_ids)
-    else:       # refinement works in place: the state stays as it is for another call
-        state = state._replace(store=tuple(a.copy() if isinstance(a, np.ndarray) else a
-                                           for a in state.store), vseg=state.vseg.copy())
     nv = len(V)
     areas = triangle_areas(V, T)
     if bounds is None:
         bounds = np.full(len(T), options.max_area or 0.0)
     bounded = bounds > 0
+    if state is not None and already_met(options, areas, bounds, state):
+        return unchanged(tri, options, state, t0)
+    if state is None:
+        state = read_mesh(V, T, tri.segments, tri.segment_ids)
+    else:       # refinement works in place: the state stays as it is for another call
+        state = state._replace(store=tuple(a.copy() if isinstance(a, np.ndarray) else a
+                                           for a in state.store), vseg=state.vseg.copy())
     per_bound = float((areas[bounded] / bounds[bounded]).sum())
     max_new = options.max_steiner
     if max_new is None:      # the default cap of triangulate's refinement
@@ -131,7 +136,8 @@ def refine_mesh(tri: Any, options: MeshOptions, bounds: NDArray[np.float64] | No
             state.store, lab, state.seg_ends, state.kept_segments, tuple(options.route().refinement),
             area_of_label, max_new, room, state.order, state.shift, state.vseg)
     origin = state.segment_origin
-    new = state._replace(store=store, vseg=vseg, seg_ends=seg_ends, out_slot=out_slot)
+    new = state._replace(store=store, vseg=vseg, seg_ends=seg_ends, out_slot=out_slot,
+                         min_angle=options.min_angle or 0.0, complete=status == FINISHED)
     stats = {"algorithm": "refine", "input_points": nv, "input_triangles": len(T),
              "input_segments": len(tri.segments), "vertices": len(vertices),
              "triangles": len(triangles), "refinement_steiner": int(counts[C_STEINER]),
@@ -143,6 +149,47 @@ def refine_mesh(tri: Any, options: MeshOptions, bounds: NDArray[np.float64] | No
              "seconds": time.perf_counter() - t0}
     return Refined(vertices, triangles, neighbors, constrained, pieces, origin[piece_ids], parents,
                    below, stats, status == FINISHED, new)
+
+
+def already_met(options: MeshOptions, areas: NDArray[np.float64], bounds: NDArray[np.float64],
+                state: RefineState) -> bool:
+    """Whether refinement would add nothing to the mesh that ``state`` was
+    refined into: that refinement finished with an angle bound at least
+    ``options``' (so its triangles meet this one, or are excused as it
+    excused them, and no piece is encroached for it), and every triangle is
+    within its area bound by more than rounding (``areas``, ``bounds``)."""
+    if not state.complete or options.conforming_delaunay or (options.min_angle or 0.0) > state.min_angle:
+        return False
+    bounded = bounds > 0
+    return bool((areas[bounded] <= bounds[bounded] * (1 - 1e-12)).all())
+
+
+def unchanged(tri: Any, options: MeshOptions, state: RefineState, t0: float) -> Refined:
+    """:class:`Refined` for a mesh that meets the bounds already: its own arrays."""
+    below = tri.below_min_angle
+    if options.min_angle:
+        below = below[min_angles(tri.vertices, tri.triangles[below]) < options.min_angle]
+    else:
+        below = below[:0]
+    stats = {"algorithm": "refine", "input_points": len(tri.vertices),
+             "input_triangles": len(tri.triangles), "input_segments": len(tri.segments),
+             "vertices": len(tri.vertices), "triangles": len(tri.triangles), "refinement_steiner": 0,
+             "refinement_segment_splits": 0, "refinement_flips": 0, "frozen_segment_pieces": 0,
+             "refinement_attempts": 0, "refinement_deferred": 0, "refinement_complete": True,
+             "refinement_limit": 0, "below_min_angle": len(below), "seconds": time.perf_counter() - t0}
+    return Refined(tri.vertices, tri.triangles, tri.neighbors, tri.constrained, tri.segments,
+                   tri.segment_ids, np.arange(len(tri.triangles)), below, stats, True, state)
+
+
+def min_angles(V: NDArray[np.float64], T: NDArray[np.int64]) -> NDArray[np.float64]:
+    """The smallest angle of each triangle, in degrees (floating point)."""
+    P = V[T]
+    out = []
+    for j in range(3):
+        u = P[:, (j + 1) % 3] - P[:, j]
+        w = P[:, (j + 2) % 3] - P[:, j]
+        out.append(np.degrees(np.arctan2(np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]), (u * w).sum(axis=1))))
+    return np.min(out, axis=0) if out else np.empty(0)
 
 
 def read_mesh(V: NDArray[np.float64], T: NDArray[np.int64], segments: NDArray[np.int64],

@@ -176,9 +176,11 @@ def test_refine_of_a_refined_mesh_goes_on_from_it():
     again = first.refine(max_area=bounds, min_angle=25)
     assert np.array_equal(again.triangles, second.triangles)
     assert np.array_equal(again.vertices, second.vertices)
-    # a mesh that meets the bounds already gets no new point
+    # a mesh that meets the bounds already gets no new point, and comes back as it is
     third = second.refine(max_area=0.2)
     assert third.stats["refinement_steiner"] == 0 and len(third.vertices) == len(second.vertices)
+    assert np.array_equal(third.triangles, second.triangles)
+    assert third.refine(max_area=0.1).stats["refinement_steiner"] > 0      # and goes on from there
     # and the segment ids still name triangulate's segments
     rep = check_steiner_segments(SQUARE + HOLE, ring(4) + ring(4, 4), second.vertices, second.vertex_map,
                                  second.segments, second.segment_ids)
@@ -315,3 +317,10 @@ def test_refining_again_at_a_small_input_angle_adds_nothing():
     assert len(once.below_min_angle) > 0
     twice = verify(once, once.refine(min_angle=30), min_angle=30)
     assert twice.stats["refinement_steiner"] == 0 and len(twice.triangles) == len(once.triangles)
+    # refined elsewhere (the store runs again): still no point near the small angle
+    far = once.vertices[once.triangles].mean(axis=1)[:, 0] > 8
+    bounds = np.where(far, areas(once.vertices, once.triangles) / 4, np.nan)
+    thrice = verify(once, once.refine(min_angle=30, max_area=bounds), min_angle=30, bounds=bounds,
+                    delaunay=False)
+    new = thrice.vertices[len(once.vertices):]
+    assert len(new) > 0 and (np.hypot(new[:, 0], new[:, 1]) > 3).all()
