@@ -9,6 +9,7 @@ wraps the result, or raises the precise error for the route's stop.
 """
 from __future__ import annotations
 
+import dataclasses
 import functools
 import time
 from typing import Any, NoReturn
@@ -32,7 +33,9 @@ from ._routes import build_divide_two_threads
 from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, RefinementLimitError,
                      SegmentIntersectionError, UnresolvedCrossingError)
 from .interrupts import deferred_interrupt
-from .options import MeshOptions
+from .markers import BaseMesh, Tags, make_tags
+from .markers import vertex_attributes as attributes_of
+from .options import MeshOptions, checked_options, route_plan
 from .parallel import check_workers, resolve_workers
 from .plc import PLC, GeometryLike, as_plc
 from .triangulation import Triangulation
@@ -62,6 +65,8 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 min_angle: float | None = None, max_area: float | None = None,
                 conforming_delaunay: bool = False, split_boundary: bool = True,
                 max_steiner: int | None = None, workers: int | None = None,
+                vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
+                vertex_attributes: ArrayLike | None = None,
                 split_segments: bool = True) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
@@ -144,6 +149,22 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         Threads for the Delaunay triangulation of the vertices (divide and
         conquer, from 200,000 vertices: the first cut's halves side by side);
         default every core. The result is the same with any number.
+    vertex_markers : (n,) int array, optional
+        Boundary markers of the input vertices (Triangle's); the result's
+        ``vertex_markers`` follow Triangle's rules (see
+        :mod:`cdt_plugin.markers`). For geometry input, one per vertex of
+        its PLC (:meth:`PLC.from_geo_interface`, closing points dropped).
+    segment_markers : (m,) int array, optional
+        Boundary markers of the input segments; each piece of a segment and
+        each Steiner point on it inherit the segment's marker
+        (``tri.segment_markers``, ``tri.edge_markers``, ``tri.vertex_markers``).
+        Markers are derived on first access; without these keywords they are
+        Triangle's defaults (1 on the boundary, 0 inside).
+    vertex_attributes : (n,) or (n, k) float array, optional
+        Attributes of the input vertices, carried to every output vertex
+        (``tri.vertex_attributes``): Steiner points get the linear
+        interpolation along the segment they lie on, or on the triangle of the
+        unrefined triangulation that holds them.
 
     Notes
     -----
@@ -162,27 +183,69 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     (8, True)
     """
     t0 = time.perf_counter()
-    options = MeshOptions.check(intersections=intersections, algorithm=algorithm,
-                                keep_hull=keep_hull, min_angle=min_angle, max_area=max_area,
-                                conforming_delaunay=conforming_delaunay,
-                                split_boundary=split_boundary, max_steiner=max_steiner,
-                                split_segments=split_segments)
+    try:     # (cached: a small call pays for every Python call the checks make)
+        options = checked_options(intersections, algorithm, keep_hull, min_angle, max_area,
+                                  conforming_delaunay, split_boundary, max_steiner, split_segments)
+    except TypeError:      # an unhashable value: checked anew, and named
+        options = MeshOptions.check(intersections=intersections, algorithm=algorithm,
+                                    keep_hull=keep_hull, min_angle=min_angle, max_area=max_area,
+                                    conforming_delaunay=conforming_delaunay,
+                                    split_boundary=split_boundary, max_steiner=max_steiner,
+                                    split_segments=split_segments)
     workers = check_workers(workers)
     plc = as_plc(vertices, segments, holes, regions)
-    return triangulate_plc(plc, options, t0=t0, workers=workers)
+    tags = None
+    if (vertex_markers is not None or segment_markers is not None or vertex_attributes is not None
+            or plc.vertex_markers is not None or plc.segment_markers is not None
+            or plc.vertex_attributes is not None):
+        tags = plc_tags(plc, vertex_markers, segment_markers, vertex_attributes)
+    return triangulate_plc(plc, options, t0=t0, workers=workers, tags=tags)
+
+
+def plc_tags(plc: PLC, vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
+             vertex_attributes: ArrayLike | None = None) -> Tags | None:
+    """The checked markers and attributes of ``plc`` (the keywords win over the
+    PLC's own), with the unrefined triangulation as the base of the attributes'
+    interpolation."""
+    tags = make_tags(len(plc.vertices), plc.segments,
+                     plc.vertex_markers if vertex_markers is None else vertex_markers,
+                     plc.segment_markers if segment_markers is None else segment_markers,
+                     plc.vertex_attributes if vertex_attributes is None else vertex_attributes)
+    if tags is not None and tags.vertex_attributes is not None:
+        tags = dataclasses.replace(tags, base=functools.partial(
+            unrefined_base, plc.vertices, plc.segments, tags.vertex_attributes))
+    return tags
+
+
+def unrefined_base(vertices: NDArray[np.float64], segments: NDArray[np.int64],
+                   attributes: NDArray[np.float64]) -> BaseMesh:
+    """The base mesh of the attributes' interpolation at refinement points: the
+    constrained Delaunay triangulation of the input ``vertices`` and
+    ``segments`` (crossings split, every triangle of the convex hull kept),
+    with ``attributes`` (one row per input vertex) carried to its vertices
+    (crossing points: along their segment). Its vertices, triangles and
+    attributes."""
+    base = triangulate(vertices, segments, keep_hull=True, intersections="split")
+    base.tags = Tags(segments, vertex_attributes=attributes)
+    values = attributes_of(base, base.tags)
+    assert values is not None
+    return base.vertices, base.triangles, values
 
 
 def triangulate_plc(plc: PLC, options: MeshOptions, *, t0: float | None = None,
-                    workers: int | None = 1) -> Triangulation:
+                    workers: int | None = 1, tags: Tags | None = None) -> Triangulation:
     """:func:`triangulate` of a checked PLC with checked options: one call of
     the compiled route, then the result wrapped (or the route's stop raised).
     With many vertices and ``workers`` (checked) not 1, the Delaunay
     triangulation of divide and conquer is built on two threads first
-    (:func:`_threaded_store`)."""
+    (:func:`_threaded_store`). ``tags``: the checked markers and attributes to
+    keep on the result (:func:`plc_tags`)."""
     t0 = time.perf_counter() if t0 is None else t0
-    algorithm, split = options.algorithm, options.split
+    algorithm, split = options.algorithm, options.intersections == "split"
     # a region seed's max_area refines on its own (Triangle's -a)
-    refine = options.refines or (plc.regions is not None and bool((plc.regions[:, 3] > 0).any()))
+    refine, route_options = route_plan(
+        options, plc.holes is not None or plc.regions is not None,
+        plc.regions is not None and bool((plc.regions[:, 3] > 0).any()))
     if plc.degenerate_rings and not split:
         p, r = plc.degenerate_rings[0]
         raise InvalidGeometryError(
@@ -201,37 +264,42 @@ def triangulate_plc(plc: PLC, options: MeshOptions, *, t0: float | None = None,
         if algorithm == "divide" and not on_threads:
             horizontal = lexicographic_order(y, -x)
     rings = plc.has_rings
-    route_options = options.route_args(use_seeds=plc.holes is not None or plc.regions is not None,
-                                       refine=refine)
     holes = plc.holes if plc.holes is not None and len(plc.holes) else _NO_SEEDS
     regions = plc.regions if plc.regions is not None and len(plc.regions) else _NO_REGIONS
-    def run_route(snapped):
+    segment_ring = plc.segment_ring if rings else _NO_IDS
+    ring_polygon = plc.ring_polygon if rings else _NO_IDS
+    ring_is_hole = plc.ring_is_hole if rings else _NO_RINGS
+    snapped = _NOT_SNAPPED
+    while True:   # (a loop, not a helper: a small call pays for every Python call)
         with deferred_interrupt(n):
             prebuilt, order_in = _NO_STORE, order
             if on_threads:
                 prebuilt, order_in = _threaded_store(x, y, order, len(plc.segments), snapped,
                                                      route_options)
-            return cdt_route_packed(
-                x, y, plc.segments, plc.segment_ring if rings else _NO_IDS,
-                plc.ring_polygon if rings else _NO_IDS, plc.ring_is_hole if rings else _NO_RINGS,
-                holes, regions, order_in, horizontal, route_options, snapped, prebuilt)
-
-    status, ints, vertices = run_route(_NOT_SNAPPED)
-    if status == ROUTE_NEEDS_SNAP:
-        # segments cross: snap-round them all (compiled apart: only such inputs pay for it)
+            status, ints, vertices = cdt_route_packed(
+                x, y, plc.segments, segment_ring, ring_polygon, ring_is_hole, holes, regions,
+                order_in, horizontal, route_options, snapped, prebuilt)
+        if status != ROUTE_NEEDS_SNAP or snapped is not _NOT_SNAPPED:
+            break
+        # segments cross: snap-round them all (compiled apart: only such inputs pay for
+        # it), then run the route again on the snapped segments
         with deferred_interrupt(n):
             status, info, *plan = snap_route(x, y, plc.segments, options.steiner_cap)
         if status != ROUTE_OK:
             _raise_stop(status, info, plc)
-        status, ints, vertices = run_route(tuple(plan))
+        snapped = tuple(plan)
     info, counts = ints[PACK_HEADER:PACK_HEADER + 4], ints[PACK_HEADER + 4:PACK_ARRAYS]
     if status == ROUTE_COLLINEAR:
-        return _collinear_result(plc, algorithm, t0)
+        tri = _collinear_result(plc, algorithm, t0)
+        tri.tags = tags
+        return tri
     if status not in (ROUTE_OK, ROUTE_REFINE_LIMIT):
         _raise_stop(status, info, plc)
     seconds = time.perf_counter() - t0
     tri = Triangulation.from_route(ints, vertices, plc, functools.partial(
         _stats, plc, algorithm, counts, refine, seconds))
+    if tags is not None:
+        tri.tags = tags
     if status == ROUTE_REFINE_LIMIT:
         raise RefinementLimitError(
             f"refinement stopped at max_steiner={int(counts[K_REF_LIMIT])} Steiner points with "

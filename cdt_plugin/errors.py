@@ -33,7 +33,8 @@ class InputShapeError(CDTError):
 
 
 class NonFiniteCoordinateError(CDTError):
-    """A coordinate (or weight) is NaN or infinite; the message names the rows."""
+    """A coordinate (or weight, or vertex attribute) is NaN or infinite; the message
+    names the rows."""
 
 
 class TooFewPointsError(CDTError):

@@ -111,6 +111,33 @@ def _route_args(options: MeshOptions, use_seeds: bool, refine: bool) -> tuple:
     return plain(options.route(use_seeds=use_seeds, refine=refine))
 
 
+@functools.lru_cache(maxsize=64)
+def route_plan(options: MeshOptions, use_seeds: bool, seeds_refine: bool) -> tuple[bool, tuple]:
+    """``(refine, route_args)`` of a call of the compiled route: whether it
+    refines (the options ask for it, or ``seeds_refine``: a region seed's area
+    bound does) and :meth:`MeshOptions.route_args` for an input with
+    (``use_seeds``) or without hole or region seeds. Cached: a small call makes
+    no Python call for it (cProfile counted four before)."""
+    refine = options.refines or seeds_refine
+    return refine, _route_args(options, use_seeds, refine)
+
+
+@functools.lru_cache(maxsize=256, typed=True)
+def checked_options(intersections: str, algorithm: str, keep_hull: bool, min_angle: float | None,
+                    max_area: float | None, conforming_delaunay: bool, split_boundary: bool,
+                    max_steiner: int | None, split_segments: bool = True) -> MeshOptions:
+    """:meth:`MeshOptions.check` of :func:`cdt_plugin.triangulate`'s keywords,
+    by position, cached: the checks run once per set of values (``typed``:
+    ``True`` is not taken for ``1``, nor ``1`` for ``1.0``; an error is not
+    cached). Unhashable values raise :class:`TypeError`: call
+    :meth:`MeshOptions.check`, which names them."""
+    return MeshOptions.check(intersections=intersections, algorithm=algorithm, keep_hull=keep_hull,
+                             min_angle=min_angle, max_area=max_area,
+                             conforming_delaunay=conforming_delaunay,
+                             split_boundary=split_boundary, max_steiner=max_steiner,
+                             split_segments=split_segments)
+
+
 def resolve_algorithm(algorithm: str, weighted: bool) -> str:
     """The route ``"auto"`` stands for: divide and conquer, or incremental
     insertion for weighted points (which divide and conquer does not take)."""

@@ -39,6 +39,11 @@ class PLC:
     z : (n,) float64 or None, a third coordinate carried along (not used in meshing)
     degenerate_rings : list of (polygon, ring) rings dropped as rings (too few
         distinct points or zero area); their vertices stay as isolated vertices
+    vertex_markers, segment_markers : (n,) and (m,) int, or None
+        Boundary markers to carry (:func:`cdt_plugin.triangulate`'s keywords of
+        the same names, which win over these).
+    vertex_attributes : (n,) or (n, k) float, or None
+        Vertex attributes to carry (likewise).
     """
 
     vertices: NDArray[np.float64]
@@ -50,6 +55,9 @@ class PLC:
     ring_is_hole: NDArray[np.bool_] | None = None
     z: NDArray[np.float64] | None = None
     degenerate_rings: list[tuple[int, int]] = field(default_factory=list)
+    vertex_markers: ArrayLike | None = None
+    segment_markers: ArrayLike | None = None
+    vertex_attributes: ArrayLike | None = None
 
     @property
     def has_rings(self) -> bool:
@@ -75,8 +83,11 @@ def _read_geometry(obj, required):
     mapping (:func:`geojson_parts`). None for input that is no geometry,
     unless ``required``."""
     shapely = _shapely_of(obj)
-    if shapely is not None and (type(obj) is shapely.Polygon or type(obj) is shapely.MultiPolygon):
-        rings = shapely_polygon_rings(shapely, obj)
+    kind = type(obj)
+    if shapely is not None and (kind is shapely.Polygon or kind is shapely.MultiPolygon):
+        # (the one Polygon's reader called directly: a small call pays for every Python call)
+        rings = (_one_polygon_rings(shapely, obj) if kind is shapely.Polygon
+                 else shapely_polygon_rings(shapely, obj))
         if len(rings.ring_start):     # (else a ring that does not close, an EMPTY hole: the builder names it)
             return ring_plc(rings.xy, rings.ring_start[:-1], rings.ring_start[1:], rings.ring_polygon,
                             rings.ring_is_hole, rings.z)[0]
@@ -495,6 +506,40 @@ def as_plc(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | None 
 
 
 _NO_SEGMENTS = np.empty((0, 2), np.int64)
+RING_ROLES = ("exterior", "holes")
+
+
+def ring_markers(plc: PLC, markers: int | Mapping[str, int]) -> NDArray[np.int64]:
+    """Segment markers that mark each ring of ``plc`` (a PLC of polygons) by its
+    role: ``markers`` one integer for every ring, or a mapping
+    ``{"exterior": e, "holes": h}`` (a role left out: 0, Triangle's "unmarked",
+    so the boundary default 1 applies). Segments of no ring (lines) get 0.
+    :class:`InputShapeError` for anything else.
+
+    >>> plc = PLC.from_geo_interface({"type": "Polygon", "coordinates":
+    ...     [[(0, 0), (4, 0), (4, 4), (0, 0)], [(1, 0.5), (3, 1), (3, 2), (1, 0.5)]]})
+    >>> ring_markers(plc, {"exterior": 1, "holes": 2}).tolist()
+    [1, 1, 1, 2, 2, 2]
+    """
+    if isinstance(markers, Mapping):
+        unknown = set(markers) - set(RING_ROLES)
+        if unknown:
+            raise InputShapeError(f"markers keys must be among {RING_ROLES}, got {sorted(map(str, unknown))}")
+        exterior, holes = (_ring_marker(markers.get(role, 0), role) for role in RING_ROLES)
+    else:
+        exterior = holes = _ring_marker(markers, "every ring")
+    ring = plc.segment_ring if plc.segment_ring is not None else np.full(len(plc.segments), -1)
+    is_hole = plc.ring_is_hole if plc.ring_is_hole is not None else np.zeros(0, bool)
+    out = np.zeros(len(plc.segments), np.int64)
+    on_ring = ring >= 0
+    out[on_ring] = np.where(is_hole[ring[on_ring]], holes, exterior)
+    return out
+
+
+def _ring_marker(value: Any, role: str) -> int:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise InputShapeError(f"the marker of {role} must be an integer, got {value!r}")
+    return int(value)
 
 
 def _as_regions(regions) -> np.ndarray:

@@ -15,7 +15,7 @@ from ._core.output import (relabel_store, rotate_min_first,
                            store_neighbors, store_triangles)
 from ._routes import (DelaunayBuild, build_delaunay, collinear_chain, flip_moved, route_arrays,
                       route_triangles)
-from . import hooks, queries
+from . import hooks, markers, queries
 from .errors import (CDTError, InputShapeError, InvalidMeshError, InvertedTriangleError,
                      RefinementLimitError)
 from .options import MeshOptions, resolve_algorithm
@@ -33,6 +33,7 @@ if TYPE_CHECKING:
     import trimesh
     from matplotlib.axes import Axes
 
+    from .quadratic import QuadraticMesh
     from .report import Report
     from .voronoi import Subdivision, Voronoi
 
@@ -52,6 +53,8 @@ def _frozen_empty(shape: int | tuple[int, ...]) -> NDArray[np.int64]:
 _NO_SEGMENTS = _frozen_empty((0, 2))   # shared defaults: empty and read-only
 _NO_IDS = _frozen_empty(0)
 # the attributes of a route's result that are made on first access (Triangulation.from_route)
+# the markers and attributes made on first access (functools.cached_property)
+_MARKED = ("vertex_markers", "segment_markers", "edge_markers", "vertex_attributes")
 _LAZY_ATTRIBUTES = frozenset({"neighbors", "vertex_map", "constrained", "regions", "segments",
                               "segment_ids", "steiner", "below_min_angle", "region_attributes"})
 
@@ -95,6 +98,10 @@ class Triangulation:
     below_min_angle : (q,) int64
         After refinement with ``min_angle``: the triangles that still miss the
         bound (at small input angles); empty otherwise.
+    tags : :class:`~cdt_plugin.markers.Tags` or None
+        The markers and attributes given with the input (None: none given);
+        ``vertex_markers``, ``segment_markers``, ``edge_markers`` and
+        ``vertex_attributes`` are derived from it on first access.
     """
 
     vertices: NDArray[np.float64]
@@ -109,6 +116,7 @@ class Triangulation:
     steiner: NDArray[np.int64]
     below_min_angle: NDArray[np.int64]
     region_attributes: NDArray[np.float64] | None
+    tags: markers.Tags | None = None      # (set only when markers or attributes are given)
     _stats: Stats
     _refinement: RefineState | None = None     # the store a refined result keeps (refine())
     _edges: NDArray[np.int64] | None
@@ -228,7 +236,9 @@ class Triangulation:
 
     @classmethod
     def from_triangles(cls, vertices: ArrayLike, triangles: ArrayLike,
-                       segments: ArrayLike | None = None) -> Triangulation:
+                       segments: ArrayLike | None = None, *,
+                       vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
+                       vertex_attributes: ArrayLike | None = None) -> Triangulation:
         """A triangulation given as vertices and index triangles (a mesh made
         elsewhere, a TIN read back from a file), for queries, certificates and
         refinement (:meth:`refine`).
@@ -236,7 +246,10 @@ class Triangulation:
         Triangles may turn either way (clockwise ones are turned round).
         ``segments``: (m, 2) vertex pairs that must stay edges when the mesh is
         refined (``tri.segments``, ``tri.segment_ids`` their rows, repeats
-        dropped; the mesh's boundary stays too). Raises
+        dropped; the mesh's boundary stays too). ``vertex_markers``,
+        ``segment_markers`` (one per row of ``segments``) and
+        ``vertex_attributes`` as for :func:`cdt_plugin.triangulate`: kept in
+        ``tags`` and carried by refinement. Raises
         :class:`InputShapeError` for bad shapes or indices,
         :class:`InvertedTriangleError` for a triangle without area,
         :class:`CDTError` for repeated vertices, and :class:`InvalidMeshError`
@@ -279,11 +292,14 @@ class Triangulation:
                 "(an edge in more than two triangles, or two triangles folded over)",
                 triangles=(t, u))
         rotate_min_first(T, nb)
-        if segments is None:
-            return cls(V, T, nb, np.arange(n, dtype=np.int64), {"triangles": len(T)})
-        segs, ids, constrained = _segments_of_mesh(as_segments(segments, n), T)
-        return cls(V, T, nb, np.arange(n, dtype=np.int64), {"triangles": len(T)},
-                   constrained=constrained, segments=segs, segment_ids=ids)
+        out = cls(V, T, nb, np.arange(n, dtype=np.int64), {"triangles": len(T)})
+        segs = out.segments
+        if segments is not None:
+            segs = as_segments(segments, n)
+            out.segments, out.segment_ids, out.constrained = _segments_of_mesh(segs, T)
+        if vertex_markers is not None or segment_markers is not None or vertex_attributes is not None:
+            out.tags = markers.make_tags(n, segs, vertex_markers, segment_markers, vertex_attributes)
+        return out
 
     def refine(self, *, min_angle: float | None = None, max_area: float | ArrayLike | None = None,
                conforming_delaunay: bool = False, split_boundary: bool = True,
@@ -299,17 +315,21 @@ class Triangulation:
         with one bound per triangle of ``triangles`` (Triangle's ``.area``
         file; a value <= 0 or NaN: no bound for that triangle). Bounds follow
         the triangles: a new triangle has the bound of the triangle it was
-        made from, and where a flip joins two triangles with different bounds
-        both take the tighter one, so no triangle of the result is larger than
-        the bound of any triangle of this mesh it overlaps (Triangle averages
-        the two bounds instead).
+        made in, and the edges between triangles with different bounds are
+        kept while refinement runs (split where needed, never flipped), so no
+        triangle of the result is larger than the bound of any triangle of
+        this mesh it overlaps (Triangle flips across them and averages the two
+        bounds). The mesh is made constrained Delaunay first (flips that cross
+        no segment, boundary edge or such edge), as refinement needs.
 
         The result's ``vertices`` are this mesh's, in the same order, then the
         new Steiner points; ``segment_ids`` name the original segments (those
         of ``triangulate``'s input, or of :meth:`from_triangles`; -1 for the
         boundary's pieces); ``regions`` and ``region_attributes`` follow each
         triangle's parent; ``below_min_angle`` and ``stats`` as
-        ``triangulate`` gives them. The refined mesh keeps its internal
+        ``triangulate`` gives them; markers and attributes (``tags``) carried,
+        a new point's attributes interpolated in this mesh (as Triangle's
+        ``-r``). The refined mesh keeps its internal
         store: refining it again goes on from there, without reading the mesh
         anew. Raises :class:`InvalidMeshError` naming a triangle that
         overlaps others, :class:`RefinementLimitError` (with the partial
@@ -337,6 +357,7 @@ class Triangulation:
             below_min_angle=r.below_min_angle,
             region_attributes=None if self.region_attributes is None else self.region_attributes[r.parents])
         out._refinement = r.state
+        out.tags = markers.refined_tags(self.tags, self, lambda: self.vertex_attributes)
         if not r.complete:
             raise RefinementLimitError(
                 f"refinement stopped at max_steiner={r.stats['refinement_limit']} Steiner points "
@@ -377,6 +398,50 @@ class Triangulation:
             keep = (nb[k, j] < 0) | (k < nb[k, j])
             self._edges = np.column_stack([t[k, (j + 1) % 3], t[k, (j + 2) % 3]])[keep]
         return self._edges
+
+    # ------------------------------------------- markers and attributes (lazy)
+    @functools.cached_property
+    def vertex_markers(self) -> NDArray[np.int64]:
+        """(n,) int64 boundary marker of each vertex, Triangle's rules: its input
+        marker if nonzero, else the nonzero marker of a segment it lies on, else
+        1 on the boundary, else 0 (see :mod:`cdt_plugin.markers`)."""
+        return markers.vertex_markers(self, self.tags)
+
+    @functools.cached_property
+    def segment_markers(self) -> NDArray[np.int64]:
+        """(s,) int64 marker of each row of ``segments``: its input segment's
+        marker if nonzero, else 1 on the boundary, else 0."""
+        return markers.segment_markers(self, self.tags)
+
+    @functools.cached_property
+    def edge_markers(self) -> NDArray[np.int64]:
+        """(e,) int64 marker of each row of ``edges``: the marker of the segment
+        piece it is, else 1 on the boundary, else 0."""
+        return markers.edge_markers(self, self.tags)
+
+    @functools.cached_property
+    def vertex_attributes(self) -> NDArray[np.float64] | None:
+        """(n, k) float64 attributes of every vertex, or None when none were
+        given: input vertices keep theirs, Steiner points get the linear
+        interpolation on their segment, or on the triangle of the unrefined
+        mesh that holds them (see :mod:`cdt_plugin.markers`)."""
+        return markers.vertex_attributes(self, self.tags)
+
+    def quadratic(self) -> QuadraticMesh:
+        """Second-order elements (Triangle's ``-o2``): the six-node triangles of
+        this triangulation, node ``3 + i`` of each at the midpoint of the edge
+        opposite corner ``i``, one midpoint per row of ``edges`` after the
+        vertices, shared by the edge's triangles; a midpoint has its edge's
+        marker and the mean of its ends' attributes
+        (see :class:`cdt_plugin.quadratic.QuadraticMesh`).
+
+        >>> import cdt_plugin
+        >>> mesh = cdt_plugin.triangulate([[0, 0], [2, 0], [0, 2]], [[0, 1], [1, 2], [2, 0]]).quadratic()
+        >>> mesh.triangles.tolist(), mesh.vertices[3:].tolist()
+        ([[0, 1, 2, 3, 4, 5]], [[1.0, 1.0], [0.0, 1.0], [1.0, 0.0]])
+        """
+        from .quadratic import quadratic      # (loaded on first use)
+        return quadratic(self, self.vertex_markers, self.edge_markers, self.vertex_attributes)
 
     @property
     def submerged(self) -> NDArray[np.intp]:
@@ -594,8 +659,8 @@ class Triangulation:
         flips = defect = -1
         if self._mesh is not None and self.weights is None:
             (tri, twin, cons, ntri, inf), flips, defect = flip_moved(self._mesh, new)
-        self.__dict__.pop("_walk", None)       # the queries' meshes follow the vertices
-        self.__dict__.pop("_blocked", None)
+        for derived in ("_walk", "_blocked", *_MARKED):   # the queries' meshes and markers follow
+            self.__dict__.pop(derived, None)
         if flips >= 0 and defect < 0:
             self._mesh = (tri, twin, cons, ntri, inf)
             self.__dict__.pop("_lazy", None)     # every array is made here

@@ -4,7 +4,8 @@ precise :class:`CDTError` subclass naming the offending rows.
 The one implementation of each check of the package: points (:func:`as_xy`,
 with :func:`as_points` and :func:`as_queries` its two common forms), weights
 (:func:`as_weights`), index arrays (:func:`as_index`), segments
-(:func:`as_segments`), a mesh made elsewhere (:func:`as_mesh`), an area bound per
+(:func:`as_segments`), boundary markers (:func:`as_markers`), vertex attributes
+(:func:`as_attributes`), a mesh made elsewhere (:func:`as_mesh`), an area bound per
 triangle (:func:`as_triangle_bounds`) and the coordinate range of the exact predicates
 (:func:`exact_range`)."""
 from __future__ import annotations
@@ -231,6 +232,47 @@ def as_weights(weights: ArrayLike | None, n: int) -> NDArray[np.float64] | None:
     if bad.size:
         raise NonFiniteCoordinateError(f"weights are NaN or infinite at row(s) {_rows(bad)}")
     return np.ascontiguousarray(w)
+
+
+def as_markers(markers: ArrayLike, n: int, name: str, what: str) -> NDArray[np.int64]:
+    """Boundary markers (Triangle's): one integer per ``what`` (``n`` of them), as an
+    (n,) int64 array; an (n, 1) column (the ``triangle`` package's shape) and whole
+    numbers given as floats are taken. Else :class:`InputShapeError` naming the
+    first bad row."""
+    arr = as_array(markers, name)
+    if arr.ndim == 2 and arr.shape[1] == 1:
+        arr = arr[:, 0]
+    if arr.shape != (n,):
+        raise InputShapeError(f"{name} must have one marker per {what}: shape ({n},), "
+                              f"got {arr.shape}")
+    if arr.dtype.kind == "b":
+        return arr.astype(np.int64)
+    if arr.dtype.kind not in "iu":
+        arr = real_array(arr, name)
+        bad = np.flatnonzero((arr != np.round(arr)) | ~np.isfinite(arr) | (np.abs(arr) > 2**62))
+        if bad.size:
+            raise InputShapeError(f"{name} must be integers: row {int(bad[0])} is "
+                                  f"{float(arr[bad[0]])!r} ({bad.size} such rows)")
+    elif arr.dtype == np.uint64 and (arr > 2**62).any():
+        bad = np.flatnonzero(arr > 2**62)
+        raise InputShapeError(f"{name} row {int(bad[0])} is too large for int64 ({int(arr[bad[0]])})")
+    return np.ascontiguousarray(arr, dtype=np.int64)
+
+
+def as_attributes(attributes: ArrayLike, n: int, name: str = "vertex_attributes") -> NDArray[np.float64]:
+    """Vertex attributes: an (n,) or (n, k) array of finite numbers, as an (n, k)
+    float64 array (k may be 0). Else :class:`InputShapeError` for the shape or
+    :class:`NonFiniteCoordinateError` naming the rows with NaN or infinity."""
+    arr = real_array(attributes, name)
+    if arr.ndim == 1 and len(arr) == n:
+        arr = arr[:, None]
+    if arr.ndim != 2 or arr.shape[0] != n:
+        raise InputShapeError(f"{name} must have one row per input vertex: shape ({n},) or "
+                              f"({n}, k), got {arr.shape}")
+    bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
+    if bad.size:
+        raise NonFiniteCoordinateError(f"{name} are NaN or infinite at row(s) {_rows(bad)}")
+    return np.ascontiguousarray(arr)
 
 
 _NO_WEIGHTS = np.empty(0)

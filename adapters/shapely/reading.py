@@ -3,6 +3,7 @@ PLC of a geometry, one Triangulation per geometry (:func:`triangulate`) or a
 whole batch in one compiled call (:func:`triangulate_batch`)."""
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -13,7 +14,7 @@ import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, TooFewPointsError
 from cdt_plugin.batch import CHUNK, MeshBatch, check_batch_options, geometry_plc, triangulate_rings
 from cdt_plugin.parallel import map_ordered, resolve_workers
-from cdt_plugin.plc import shapely_polygon_rings
+from cdt_plugin.plc import ring_markers, shapely_polygon_rings
 
 if TYPE_CHECKING:
     import pandas
@@ -41,7 +42,7 @@ _REPAIR_METHODS = {True: "linework", "linework": "linework", "structure": "struc
 _VECTORISED_FROM = 16    # polygons read as flat ring arrays from this many on (else one by one)
 
 
-def triangulate(geometry: Any, *, repair: Repair = False, **options: Any
+def triangulate(geometry: Any, *, repair: Repair = False, markers: Any = None, **options: Any
                 ) -> cdt_plugin.Triangulation | list[cdt_plugin.Triangulation | None] | pandas.Series:
     """Constrained Delaunay triangulation of a shapely geometry (or of each geometry
     of an array).
@@ -70,6 +71,11 @@ def triangulate(geometry: Any, *, repair: Repair = False, **options: Any
         lines and points are dropped). ``"structure"``: ``make_valid(g,
         method="structure", keep_collapsed=False)`` (shell minus holes).
         Valid geometries are never changed.
+    markers : int, or {"exterior": int, "holes": int}, optional
+        Boundary markers of the polygons' rings (their segment markers, see
+        :func:`cdt_plugin.plc.ring_markers`; ``tri.segment_markers``,
+        ``tri.vertex_markers``...). For array input also one such value per
+        geometry (e.g. a column of a GeoDataFrame: markers from an attribute).
     **options
         Passed to :func:`cdt_plugin.triangulate` (``intersections``, ``keep_hull``,
         ``holes``, ``regions``, ``algorithm``, ``max_steiner``).
@@ -100,11 +106,11 @@ def triangulate(geometry: Any, *, repair: Repair = False, **options: Any
     [8, 2]
     """
     method = repair_method(repair)
-    if plain_polygon(geometry):
+    if markers is None and plain_polygon(geometry):
         return cdt_plugin.triangulate(geometry, **options)
     if is_array_input(geometry):
         arr = np.asarray(geometry, dtype=object).ravel()
-        out = _triangulate_many(arr, method, options, indexed=True)
+        out = _triangulate_many(arr, method, options, indexed=True, markers=_per_geometry(markers, len(arr)))
         if hasattr(geometry, "iloc"):     # a pandas Series: a Series of Triangulations, same index
             values = np.empty(len(out), dtype=object)
             values[:] = out
@@ -112,7 +118,22 @@ def triangulate(geometry: Any, *, repair: Repair = False, **options: Any
         return out
     if geometry is None:
         raise InputShapeError("expected a shapely geometry, got None")
-    return _triangulate_many(np.array([geometry], dtype=object), method, options, indexed=False)[0]
+    return _triangulate_many(np.array([geometry], dtype=object), method, options, indexed=False,
+                             markers=None if markers is None else [markers])[0]
+
+
+def _per_geometry(markers: Any, n: int) -> list[Any] | None:
+    """The ``markers`` of each of ``n`` geometries: one value for all, or one each
+    (a sequence, array or Series)."""
+    if markers is None:
+        return None
+    if isinstance(markers, (int, np.integer, Mapping)):
+        return [markers] * n
+    values = list(markers)
+    if len(values) != n:
+        raise InputShapeError(f"markers must be one value for all geometries or one per geometry "
+                              f"({n}), got {len(values)}")
+    return values
 
 
 def plc_from_shapely(geometry: shapely.Geometry | None, *, repair: Repair = False) -> PLC | None:
@@ -293,7 +314,7 @@ def like_input(values: np.ndarray, geometry: Any) -> Any:
 
 
 def _triangulate_many(arr: NDArray[np.object_], method: str | None, options: dict[str, Any],
-                      indexed: bool) -> list[cdt_plugin.Triangulation | None]:
+                      indexed: bool, markers: list[Any] | None = None) -> list[cdt_plugin.Triangulation | None]:
     plcs = geometry_plcs(arr, method, indexed)
     out: list[cdt_plugin.Triangulation | None] = []
     for i, plc in enumerate(plcs):
@@ -301,6 +322,8 @@ def _triangulate_many(arr: NDArray[np.object_], method: str | None, options: dic
             out.append(None)
             continue
         try:
+            if markers is not None:
+                plc.segment_markers = ring_markers(plc, markers[i])
             out.append(cdt_plugin.triangulate(plc, **options))
         except CDTError as e:
             raise with_index(e, i, indexed)

@@ -202,24 +202,40 @@ def write_neigh(path: str | os.PathLike[str], neighbors: ArrayLike | Triangulati
 
 
 def write_triangulation(path: str | os.PathLike[str], tri: Triangulation,
-                        attributes: ArrayLike | None = None) -> list[Path]:
+                        attributes: ArrayLike | None = None, *, markers: bool = False,
+                        order: int = 1) -> list[Path]:
     """Write a Triangulation as Triangle writes its output: ``<base>.node``,
     ``<base>.ele`` (with ``attributes`` per triangle, if given) and ``<base>.poly``
     (its segment pieces), ``<base>`` being ``path`` without its extension. Returns
     the three paths.
 
+    The vertices' attributes go in the ``.node`` file when the triangulation has
+    them (``tri.vertex_attributes``); ``markers``: the boundary markers of the
+    vertices and segment pieces too (``tri.vertex_markers``,
+    ``tri.segment_markers``), as Triangle writes them unless ``-B``. ``order=2``:
+    six-node triangles (Triangle's ``-o2``, :meth:`Triangulation.quadratic`), the
+    edges' midpoints in the ``.node`` file after the vertices.
+
     >>> import os, tempfile, cdt_plugin
-    >>> from cdt_plugin.io import read_ele
+    >>> from cdt_plugin.io import read_ele, read_node
     >>> base = os.path.join(tempfile.mkdtemp(), "square")
     >>> tri = cdt_plugin.triangulate([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1], [1, 2], [2, 3], [3, 0]])
     >>> [p.name for p in write_triangulation(base + ".ele", tri)]
     ['square.node', 'square.ele', 'square.poly']
     >>> read_ele(base + ".ele").triangles.shape
     (2, 3)
+    >>> paths = write_triangulation(base, tri, markers=True, order=2)
+    >>> read_ele(paths[1]).triangles.shape, read_node(paths[0]).markers.tolist()
+    ((2, 6), [1, 1, 1, 1, 1, 1, 0, 1, 1])
     """
+    if order not in (1, 2):
+        raise InputShapeError(f"order must be 1 or 2 (six-node triangles), got {order!r}")
     base = Path(path).with_suffix("")
     paths = [base.with_suffix(s) for s in (".node", ".ele", ".poly")]
-    write_node(paths[0], tri)
-    write_ele(paths[1], tri, attributes=attributes)
-    write_poly(paths[2], tri)
+    mesh = tri.quadratic() if order == 2 else tri
+    write_node(paths[0], mesh.vertices, mesh.vertex_attributes,
+               mesh.vertex_markers if markers else None)
+    write_ele(paths[1], mesh.triangles, attributes=attributes)
+    write_poly(paths[2], tri.vertices, tri.segments,
+               segment_markers=tri.segment_markers if markers else None)
     return paths

@@ -686,3 +686,23 @@ def test_batch_reads_and_checks_the_geometries_on_its_threads(monkeypatch):
         assert np.array_equal(ref.vertices[ids[ids < len(xy)]], xy[ids[ids < len(xy)]])
         assert_valid(ref.vertices[ids], local[segs.size:].reshape(-1, 3),
                      segments=local[:segs.size].reshape(-1, 2), domain="segments")
+
+
+def test_ring_markers_mark_exterior_and_holes():
+    """``markers=``: each ring's segments get its role's marker, their vertices
+    and Steiner points too; one value per geometry for array input (a column)."""
+    poly = shapely.Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(1, 1), (1, 3), (3, 3), (3, 1)]])
+    tri = sa.triangulate(poly, markers={"exterior": 3, "holes": 2}, max_area=0.5)
+    assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
+    xy = tri.vertices[tri.segments].mean(axis=1)
+    inner = (xy >= 1).all(axis=1) & (xy <= 3).all(axis=1)
+    assert (tri.segment_markers == np.where(inner, 2, 3)).all()
+    on_hole = (tri.vertices >= 1).all(axis=1) & (tri.vertices <= 3).all(axis=1)
+    assert (tri.vertex_markers[on_hole] == 2).all() and (tri.vertex_markers[~on_hole & (tri.vertex_markers > 0)] == 3).all()
+    both = sa.triangulate([poly, shapely.box(5, 0, 6, 1)], markers=np.array([5, 7]))
+    assert [sorted(set(t.segment_markers.tolist())) for t in both] == [[5], [7]]
+    assert set(sa.triangulate(poly, markers={"holes": 4}).segment_markers.tolist()) == {1, 4}
+    with pytest.raises(cdt_plugin.InputShapeError, match="among"):
+        sa.triangulate(poly, markers={"hole": 1})
+    with pytest.raises(cdt_plugin.InputShapeError, match="one per geometry"):
+        sa.triangulate([poly, poly], markers=[1, 2, 3])
