@@ -324,3 +324,27 @@ def test_refining_again_at_a_small_input_angle_adds_nothing():
                     delaunay=False)
     new = thrice.vertices[len(once.vertices):]
     assert len(new) > 0 and (np.hypot(new[:, 0], new[:, 1]) > 3).all()
+
+
+def test_markers_and_attributes_are_carried():
+    """Markers and attributes of the mesh refined, as Triangle's -r carries them: the
+    segments' markers on their pieces and the points on them, attributes interpolated
+    linearly (a linear field stays linear, up to rounding)."""
+    V = np.array([[0, 0], [2, 0], [2, 2], [0, 2], [1, 1]], float)
+    T = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
+    plane = (1 + 2 * V[:, 0] - 3 * V[:, 1])[:, None]
+    base = cdt_plugin.Triangulation.from_triangles(V, T, segments=[[0, 4], [4, 2]],
+                                                   segment_markers=[7, 7], vertex_markers=[0, 0, 0, 0, 5],
+                                                   vertex_attributes=plane)
+    out = verify(base, base.refine(max_area=0.02, min_angle=25), bounds=0.02, min_angle=25)
+    assert np.allclose(out.vertex_attributes[:, 0], 1 + 2 * out.vertices[:, 0] - 3 * out.vertices[:, 1],
+                       atol=1e-12)
+    assert (out.segment_markers[out.segment_ids >= 0] == 7).all()
+    on_diagonal = np.unique(out.segments[out.segment_ids >= 0])
+    inner = on_diagonal[(on_diagonal != 0) & (on_diagonal != 2) & (on_diagonal != 4)]
+    assert len(inner) > 0 and (out.vertex_markers[inner] == 7).all() and out.vertex_markers[4] == 5
+    boundary = out.segment_ids < 0
+    assert (out.segment_markers[boundary] == 1).all()
+    again = out.refine(max_area=0.005)
+    assert np.allclose(again.vertex_attributes[:, 0], 1 + 2 * again.vertices[:, 0] - 3 * again.vertices[:, 1],
+                       atol=1e-12)
