@@ -167,9 +167,11 @@ def already_met(options: MeshOptions, areas: NDArray[np.float64], bounds: NDArra
 def unchanged(tri: Any, options: MeshOptions, state: RefineState, t0: float) -> Refined:
     """:class:`Refined` for a mesh that meets the bounds already: its own arrays."""
     below = tri.below_min_angle
-    if options.min_angle:
-        below = below[min_angles(tri.vertices, tri.triangles[below]) < options.min_angle]
-    else:
+    if options.min_angle and len(below):     # (those the bound excuses: a subset of the last ones)
+        from .report import triangle_quality    # (loaded on first use: import cdt_plugin stays fast)
+        angles = triangle_quality(tri.vertices, tri.triangles[below])["angles"].min(axis=1)
+        below = below[angles < options.min_angle]
+    elif not options.min_angle:
         below = below[:0]
     stats = {"algorithm": "refine", "input_points": len(tri.vertices),
              "input_triangles": len(tri.triangles), "input_segments": len(tri.segments),
@@ -179,17 +181,6 @@ def unchanged(tri: Any, options: MeshOptions, state: RefineState, t0: float) -> 
              "refinement_limit": 0, "below_min_angle": len(below), "seconds": time.perf_counter() - t0}
     return Refined(tri.vertices, tri.triangles, tri.neighbors, tri.constrained, tri.segments,
                    tri.segment_ids, np.arange(len(tri.triangles)), below, stats, True, state)
-
-
-def min_angles(V: NDArray[np.float64], T: NDArray[np.int64]) -> NDArray[np.float64]:
-    """The smallest angle of each triangle, in degrees (floating point)."""
-    P = V[T]
-    out = []
-    for j in range(3):
-        u = P[:, (j + 1) % 3] - P[:, j]
-        w = P[:, (j + 2) % 3] - P[:, j]
-        out.append(np.degrees(np.arctan2(np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]), (u * w).sum(axis=1))))
-    return np.min(out, axis=0) if out else np.empty(0)
 
 
 def read_mesh(V: NDArray[np.float64], T: NDArray[np.int64], segments: NDArray[np.int64],

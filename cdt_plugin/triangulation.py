@@ -10,7 +10,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._core.certify import edge_lifted_values, orientation_signs, submerged_ok
 from ._core.mesh import DEAD
-from ._core.remesh import triangle_neighbors
 from ._core.output import (relabel_store, rotate_min_first,
                            store_neighbors, store_triangles)
 from ._routes import (DelaunayBuild, build_delaunay, collinear_chain, flip_moved, route_arrays,
@@ -22,11 +21,11 @@ from .options import MeshOptions, resolve_algorithm
 from .optional import require
 from .parallel import resolve_workers
 from .plc import PLC
-from .refining import RefineState, refine_mesh
 from .types import MeshLike, MeshStore
 from .validate import as_points, as_segments, as_triangle_bounds, exact_range
 
 if TYPE_CHECKING:
+    from .refining import RefineState
     import matplotlib.tri
     import open3d
     import shapely
@@ -284,6 +283,7 @@ class Triangulation:
             raise InvertedTriangleError(f"triangle {t} {T[t].tolist()} has no area (its corners are collinear)")
         T = np.where((signs < 0)[:, None], T[:, [0, 2, 1]], T)
         T = np.ascontiguousarray(T)
+        from ._core.remesh import triangle_neighbors    # (loaded on first use, with refining's kernels)
         nb, t, u = triangle_neighbors(T, n)
         if t >= 0:
             raise InvalidMeshError(
@@ -349,6 +349,7 @@ class Triangulation:
                                     split_boundary=split_boundary, max_steiner=max_steiner,
                                     split_segments=split_segments)
         bounds = as_triangle_bounds(cast(ArrayLike, max_area), len(self.triangles)) if per_triangle else None
+        from .refining import refine_mesh      # (loaded on first use: import cdt_plugin stays fast)
         r = refine_mesh(self, options, bounds, self._refinement)
         out = Triangulation(
             r.vertices, r.triangles, r.neighbors, self.vertex_map, r.stats, constrained=r.constrained,
