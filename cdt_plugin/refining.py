@@ -122,7 +122,8 @@ def refine_mesh(tri: Any, options: MeshOptions, bounds: NDArray[np.float64] | No
     else:       # refinement works in place: the state stays as it is for another call
         state = state._replace(store=tuple(a.copy() if isinstance(a, np.ndarray) else a
                                            for a in state.store), vseg=state.vseg.copy())
-    per_bound = float((areas[bounded] / bounds[bounded]).sum())
+    with np.errstate(over="ignore"):
+        per_bound = float((areas[bounded] / bounds[bounded]).sum())     # (inf: the caps below)
     max_new = options.max_steiner
     if max_new is None:      # the default cap of triangulate's refinement
         max_new = 100 * nv + 100_000 + int(min(8 * per_bound, AREA_STEINER_CAP))
@@ -252,9 +253,12 @@ def _vertices_in(V, corners):
 
 
 def triangle_areas(V: NDArray[np.float64], T: NDArray[np.int64]) -> NDArray[np.float64]:
-    """The area of each triangle (floating point)."""
+    """The area of each triangle (floating point; inf where it overflows, at
+    coordinates near the largest doubles)."""
     a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
-    return 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    return np.where(np.isnan(d), np.inf, 0.5 * np.abs(d))
 
 
 def scaled_areas(bounds: NDArray[np.float64], shift: int) -> NDArray[np.float64]:
