@@ -141,7 +141,8 @@ def refine_mesh(tri: Any, options: MeshOptions, bounds: NDArray[np.float64] | No
                          min_angle=options.min_angle or 0.0, complete=status == FINISHED)
     stats = {"algorithm": "refine", "input_points": nv, "input_triangles": len(T),
              "input_segments": len(tri.segments), "vertices": len(vertices),
-             "triangles": len(triangles), "refinement_steiner": int(counts[C_STEINER]),
+             "triangles": len(triangles), "steiner": len(tri.steiner) + len(vertices) - nv,
+             "refinement_steiner": int(counts[C_STEINER]),
              "refinement_segment_splits": int(counts[C_SEG_SPLITS]),
              "refinement_flips": int(counts[C_FLIPS]), "frozen_segment_pieces": int(counts[C_FROZEN]),
              "refinement_attempts": int(counts[C_ATTEMPTS]),
@@ -176,7 +177,8 @@ def unchanged(tri: Any, options: MeshOptions, state: RefineState, t0: float) -> 
         below = below[:0]
     stats = {"algorithm": "refine", "input_points": len(tri.vertices),
              "input_triangles": len(tri.triangles), "input_segments": len(tri.segments),
-             "vertices": len(tri.vertices), "triangles": len(tri.triangles), "refinement_steiner": 0,
+             "vertices": len(tri.vertices), "triangles": len(tri.triangles),
+             "steiner": len(tri.steiner), "refinement_steiner": 0,
              "refinement_segment_splits": 0, "refinement_flips": 0, "frozen_segment_pieces": 0,
              "refinement_attempts": 0, "refinement_deferred": 0, "refinement_complete": True,
              "refinement_limit": 0, "below_min_angle": len(below), "seconds": time.perf_counter() - t0}

@@ -67,6 +67,7 @@ def verify(base, out, *, bounds=None, min_angle=None, delaunay=True):
                                      out.segment_ids[mine])
         assert rep.ok, str(rep)
     assert out.stats["refinement_complete"]
+    assert out.stats["steiner"] == len(out.steiner) and out.stats["triangles"] == len(T)
     if min_angle:
         below = np.flatnonzero(min_angles(V, T) < min_angle * (1 - 1e-9))
         assert set(below.tolist()) <= set(out.below_min_angle.tolist())
