@@ -66,7 +66,8 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 conforming_delaunay: bool = False, split_boundary: bool = True,
                 max_steiner: int | None = None, workers: int | None = None,
                 vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
-                vertex_attributes: ArrayLike | None = None) -> Triangulation:
+                vertex_attributes: ArrayLike | None = None,
+                split_segments: bool = True) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
     Parameters
@@ -130,6 +131,10 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     split_boundary : bool
         With ``False`` no Steiner point goes on the domain boundary (Triangle's
         ``-Y``); the triangles there may then miss the bounds.
+    split_segments : bool
+        With ``False`` no Steiner point goes on any segment, inside the domain
+        or on its boundary (Triangle's ``-YY``); the triangles at segments may
+        then miss the bounds.
     max_steiner : int, optional
         Cap on Steiner points (intersections with ``"split"`` plus refinement).
         Crossings are counted before anything is built: more than the cap
@@ -180,12 +185,13 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     t0 = time.perf_counter()
     try:     # (cached: a small call pays for every Python call the checks make)
         options = checked_options(intersections, algorithm, keep_hull, min_angle, max_area,
-                                  conforming_delaunay, split_boundary, max_steiner)
+                                  conforming_delaunay, split_boundary, max_steiner, split_segments)
     except TypeError:      # an unhashable value: checked anew, and named
         options = MeshOptions.check(intersections=intersections, algorithm=algorithm,
                                     keep_hull=keep_hull, min_angle=min_angle, max_area=max_area,
                                     conforming_delaunay=conforming_delaunay,
-                                    split_boundary=split_boundary, max_steiner=max_steiner)
+                                    split_boundary=split_boundary, max_steiner=max_steiner,
+                                    split_segments=split_segments)
     workers = check_workers(workers)
     plc = as_plc(vertices, segments, holes, regions)
     tags = None

@@ -53,7 +53,8 @@ def _triangulate():
 
 
 def _refine():
-    triangulate(*_square(), min_angle=30, max_area=0.1)
+    tri = triangulate(*_square(), min_angle=30, max_area=0.1)
+    tri.refine(max_area=np.full(len(tri.triangles), 0.05))      # an existing mesh (-r)
 
 
 def _split():

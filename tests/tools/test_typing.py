@@ -67,6 +67,7 @@ TYPED_MODULES = [
     "cdt_plugin.markers",
     "cdt_plugin.queries",
     "cdt_plugin.quadratic",
+    "cdt_plugin.refining",
     "cdt_plugin.report",
     "cdt_plugin.switches",
     "cdt_plugin.triangulation",
