@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any, Callable, Union
 import numpy as np
 import shapely
 
-from cdt_plugin import InputShapeError
+from cdt_plugin import FileFormatError, InputShapeError
 from cdt_plugin.optional import require
 from cdt_plugin.plc import geojson_features
 
@@ -50,8 +50,15 @@ def read(data: LayerLike, *, layer: str | int | None = None) -> GeoDataFrame:
             if layer is not None:
                 raise InputShapeError("layer= applies to multi-layer files (.gpkg): a GeoParquet "
                                       "file holds one layer")
-            return geopandas.read_parquet(path)
-        return geopandas.read_file(path, layer=layer, engine="pyogrio")
+        try:
+            if path.suffix.lower() == ".parquet":
+                return geopandas.read_parquet(path)
+            return geopandas.read_file(path, layer=layer, engine="pyogrio")
+        except (RuntimeError, OSError, ValueError) as exc:    # pyogrio's and pyarrow's errors
+            error = FileFormatError(f"{path}: cannot read it as a GIS layer "
+                                    f"({type(exc).__name__}: {exc})")
+            error.path = path
+            raise error from exc
     if layer is not None:
         raise InputShapeError("layer= applies to a file path (a .gpkg or other multi-layer file)")
     if isinstance(data, geopandas.GeoDataFrame):

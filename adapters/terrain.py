@@ -265,7 +265,11 @@ def _with_boundary(V: NDArray[np.float64], S: NDArray[np.int64], boundary: Any, 
     if isinstance(boundary, shapely.Geometry):
         area = boundary
     else:
-        area = shapely.union_all(_layer_geometries(boundary, crs))
+        try:
+            area = shapely.union_all(_layer_geometries(boundary, crs))
+        except shapely.errors.GEOSException as exc:
+            raise CDTError(f"the boundary's polygons cannot be merged by GEOS ({exc}); "
+                           "merge them first") from exc
     polygons = [g for g in shapely.get_parts(area) if g.geom_type == "Polygon" and not g.is_empty]
     if not polygons:
         raise CDTError("boundary has no polygon")

@@ -24,7 +24,7 @@ from ._core.pipeline import (K_ATTEMPTS, K_DEFERRED, K_DUPLICATE_SEGMENTS, K_DUP
                              K_REF_COMPLETE, K_REF_FLIPS, K_REF_LIMIT, K_REF_SPLITS, K_REF_STEINER,
                              K_ZERO_SEGMENTS, PACK_ARRAYS, PACK_HEADER, cdt_route_packed,
                              route_points_for_threads)
-from ._core.segments import intersection_point
+from ._core.segments import split_crossing
 from ._core.snap import snap_route
 from ._core.status import (ROUTE_COLLINEAR, ROUTE_CROSSING, ROUTE_HOLE_OUTSIDE, ROUTE_OK,
                            ROUTE_OVERLAP, ROUTE_POLYGONS_OVERLAP, ROUTE_RANGE, ROUTE_REFINE_LIMIT,
@@ -66,7 +66,8 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 conforming_delaunay: bool = False, split_boundary: bool = True,
                 max_steiner: int | None = None, workers: int | None = None,
                 vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
-                vertex_attributes: ArrayLike | None = None) -> Triangulation:
+                vertex_attributes: ArrayLike | None = None,
+                split_segments: bool = True) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
     Parameters
@@ -130,6 +131,10 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     split_boundary : bool
         With ``False`` no Steiner point goes on the domain boundary (Triangle's
         ``-Y``); the triangles there may then miss the bounds.
+    split_segments : bool
+        With ``False`` no Steiner point goes on any segment, inside the domain
+        or on its boundary (Triangle's ``-YY``); the triangles at segments may
+        then miss the bounds.
     max_steiner : int, optional
         Cap on Steiner points (intersections with ``"split"`` plus refinement).
         Crossings are counted before anything is built: more than the cap
@@ -180,12 +185,13 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     t0 = time.perf_counter()
     try:     # (cached: a small call pays for every Python call the checks make)
         options = checked_options(intersections, algorithm, keep_hull, min_angle, max_area,
-                                  conforming_delaunay, split_boundary, max_steiner)
+                                  conforming_delaunay, split_boundary, max_steiner, split_segments)
     except TypeError:      # an unhashable value: checked anew, and named
         options = MeshOptions.check(intersections=intersections, algorithm=algorithm,
                                     keep_hull=keep_hull, min_angle=min_angle, max_area=max_area,
                                     conforming_delaunay=conforming_delaunay,
-                                    split_boundary=split_boundary, max_steiner=max_steiner)
+                                    split_boundary=split_boundary, max_steiner=max_steiner,
+                                    split_segments=split_segments)
     workers = check_workers(workers)
     plc = as_plc(vertices, segments, holes, regions)
     tags = None
@@ -335,6 +341,8 @@ def _stats(plc, algorithm, counts, refine, seconds, tri) -> dict:
              "intersection_points": int(counts[K_INTERSECTIONS]), "flips": int(counts[K_FLIPS]),
              "duplicates": int(counts[K_DUPLICATES]), "submerged": 0, "vertices": len(tri.vertices),
              "triangles": len(tri.triangles), "steiner": len(tri.steiner), "seconds": seconds}
+    if plc.empty_rings:
+        stats["empty_rings"] = list(plc.empty_rings)
     if refine:
         stats.update(refinement_steiner=int(counts[K_REF_STEINER]),
                      refinement_segment_splits=int(counts[K_REF_SPLITS]),
@@ -409,8 +417,9 @@ def raise_intersection(status: int, info: NDArray[np.int64], plc: Any) -> NoRetu
     a, b = plc.segments[s]
     c, d = plc.segments[t]
     if status == ROUTE_CROSSING:
-        xy = np.array([P[a], P[b], P[c], P[d]])
-        px, py = intersection_point(xy[:, 0].copy(), xy[:, 1].copy(), 0, 1, 2, 3)
+        # (where split would place it: the exact crossing rounded, at every magnitude)
+        px, py = split_crossing(np.ascontiguousarray(P[:, 0]), np.ascontiguousarray(P[:, 1]),
+                                int(a), int(b), int(c), int(d))
         raise SegmentIntersectionError(
             f"segments {s} ({_fmt(P[a])}-{_fmt(P[b])}) and {t} ({_fmt(P[c])}-{_fmt(P[d])}) "
             f"cross at about ({px!r}, {py!r}); use intersections='split' to insert the crossing",

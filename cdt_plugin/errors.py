@@ -128,6 +128,19 @@ class InvalidGeometryError(CDTError):
     than three distinct points); the message names the polygon and ring."""
 
 
+class InvalidMeshError(CDTError):
+    """A mesh given as triangles is not a triangulation: two triangles overlap,
+    a vertex lies inside a triangle or on an edge it does not end, two vertices
+    are the same point, or a segment to keep is not an edge of the triangles.
+    ``triangles`` and ``segments`` hold the indices the message names."""
+
+    def __init__(self, message: str, triangles: Iterable[int] = (),
+                 segments: Iterable[int] = ()) -> None:
+        super().__init__(message)
+        self.triangles = tuple(int(t) for t in triangles)
+        self.segments = tuple(int(s) for s in segments)
+
+
 class NoPolygonsError(CDTError):
     """The input (a layer, a GeoJSON file) has no non-empty Polygon or MultiPolygon
     to mesh; the message says what it holds instead. Raised by

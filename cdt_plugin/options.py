@@ -42,12 +42,14 @@ class MeshOptions(NamedTuple):
     conforming_delaunay: bool = False
     split_boundary: bool = True
     max_steiner: int | None = None
+    split_segments: bool = True
 
     @classmethod
     def check(cls, *, intersections: str = "raise", algorithm: str = "auto",
               keep_hull: bool = False, min_angle: float | None = None,
               max_area: float | None = None, conforming_delaunay: bool = False,
-              split_boundary: bool = True, max_steiner: int | None = None) -> MeshOptions:
+              split_boundary: bool = True, max_steiner: int | None = None,
+              split_segments: bool = True) -> MeshOptions:
         """The options of :func:`cdt_plugin.triangulate`'s keywords, or the
         :class:`CDTError` naming the first one that is wrong."""
         if intersections not in INTERSECTIONS:
@@ -64,7 +66,8 @@ class MeshOptions(NamedTuple):
         return cls(intersections, algorithm, bool(keep_hull),
                    None if min_angle is None else float(min_angle),
                    None if max_area is None else float(max_area), bool(conforming_delaunay),
-                   bool(split_boundary), None if max_steiner is None else int(max_steiner))
+                   bool(split_boundary), None if max_steiner is None else int(max_steiner),
+                   bool(split_segments))
 
     @property
     def split(self) -> bool:
@@ -93,7 +96,8 @@ class MeshOptions(NamedTuple):
             refine=self.refines if refine is None else bool(refine),
             refinement=RefineOptions(min_angle=self.min_angle or 0.0, max_area=self.max_area or 0.0,
                                      conforming=self.conforming_delaunay,
-                                     split_boundary=self.split_boundary))
+                                     split_boundary=self.split_boundary,
+                                     split_segments=self.split_segments))
 
     def route_args(self, *, use_seeds: bool = False, refine: bool | None = None) -> tuple:
         """:meth:`route` as a call of the compiled route from Python passes it
@@ -121,7 +125,7 @@ def route_plan(options: MeshOptions, use_seeds: bool, seeds_refine: bool) -> tup
 @functools.lru_cache(maxsize=256, typed=True)
 def checked_options(intersections: str, algorithm: str, keep_hull: bool, min_angle: float | None,
                     max_area: float | None, conforming_delaunay: bool, split_boundary: bool,
-                    max_steiner: int | None) -> MeshOptions:
+                    max_steiner: int | None, split_segments: bool = True) -> MeshOptions:
     """:meth:`MeshOptions.check` of :func:`cdt_plugin.triangulate`'s keywords,
     by position, cached: the checks run once per set of values (``typed``:
     ``True`` is not taken for ``1``, nor ``1`` for ``1.0``; an error is not
@@ -130,7 +134,8 @@ def checked_options(intersections: str, algorithm: str, keep_hull: bool, min_ang
     return MeshOptions.check(intersections=intersections, algorithm=algorithm, keep_hull=keep_hull,
                              min_angle=min_angle, max_area=max_area,
                              conforming_delaunay=conforming_delaunay,
-                             split_boundary=split_boundary, max_steiner=max_steiner)
+                             split_boundary=split_boundary, max_steiner=max_steiner,
+                             split_segments=split_segments)
 
 
 def resolve_algorithm(algorithm: str, weighted: bool) -> str:

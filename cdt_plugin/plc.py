@@ -44,6 +44,9 @@ class PLC:
         the same names, which win over these).
     vertex_attributes : (n,) or (n, k) float, or None
         Vertex attributes to carry (likewise).
+    empty_rings : list of (polygon, ring) EMPTY rings (no points at all, as in
+        ``POLYGON ((...), EMPTY)``), dropped as GEOS drops them; named in the
+        triangulation's ``stats["empty_rings"]``
     """
 
     vertices: NDArray[np.float64]
@@ -58,6 +61,7 @@ class PLC:
     vertex_markers: ArrayLike | None = None
     segment_markers: ArrayLike | None = None
     vertex_attributes: ArrayLike | None = None
+    empty_rings: list[tuple[int, int]] = field(default_factory=list)
 
     @property
     def has_rings(self) -> bool:
@@ -253,7 +257,8 @@ def ring_plc(xy: NDArray[np.float64], begin: NDArray[np.int64], end: NDArray[np.
     plc : PLC
         The rings' edges as segments (made in one compiled pass); a degenerate
         ring's points kept as isolated vertices and named ``(polygon, ring
-        within it)`` in ``degenerate_rings``.
+        within it)`` in ``degenerate_rings``; a ring without points (EMPTY)
+        dropped and named in ``empty_rings``.
     degenerate : (r,) bool
         Which rings were degenerate.
 
@@ -271,14 +276,18 @@ def ring_plc(xy: NDArray[np.float64], begin: NDArray[np.int64], end: NDArray[np.
         rows = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
         raise NonFiniteCoordinateError(f"geometry has NaN or infinite coordinates at vertex "
                                        f"position(s) {rows[:5].tolist()}")
-    names = []
+    names: list[tuple[int, int]] = []
+    empty_names: list[tuple[int, int]] = []
     if n_degenerate:
         rank = _rank_in_polygon(ring_polygon)
-        names = [(int(ring_polygon[r]), int(rank[r])) for r in np.flatnonzero(degenerate)]
+        empty = degenerate & (end == begin)
+        names = [(int(ring_polygon[r]), int(rank[r])) for r in np.flatnonzero(degenerate & ~empty)]
+        empty_names = [(int(ring_polygon[r]), int(rank[r])) for r in np.flatnonzero(empty)]
         kept = ~degenerate
         ring_polygon, ring_is_hole = ring_polygon[kept], ring_is_hole[kept]
     return PLC(xy, segs, segment_ring=seg_ring, ring_polygon=ring_polygon,
-               ring_is_hole=ring_is_hole, z=z, degenerate_rings=names), degenerate
+               ring_is_hole=ring_is_hole, z=z, degenerate_rings=names,
+               empty_rings=empty_names), degenerate
 
 
 def _rank_in_polygon(ring_polygon: NDArray[np.int64]) -> NDArray[np.int64]:

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import functools
 import time
-from typing import TYPE_CHECKING, Any, Callable, Dict, Union
+from typing import TYPE_CHECKING, Any, Callable, Dict, Optional, Union, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -15,15 +15,17 @@ from ._core.output import (relabel_store, rotate_min_first,
 from ._routes import (DelaunayBuild, build_delaunay, collinear_chain, flip_moved, route_arrays,
                       route_triangles)
 from . import hooks, markers, queries
-from .errors import CDTError, InputShapeError, InvertedTriangleError
-from .options import resolve_algorithm
+from .errors import (CDTError, InputShapeError, InvalidMeshError, InvertedTriangleError,
+                     RefinementLimitError)
+from .options import MeshOptions, resolve_algorithm
 from .optional import require
 from .parallel import resolve_workers
 from .plc import PLC
 from .types import MeshLike, MeshStore
-from .validate import as_points, exact_range
+from .validate import as_points, as_segments, as_triangle_bounds, exact_range
 
 if TYPE_CHECKING:
+    from .refining import RefineState
     import matplotlib.tri
     import open3d
     import shapely
@@ -115,6 +117,7 @@ class Triangulation:
     region_attributes: NDArray[np.float64] | None
     tags: markers.Tags | None = None      # (set only when markers or attributes are given)
     _stats: Stats
+    _refinement: RefineState | None = None     # the store a refined result keeps (refine())
     _edges: NDArray[np.int64] | None
     _mesh: MeshStore | None
     # set by from_mesh only (weighted certificates: the submerged points' check)
@@ -231,21 +234,28 @@ class Triangulation:
         return tri
 
     @classmethod
-    def from_triangles(cls, vertices: ArrayLike, triangles: ArrayLike, *,
+    def from_triangles(cls, vertices: ArrayLike, triangles: ArrayLike,
+                       segments: ArrayLike | None = None, *,
                        vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
                        vertex_attributes: ArrayLike | None = None) -> Triangulation:
         """A triangulation given as vertices and index triangles (a mesh made
-        elsewhere, a TIN read back from a file), for queries and certificates.
+        elsewhere, a TIN read back from a file), for queries, certificates and
+        refinement (:meth:`refine`).
 
-        ``vertex_markers``, ``segment_markers`` (one per row of ``segments``) and
+        Triangles may turn either way (clockwise ones are turned round).
+        ``segments``: (m, 2) vertex pairs that must stay edges when the mesh is
+        refined (``tri.segments``, ``tri.segment_ids`` their rows, repeats
+        dropped; the mesh's boundary stays too). ``vertex_markers``,
+        ``segment_markers`` (one per row of ``segments``) and
         ``vertex_attributes`` as for :func:`cdt_plugin.triangulate`: kept in
-        ``tags`` and carried by refinement.
-
-        Triangles may turn either way (clockwise ones are turned round). Raises
+        ``tags`` and carried by refinement. Raises
         :class:`InputShapeError` for bad shapes or indices,
-        :class:`InvertedTriangleError` for a triangle without area and
-        :class:`CDTError` for repeated vertices or triangles that overlap along
-        an edge (an edge in more than two triangles, or twice in one direction).
+        :class:`InvertedTriangleError` for a triangle without area,
+        :class:`CDTError` for repeated vertices, and :class:`InvalidMeshError`
+        for triangles that overlap along an edge (an edge in more than two
+        triangles, or twice in one direction) or a segment that is not an edge
+        of the triangles. (Triangles that overlap otherwise are found by
+        :meth:`refine`, which names them.)
 
         >>> import cdt_plugin
         >>> tri = cdt_plugin.Triangulation.from_triangles([[0, 0], [1, 0], [1, 1], [0, 1]],
@@ -264,11 +274,7 @@ class Triangulation:
         bad = np.flatnonzero(((T < 0) | (T >= n)).any(axis=1))
         if len(bad):
             raise InputShapeError(f"triangle {int(bad[0])} {T[bad[0]].tolist()} names a vertex outside 0..{n - 1}")
-        _, first, inverse = np.unique(V, axis=0, return_index=True, return_inverse=True)
-        same = np.flatnonzero(first[inverse.reshape(-1)] != np.arange(n))
-        if len(same):
-            i = int(same[0])
-            raise CDTError(f"vertices {int(first[inverse.reshape(-1)[i]])} and {i} are the same point {V[i].tolist()}")
+        _raise_repeated_vertex(V)
         x, y, _, _ = exact_range(V[:, 0].copy(), V[:, 1].copy(), None, "vertices")
         signs = orientation_signs(x, y, np.ascontiguousarray(T))
         flat = np.flatnonzero(signs == 0)
@@ -276,17 +282,89 @@ class Triangulation:
             t = int(flat[0])
             raise InvertedTriangleError(f"triangle {t} {T[t].tolist()} has no area (its corners are collinear)")
         T = np.where((signs < 0)[:, None], T[:, [0, 2, 1]], T)
-        directed = T[:, [1, 2, 0]].ravel() * n + T[:, [2, 0, 1]].ravel()
-        from .report import mesh_neighbors     # (the services below load on first use)
-        nb, nonmanifold = mesh_neighbors(T)
-        if nonmanifold or len(np.unique(directed)) != len(directed):
-            raise CDTError("the triangles overlap: an edge lies in more than two triangles "
-                           "or in two on the same side")
-        T, nb = np.ascontiguousarray(T), np.ascontiguousarray(nb)
+        T = np.ascontiguousarray(T)
+        from ._core.remesh import triangle_neighbors    # (loaded on first use, with refining's kernels)
+        nb, t, u = triangle_neighbors(T, n)
+        if t >= 0:
+            raise InvalidMeshError(
+                f"triangles {t} {T[t].tolist()} and {u} {T[u].tolist()} overlap: their edge "
+                f"{[int(v) for v in T[t] if v in T[u]]} lies on the same side of both "
+                "(an edge in more than two triangles, or two triangles folded over)",
+                triangles=(t, u))
         rotate_min_first(T, nb)
         out = cls(V, T, nb, np.arange(n, dtype=np.int64), {"triangles": len(T)})
+        segs = out.segments
+        if segments is not None:
+            segs = as_segments(segments, n)
+            out.segments, out.segment_ids, out.constrained = _segments_of_mesh(segs, T)
         if vertex_markers is not None or segment_markers is not None or vertex_attributes is not None:
-            out.tags = markers.make_tags(n, out.segments, vertex_markers, segment_markers, vertex_attributes)
+            out.tags = markers.make_tags(n, segs, vertex_markers, segment_markers, vertex_attributes)
+        return out
+
+    def refine(self, *, min_angle: float | None = None, max_area: float | ArrayLike | None = None,
+               conforming_delaunay: bool = False, split_boundary: bool = True,
+               split_segments: bool = True, max_steiner: int | None = None) -> Triangulation:
+        """This mesh refined (Triangle's ``-r``): Steiner points added until the
+        bounds hold, every vertex and segment kept.
+
+        The domain is the union of the triangles (holes and pockets stay
+        empty); its boundary edges and ``segments`` are kept as segments (split
+        into pieces by the Steiner points on them, unless ``split_boundary`` or
+        ``split_segments`` forbid it). The options are those of
+        :func:`cdt_plugin.triangulate`, but ``max_area`` may also be an array
+        with one bound per triangle of ``triangles`` (Triangle's ``.area``
+        file; a value <= 0 or NaN: no bound for that triangle). Bounds follow
+        the triangles: a new triangle has the bound of the triangle it was
+        made in, and the edges between triangles with different bounds are
+        kept while refinement runs (split where needed, never flipped), so no
+        triangle of the result is larger than the bound of any triangle of
+        this mesh it overlaps (Triangle flips across them and averages the two
+        bounds). The mesh is made constrained Delaunay first (flips that cross
+        no segment, boundary edge or such edge), as refinement needs.
+
+        The result's ``vertices`` are this mesh's, in the same order, then the
+        new Steiner points; ``segment_ids`` name the original segments (those
+        of ``triangulate``'s input, or of :meth:`from_triangles`; -1 for the
+        boundary's pieces); ``regions`` and ``region_attributes`` follow each
+        triangle's parent; ``below_min_angle`` and ``stats`` as
+        ``triangulate`` gives them; markers and attributes (``tags``) carried,
+        a new point's attributes interpolated in this mesh (as Triangle's
+        ``-r``). The refined mesh keeps its internal
+        store: refining it again goes on from there, without reading the mesh
+        anew. Raises :class:`InvalidMeshError` naming a triangle that
+        overlaps others, :class:`RefinementLimitError` (with the partial
+        mesh) at ``max_steiner``.
+
+        >>> import cdt_plugin
+        >>> tri = cdt_plugin.Triangulation.from_triangles([[0, 0], [2, 0], [2, 1], [0, 1]],
+        ...                                               [[0, 1, 2], [0, 2, 3]])
+        >>> fine = tri.refine(max_area=[0.05, -1])   # the first triangle only
+        >>> fine.vertices[:4].tolist() == tri.vertices.tolist(), len(fine.triangles) > 2
+        (True, True)
+        """
+        per_triangle = max_area is not None and np.ndim(max_area) > 0
+        options = MeshOptions.check(min_angle=min_angle,
+                                    max_area=None if per_triangle else cast(Optional[float], max_area),
+                                    conforming_delaunay=conforming_delaunay,
+                                    split_boundary=split_boundary, max_steiner=max_steiner,
+                                    split_segments=split_segments)
+        bounds = as_triangle_bounds(cast(ArrayLike, max_area), len(self.triangles)) if per_triangle else None
+        from .refining import refine_mesh      # (loaded on first use: import cdt_plugin stays fast)
+        r = refine_mesh(self, options, bounds, self._refinement)
+        out = Triangulation(
+            r.vertices, r.triangles, r.neighbors, self.vertex_map, r.stats, constrained=r.constrained,
+            regions=self.regions[r.parents], segments=r.segments, segment_ids=r.segment_ids,
+            steiner=np.concatenate([self.steiner, np.arange(len(self.vertices), len(r.vertices))]),
+            below_min_angle=r.below_min_angle,
+            region_attributes=None if self.region_attributes is None else self.region_attributes[r.parents])
+        out._refinement = r.state
+        out.tags = markers.refined_tags(self.tags, self, lambda: self.vertex_attributes)
+        if not r.complete:
+            raise RefinementLimitError(
+                f"refinement stopped at max_steiner={r.stats['refinement_limit']} Steiner points "
+                "with triangles still breaking the bounds; raise max_steiner (or relax "
+                "min_angle/max_area); the partial mesh is in this error's .triangulation",
+                triangulation=out)
         return out
 
     def __getattr__(self, name: str) -> Any:
@@ -613,6 +691,39 @@ class Triangulation:
             flips = 0
         self.stats["move_seconds"] = time.perf_counter() - t0
         return flips
+
+
+def _raise_repeated_vertex(V: NDArray[np.float64]) -> None:
+    """:class:`CDTError` naming the first vertex that repeats an earlier one (a
+    sort, which ``np.unique(V, axis=0)`` was four times slower at)."""
+    order = np.lexsort((V[:, 1], V[:, 0]))          # (stable: a repeat after its first)
+    Vo = V[order]
+    same = np.r_[False, (Vo[1:] == Vo[:-1]).all(axis=1)]
+    if not same.any():
+        return
+    head = order[np.maximum.accumulate(np.where(same, 0, np.arange(len(V))))]
+    k = np.flatnonzero(same)[np.argmin(order[same])]
+    i = int(order[k])
+    raise CDTError(f"vertices {int(head[k])} and {i} are the same point {V[i].tolist()}")
+
+
+def _segments_of_mesh(segs: NDArray[np.int64], T: NDArray[np.int64]
+                      ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_]]:
+    """The segments (repeats dropped), their rows and the constrained flags of
+    the triangles ``T`` (edge opposite corner ``j``); :class:`InvalidMeshError`
+    naming the first segment that is not an edge of ``T``."""
+    n = int(max(T.max(), segs.max(initial=0))) + 1
+    u, v = T[:, [1, 2, 0]], T[:, [2, 0, 1]]
+    edge_keys = np.minimum(u, v) * n + np.maximum(u, v)        # (k, 3): opposite corner j
+    seg_keys = segs.min(axis=1) * n + segs.max(axis=1)
+    missing = np.flatnonzero(~np.isin(seg_keys, edge_keys) | (segs[:, 0] == segs[:, 1]))
+    if len(missing):
+        i = int(missing[0])
+        raise InvalidMeshError(f"segment {i} {segs[i].tolist()} is not an edge of the triangles",
+                               segments=(i,))
+    _, ids = np.unique(seg_keys, return_index=True)
+    ids = np.sort(ids)
+    return segs[ids], ids.astype(np.int64), np.isin(edge_keys, seg_keys)
 
 
 def _triangle_name(tri, t, xy) -> str:

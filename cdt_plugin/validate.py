@@ -5,7 +5,8 @@ The one implementation of each check of the package: points (:func:`as_xy`,
 with :func:`as_points` and :func:`as_queries` its two common forms), weights
 (:func:`as_weights`), index arrays (:func:`as_index`), segments
 (:func:`as_segments`), boundary markers (:func:`as_markers`), vertex attributes
-(:func:`as_attributes`), a mesh made elsewhere (:func:`as_mesh`) and the coordinate range of the exact predicates
+(:func:`as_attributes`), a mesh made elsewhere (:func:`as_mesh`), an area bound per
+triangle (:func:`as_triangle_bounds`) and the coordinate range of the exact predicates
 (:func:`exact_range`)."""
 from __future__ import annotations
 
@@ -189,6 +190,24 @@ def _raise_segment_out_of_range(arr: NDArray[Any], n: int) -> None:
     raise SegmentIndexError(
         f"segment {i} = {arr[i].tolist()} names a vertex outside 0..{n - 1}"
         + (f" ({bad.size} such segments)" if bad.size > 1 else ""))
+
+
+def as_triangle_bounds(values: ArrayLike, k: int) -> NDArray[np.float64]:
+    """An area bound per triangle of a mesh of ``k`` triangles (Triangle's
+    ``.area`` file, ``triangle_max_area``): ``(k,)`` or ``(k, 1)`` numbers, as a
+    (k,) float64 array in which 0 means no bound (values <= 0, NaN or +inf, as
+    Triangle's -1). Else :class:`InputShapeError` naming what is wrong.
+
+    >>> as_triangle_bounds([[0.5], [-1], [float("nan")]], 3).tolist()
+    [0.5, 0.0, 0.0]
+    """
+    arr = real_array(values, "max_area")
+    if arr.ndim == 2 and arr.shape[1] == 1:
+        arr = arr[:, 0]
+    if arr.shape != (k,):
+        raise InputShapeError(f"max_area as an array needs one value per triangle, shape ({k},), "
+                              f"got {arr.shape}")
+    return np.where(np.isfinite(arr) & (arr > 0), arr, 0.0)
 
 
 def raise_nonfinite(xy: NDArray[np.float64], name: str) -> None:

@@ -22,7 +22,7 @@ from .cdt import PARALLEL_VERTICES, triangulate
 from .compiling import ROUTES
 from .delaunay import PARALLEL_POINTS, delaunay
 from .dynamic import DynamicCDT
-from .errors import CDTError
+from .errors import CDTError, SegmentIntersectionError
 
 
 def _square():
@@ -53,12 +53,17 @@ def _triangulate():
 
 
 def _refine():
-    triangulate(*_square(), min_angle=30, max_area=0.1)
+    tri = triangulate(*_square(), min_angle=30, max_area=0.1)
+    tri.refine(max_area=np.full(len(tri.triangles), 0.05))      # an existing mesh (-r)
 
 
 def _split():
     bowtie = np.array([[0, 0], [2, 2], [2, 0], [0, 2.0]])
     triangulate(bowtie, [[0, 1], [1, 2], [2, 3], [3, 0]], intersections="split")
+    try:       # the error naming the crossing where split would insert it (split_crossing)
+        triangulate(bowtie, [[0, 1], [1, 2], [2, 3], [3, 0]])
+    except SegmentIntersectionError:
+        pass
 
 
 def _batch():

@@ -65,7 +65,8 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
         feature, unless repaired with ``shapely.make_valid`` (as in
         :func:`cdt_plugin.adapters.shapely.triangulate`).
     errors : {"raise", "skip"}
-        ``"skip"``: a feature that cannot be meshed gets no triangles; the errors
+        ``"skip"``: a feature that cannot be meshed (invalid, not meshable,
+        or with coordinates that do not project) gets no triangles; the errors
         are in ``result.attrs["cdt_errors"]`` (feature label -> ``"ErrorClass:
         message"``, JSON-safe so that ``to_parquet`` still works; the exceptions
         themselves in ``GeoMesh.errors``) and a :class:`SkippedFeaturesWarning` says
@@ -101,9 +102,10 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
         ``feature <label>:`` and the exception has ``feature`` (label) and
         ``index`` (row number) attributes, as every per-feature CDTError.
     ProjectionError
-        ``project=`` without a CRS, with a geographic CRS, coordinates that do not
-        project, or a feature whose triangles turn clockwise when mapped back (a
-        feature split at the antimeridian; ``errors="skip"`` skips it).
+        ``project=`` without a CRS, with a geographic CRS, or a feature whose
+        coordinates do not project or whose triangles turn clockwise when mapped
+        back (a feature split at the antimeridian; ``errors="skip"`` skips such
+        features).
 
     Examples
     --------
@@ -149,7 +151,14 @@ def mesh_layer(frame: GeoDataFrame, *, project: ProjectLike, repair: Repair, err
     target = target_crs(project, frame.crs, extent)
     if warn and target is None and is_geographic(frame.crs):
         warn_geographic(frame.crs)
-    meshed = _uniform_z(geoms if target is None else project_geometries(geoms, frame, target))
+    unprojected: dict[int, CDTError] = {}
+    meshed = geoms
+    if target is not None:
+        meshed, unprojected = project_geometries(geoms, frame, target, errors)
+        if unprojected:       # (no triangles, and no coordinates to map back to)
+            geoms = geoms.copy()
+            geoms[list(unprojected)] = shapely.Polygon()
+    meshed = _uniform_z(meshed)
     if progress is None:
         progress = len(geoms) > AUTO_PROGRESS_FEATURES and sys.stderr.isatty()
     try:
@@ -159,7 +168,9 @@ def mesh_layer(frame: GeoDataFrame, *, project: ProjectLike, repair: Repair, err
         if e.index is None:
             raise
         raise relabel(e, e.index, frame, target) from None
-    failed = {int(i): relabel(e, int(i), frame, target) for i, e in batch.errors.items()}
+    failed: dict[int, CDTError] = {int(i): relabel(e, int(i), frame, target)
+                                   for i, e in batch.errors.items()}
+    failed.update(unprojected)
     T, position, part, vertices = batch.triangles, batch.geometry, batch.region, batch.vertices
     if target is not None:
         vertices = restore(vertices, T, geoms, meshed, target, frame.crs)

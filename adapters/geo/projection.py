@@ -86,7 +86,11 @@ def target_crs(project: ProjectLike, crs: Any, extent: np.ndarray | None) -> Any
             raise ProjectionError(f"project={project!r} needs coordinates to centre the "
                                   "projection on: the layer has none")
         lon, lat = _centre(extent, crs)
-        return _utm_crs(crs, lon, lat) if project == "utm" else _aeqd_crs(crs, lon, lat)
+        try:      # (pyproj's errors, and geopandas' RuntimeError when no UTM zone fits)
+            return _utm_crs(crs, lon, lat) if project == "utm" else _aeqd_crs(crs, lon, lat)
+        except RuntimeError as exc:
+            raise ProjectionError(f"project={project!r}: no such CRS centred at lon {lon!r}, "
+                                  f"lat {lat!r} of the layer's CRS {crs.name!r} ({exc})") from exc
     if isinstance(project, pyproj.CRS):
         target = project
     else:
@@ -132,20 +136,53 @@ def _xy_transform(transformer):
     return apply
 
 
-def project_geometries(geoms: np.ndarray, frame: GeoDataFrame, target: Any) -> np.ndarray:
-    """The geometries in ``target`` (same coordinate count and order, z kept)."""
+def project_geometries(geoms: np.ndarray, frame: GeoDataFrame, target: Any,
+                       errors: str = "raise") -> tuple[np.ndarray, dict[int, ProjectionError]]:
+    """The geometries in ``target`` (same coordinate count and order, z kept),
+    and the features whose coordinates do not project to finite values: a
+    :class:`ProjectionError` each, raised at once with ``errors="raise"``;
+    with ``"skip"`` such a feature becomes an empty Polygon (no triangles)."""
     import pyproj
 
-    forward = pyproj.Transformer.from_crs(frame.crs, target, always_xy=True)
-    projected = shapely.transform(geoms, _xy_transform(forward), include_z=None)
+    try:
+        forward = pyproj.Transformer.from_crs(frame.crs, target, always_xy=True)
+    except pyproj.exceptions.ProjError as exc:
+        raise ProjectionError(f"no transformation from {frame.crs.name!r} to {target.name!r} "
+                              f"({exc})") from exc
+    try:
+        projected = shapely.transform(geoms, _xy_transform(forward), include_z=None)
+    except pyproj.exceptions.ProjError:     # one by one, to name the features that fail
+        projected = np.array([_projected_or_none(g, forward) for g in geoms], dtype=object)
     counts = shapely.get_num_coordinates(projected)
-    xy = shapely.get_coordinates(projected)
-    bad = ~np.isfinite(xy).all(axis=1)
-    if bad.any():
-        i = int(np.searchsorted(np.cumsum(counts), np.flatnonzero(bad)[0], side="right"))
-        raise ProjectionError(f"feature {plain(frame.index[i])}: coordinates do not project to "
-                              f"finite values in {target.name!r}")
-    return projected
+    finite = np.isfinite(shapely.get_coordinates(projected)).all(axis=1)
+    feature = np.repeat(np.arange(len(geoms)), counts)
+    bad = np.zeros(len(geoms), bool)
+    bad[feature[~finite]] = True
+    bad |= shapely.is_missing(projected) & ~shapely.is_missing(geoms)
+    failed: dict[int, ProjectionError] = {}
+    for i in map(int, np.flatnonzero(bad)):
+        e = ProjectionError(f"feature {plain(frame.index[i])}: coordinates do not project to "
+                            f"finite values in {target.name!r}")
+        e.index, e.feature = i, plain(frame.index[i])
+        if errors == "raise":
+            raise e
+        failed[i] = e
+    if failed:
+        projected = projected.copy()
+        projected[bad] = shapely.Polygon()
+    return projected, failed
+
+
+def _projected_or_none(geometry: Any, forward: Any) -> Any:
+    """One geometry in the target CRS, or None when pyproj fails on it."""
+    import pyproj
+
+    if geometry is None:
+        return None
+    try:
+        return shapely.transform(geometry, _xy_transform(forward), include_z=None)
+    except pyproj.exceptions.ProjError:
+        return None
 
 
 def restore(V: np.ndarray, T: np.ndarray, geoms: np.ndarray, projected: np.ndarray, target: Any,

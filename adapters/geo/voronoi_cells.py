@@ -14,6 +14,7 @@ from cdt_plugin import InputShapeError
 from cdt_plugin.adapters.geo.errors import (GeographicCRSWarning, TYPE_NAMES, caller_stacklevel,
                                             describe, is_geographic, plain, relabel)
 from cdt_plugin.adapters.layers import LayerLike, read
+import cdt_plugin.adapters.shapely.validity as validity
 from cdt_plugin.adapters.shapely.reading import MULTIPOINT, MULTIPOLYGON, POINT, POLYGON
 
 if TYPE_CHECKING:
@@ -202,13 +203,18 @@ def _clip_region(boundary: BoundaryLike, crs: Any) -> Any:
     for i in np.flatnonzero(present & ~np.isin(types, (POLYGON, MULTIPOLYGON))):
         raise ClipRegionError(f"boundary feature {plain(layer.index[i])} is a "
                               f"{TYPE_NAMES[types[i]]}: the boundary is a layer of polygons")
-    for i in np.flatnonzero(present & ~shapely.is_valid(geoms)):
+    for i in np.flatnonzero(present & ~validity.is_valid(geoms)):
         raise ClipRegionError(f"boundary feature {plain(layer.index[i])} is invalid "
-                              f"({shapely.is_valid_reason(geoms[i])}): repair it "
+                              f"({validity.reason(geoms[i])}): repair it "
                               "(shapely.make_valid) first")
     if not present.any():
         raise ClipRegionError(f"the boundary layer has no polygon ({describe(geoms)})")
-    return shapely.union_all(geoms[present])
+    k = int(validity.unit_shift(shapely.geometrycollections(geoms[present])))
+    try:       # (at unit size, as validity: GEOS's overlay is not exact at extreme magnitudes)
+        return validity.scaled(shapely.union_all(validity.scaled(geoms[present], k)), -k)
+    except shapely.errors.GEOSException as exc:
+        raise ClipRegionError(f"the boundary's polygons cannot be merged by GEOS ({exc}); "
+                              "merge them first") from exc
 
 
 def _lonlat_box(box: tuple[float, float, float, float],

@@ -1,14 +1,16 @@
 """shapely adapter: constrained Delaunay triangulation of shapely geometries.
 
-Data flow (DESIGN.md): shapely geometry -> validate (GEOS ``is_valid``) ->
+Data flow (DESIGN.md): shapely geometry -> validate (GEOS ``is_valid`` at unit size) ->
 :class:`cdt_plugin.PLC` -> :func:`cdt_plugin.triangulate` -> Triangulation ->
 shapely output (:func:`to_shapely`).
 
 * :func:`triangulate` -- one geometry gives one Triangulation; an array or list of
   geometries (shapely 2 style) gives a list of Triangulations, in order. Polygonal
-  input is validated with GEOS first; invalid polygons raise
-  :class:`cdt_plugin.InvalidGeometryError` carrying GEOS's reason, or are repaired
-  with ``repair=True``.
+  input is validated with GEOS first, on the geometry scaled by a power of two to
+  unit size where GEOS's arithmetic would not be exact (:mod:`.validity`: the same
+  verdict at every magnitude); invalid polygons raise
+  :class:`cdt_plugin.InvalidGeometryError` naming the reason, point and rings, or
+  are repaired with ``repair=True``.
 * :func:`to_shapely` -- a Triangulation as a GeometryCollection of triangle
   Polygons, in the form ``shapely.constrained_delaunay_triangles`` returns.
 * :func:`constrained_delaunay_triangles` -- a drop-in for
@@ -29,6 +31,7 @@ in, an array of the same shape out (a pandas Series or GeoSeries keeps its index
 
 One module per job, the public names re-exported here: :mod:`.reading` (shapely
 geometries in: validation, repair, :func:`triangulate`, :func:`triangulate_batch`),
+:mod:`.validity` (GEOS's validity and repair at unit size, the error messages),
 :mod:`.building` (geometries out: :func:`to_shapely`), :mod:`.cells` (the Voronoi
 cells as Polygons, which :class:`cdt_plugin.Voronoi` asks for) and :mod:`.dropins`
 (shapely's functions).

@@ -10,6 +10,7 @@ import shapely
 from numpy.typing import NDArray
 
 import cdt_plugin
+import cdt_plugin.adapters.shapely.validity as validity
 from cdt_plugin.adapters.shapely.reading import MULTIPOLYGON, POLYGON
 
 
@@ -48,9 +49,10 @@ def clip_cells_to_polygon(vor: cdt_plugin.Voronoi, clip: Any) -> NDArray[np.obje
     if geom is None or shapely.get_type_id(geom) not in (POLYGON, MULTIPOLYGON):
         raise ClipRegionError(f"clip must be a box (xmin, ymin, xmax, ymax) or a Polygon / "
                               f"MultiPolygon, got {type(clip).__name__}")
-    if geom.is_empty or not geom.is_valid:
-        raise ClipRegionError(f"clip polygon is {'empty' if geom.is_empty else 'invalid'}: "
-                              f"{shapely.is_valid_reason(geom)}")
+    if geom.is_empty:
+        raise ClipRegionError("clip polygon is empty")
+    if not validity.is_valid(np.array([geom], dtype=object))[0]:
+        raise ClipRegionError(f"clip polygon is invalid: {validity.reason(geom)}")
     # GEOS works on everything scaled by a power of two (exact) to the region's size
     e = _geos_exponent(vor, geom)
     region = _scaled(geom, -e)
@@ -59,13 +61,16 @@ def clip_cells_to_polygon(vor: cdt_plugin.Voronoi, clip: Any) -> NDArray[np.obje
         raise ClipRegionError(f"the clip polygon contains none of the {len(vor.points)} points")
     boxed = vor.clipped(tuple(geom.bounds))
     assert boxed.cell_offsets is not None and boxed.cell_xy is not None
-    cells = shapely.intersection(_scaled(cells_to_polygons(boxed.cell_offsets, boxed.cell_xy), -e), region)
+    try:
+        cells = shapely.intersection(_scaled(cells_to_polygons(boxed.cell_offsets, boxed.cell_xy), -e),
+                                     region)
+    except shapely.errors.GEOSException as exc:
+        raise ClipRegionError(f"GEOS cannot cut the cells with the clip polygon ({exc}); clip "
+                              "with a box (xmin, ymin, xmax, ymax), which cdt_plugin cuts itself") from exc
     return _polygonal_parts(_scaled(cells, e))
 
 
-def _scaled(geometry: Any, k: int) -> Any:
-    """``geometry`` (one or an array) with every coordinate times ``2**k``: exact."""
-    return shapely.transform(geometry, lambda xy: np.ldexp(xy, k)) if k else geometry
+_scaled = validity.scaled
 
 
 #: GEOS intersects in doubles: the closest sites' distance, relative to the

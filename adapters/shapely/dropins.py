@@ -105,7 +105,8 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
     ------
     cdt_plugin.InvalidGeometryError
         An invalid polygon without ``repair`` (GEOS raises or returns a
-        triangulation of the invalid rings), with GEOS's validity reason; for
+        triangulation of the invalid rings), with the reason, point and rings
+        (decided exactly at every magnitude, as in :func:`triangulate`); for
         array input the message starts ``geometry i:`` (attribute ``index``).
     TypeError
         An element that is not a geometry, or ufunc keyword arguments.

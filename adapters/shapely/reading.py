@@ -1,4 +1,5 @@
-"""Reading shapely geometries: validation (GEOS ``is_valid``) and repair, the
+"""Reading shapely geometries: validation (GEOS ``is_valid`` at unit size,
+:mod:`.validity`) and repair, the
 PLC of a geometry, one Triangulation per geometry (:func:`triangulate`) or a
 whole batch in one compiled call (:func:`triangulate_batch`)."""
 from __future__ import annotations
@@ -15,6 +16,7 @@ from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, Too
 from cdt_plugin.batch import CHUNK, MeshBatch, check_batch_options, geometry_plc, triangulate_rings
 from cdt_plugin.parallel import map_ordered, resolve_workers
 from cdt_plugin.plc import ring_markers, shapely_polygon_rings
+import cdt_plugin.adapters.shapely.validity as validity
 
 if TYPE_CHECKING:
     import pandas
@@ -59,13 +61,15 @@ def triangulate(geometry: Any, *, repair: Repair = False, markers: Any = None, *
         order, a pandas Series or GeoSeries a Series of them with its index;
         ``None`` entries give ``None``.
     repair : bool or {"linework", "structure"}
-        ``False`` (default): a polygon that GEOS finds invalid (bow-tie,
+        ``False`` (default): a polygon that is invalid by GEOS's rules (bow-tie,
         self-touching ring, hole crossing or outside its shell, ...) raises
-        :class:`cdt_plugin.InvalidGeometryError` whose message carries GEOS's
-        reason (``shapely.is_valid_reason``, formerly ``explain_validity``).
+        :class:`cdt_plugin.InvalidGeometryError` whose message gives GEOS's
+        reason, the point and the ring(s) through it. Validity is decided at
+        unit size (:mod:`.validity`), so the verdict is the same at every
+        magnitude. An EMPTY hole is dropped (named in ``stats["empty_rings"]``).
         ``True`` or ``"linework"``: invalid polygonal geometries (and the invalid
         polygonal members of a GeometryCollection) are replaced by
-        ``shapely.make_valid(g, method="linework")`` (shapely's default; a bow-tie
+        ``shapely.make_valid(g, method="linework")`` at unit size (shapely's default; a bow-tie
         becomes two triangles, a hole crossing its shell becomes the symmetric
         difference), keeping only the polygonal parts of the result (collapsed
         lines and points are dropped). ``"structure"``: ``make_valid(g,
@@ -210,7 +214,7 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
                 raise
             failed[i] = e
             arr[i] = shapely.Polygon()
-    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, _ = \
+    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, _, empty = \
         layer_rings_on_threads(arr, workers)
     for i in map(int, np.flatnonzero(bad_geom)):   # not reachable from GEOS-valid polygons
         err = _fail(InvalidGeometryError, "a ring has fewer than three distinct points or zero area",
@@ -222,7 +226,7 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
         drop = np.zeros(len(arr), bool)
         drop[list(failed)] = True
         arr[drop] = shapely.Polygon()
-        xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, _, _ = \
+        xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, _, _, empty = \
             layer_rings_on_threads(arr, workers)
     bar = None
     if progress:
@@ -236,6 +240,8 @@ def triangulate_batch(geometries: Any, *, repair: Repair = False, errors: str = 
             bar.close()
     batch.errors.update(failed)
     batch.stats["failed"] = len(batch.errors)
+    if len(empty):
+        batch.stats["empty_rings"] = _empty_rings_by_geometry(empty)
     return batch
 
 
@@ -249,8 +255,8 @@ def _in_slices(fn: Any, arr: NDArray[np.object_], workers: int | None) -> list[A
 
 
 def _is_valid(arr: NDArray[np.object_], workers: int | None) -> NDArray[np.bool_]:
-    """``shapely.is_valid`` of every geometry (on the batch's threads)."""
-    return np.concatenate(_in_slices(shapely.is_valid, arr, workers))
+    """:func:`.validity.is_valid` of every geometry (on the batch's threads)."""
+    return np.concatenate(_in_slices(validity.is_valid, arr, workers))
 
 
 def layer_rings_on_threads(arr: NDArray[np.object_], workers: int | None) -> tuple[Any, ...]:
@@ -259,8 +265,9 @@ def layer_rings_on_threads(arr: NDArray[np.object_], workers: int | None) -> tup
     pieces = _in_slices(layer_rings, arr, workers)
     if len(pieces) == 1:
         return pieces[0]
-    xys, zs, ring_starts, geom_ring_starts, ring_polys, ring_holes, bads, has_zs = zip(*pieces)
+    xys, zs, ring_starts, geom_ring_starts, ring_polys, ring_holes, bads, has_zs, empties = zip(*pieces)
     vertex0 = np.cumsum([0] + [len(xy) for xy in xys])
+    geom0 = np.cumsum([0] + [len(b) for b in bads])
     ring0 = np.cumsum([0] + [len(r) - 1 for r in ring_starts])
     has_z = np.concatenate(has_zs)
     z = None
@@ -270,7 +277,8 @@ def layer_rings_on_threads(arr: NDArray[np.object_], workers: int | None) -> tup
             z,
             np.concatenate([r[:-1] + v for r, v in zip(ring_starts, vertex0)] + [vertex0[-1:]]),
             np.concatenate([g[:-1] + r for g, r in zip(geom_ring_starts, ring0)] + [ring0[-1:]]),
-            np.concatenate(ring_polys), np.concatenate(ring_holes), np.concatenate(bads), has_z)
+            np.concatenate(ring_polys), np.concatenate(ring_holes), np.concatenate(bads), has_z,
+            np.concatenate([e + [g, 0, 0] for e, g in zip(empties, geom0)]))
 
 
 def repair_method(repair: Repair | None) -> str | None:
@@ -288,7 +296,7 @@ def plain_polygon(geometry: Any) -> bool:
     element-wise path uses, without that path's array set-up (about half of a
     small drop-in call)."""
     return (type(geometry) is shapely.Polygon and not geometry.is_empty
-            and not geometry.has_z and geometry.is_valid)
+            and not geometry.has_z and validity.at_home(geometry) and geometry.is_valid)
 
 
 def is_array_input(geometry: Any) -> bool:
@@ -364,7 +372,7 @@ def geometry_plcs(arr: NDArray[np.object_], method: str | None,
     # --- validity of polygonal input (GeometryCollections: their polygonal members)
     idx = np.flatnonzero(_CHECKED_FOR_VALIDITY[types + 1])
     if len(idx):
-        valid = shapely.is_valid(arr[idx])
+        valid = validity.is_valid(arr[idx])
         for i in map(int, idx[~valid]):
             arr[i] = _repair_or_raise(arr[i], int(types[i]), method, i, indexed)
         if (~valid).any():
@@ -389,7 +397,7 @@ def geometry_plcs(arr: NDArray[np.object_], method: str | None,
 
 
 def _invalid_message(geom: shapely.Geometry) -> str:
-    return f"{geom.geom_type} is not valid: {shapely.is_valid_reason(geom)}"
+    return validity.reason(geom)
 
 
 def _repair_or_raise(geom: shapely.Geometry, type_id: int, method: str | None, i: int,
@@ -398,7 +406,7 @@ def _repair_or_raise(geom: shapely.Geometry, type_id: int, method: str | None, i
         parts = _flat_parts(geom)
         ptypes = shapely.get_type_id(parts)
         poly = np.isin(ptypes, _POLYGONAL)
-        bad = np.flatnonzero(poly & ~shapely.is_valid(parts))
+        bad = np.flatnonzero(poly & ~validity.is_valid(parts))
         if not len(bad):
             # the members are valid one by one (GEOS checks them separately)
             return geom
@@ -408,7 +416,7 @@ def _repair_or_raise(geom: shapely.Geometry, type_id: int, method: str | None, i
                         "shapely.make_valid", i, indexed)
         parts = parts.copy()
         for b in bad:
-            parts[b] = _make_valid_polygonal(parts[b], method)
+            parts[b] = _make_valid_polygonal(parts[b], method, i, indexed)
         parts = parts[~shapely.is_empty(parts)]
         return shapely.GeometryCollection(list(parts))
     if method is None:
@@ -416,7 +424,7 @@ def _repair_or_raise(geom: shapely.Geometry, type_id: int, method: str | None, i
                     "it with shapely.make_valid", i, indexed)
     if type_id == LINEARRING:
         geom = shapely.Polygon(geom)
-    fixed = _make_valid_polygonal(geom, method)
+    fixed = _make_valid_polygonal(geom, method, i, indexed)
     if fixed.is_empty:
         raise _fail(InvalidGeometryError, f"{_invalid_message(geom)}, and shapely.make_valid "
                     "leaves no polygonal part (it collapses to lines or points)", i, indexed)
@@ -441,11 +449,19 @@ def _flat_parts(geom: shapely.Geometry) -> NDArray[np.object_]:
     return parts
 
 
-def _make_valid_polygonal(geom: shapely.Geometry, method: str) -> shapely.Geometry:
-    if method == "structure":
-        fixed = shapely.make_valid(geom, method="structure", keep_collapsed=False)
-    else:
-        fixed = shapely.make_valid(geom)
+def _make_valid_polygonal(geom: shapely.Geometry, method: str, i: int,
+                          indexed: bool | np.ndarray) -> shapely.Geometry:
+    """The polygonal parts of ``make_valid(geom)`` (at unit size: the same
+    repair at every scale); InvalidGeometryError when GEOS cannot repair it."""
+    try:
+        if method == "structure":
+            fixed = validity.make_valid(geom, method="structure", keep_collapsed=False)
+        else:
+            fixed = validity.make_valid(geom)
+    except shapely.errors.GEOSException as exc:
+        raise _fail(InvalidGeometryError, f"{_invalid_message(geom)}, and shapely.make_valid "
+                    f"cannot repair it ({exc}); mesh it with intersections='split' instead "
+                    "(even-odd depth)", i, indexed) from exc
     parts = _flat_parts(fixed) if fixed.geom_type != "Polygon" else np.array([fixed], object)
     ptypes = shapely.get_type_id(parts)
     polys = shapely.get_parts(parts[(ptypes == POLYGON) | (ptypes == MULTIPOLYGON)])
@@ -461,23 +477,52 @@ def _polygon_plcs(geoms: NDArray[np.object_]) -> list[PLC | None]:
     equals ``PLC.from_geo_interface`` of each geometry (same vertex order, segments,
     rings, polygon numbering). Geometries with a degenerate ring get ``None``."""
     rings = layer_rings(geoms)
-    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, has_z = rings
-    return [None if bad_geom[g] else
+    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, has_z, empty = rings
+    plcs = [None if bad_geom[g] else
             geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole,
                          z if has_z[g] else None, g)
             for g in range(len(geoms))]
+    for g, names in _empty_rings_by_geometry(empty).items():
+        plc = plcs[g]
+        if plc is not None:
+            plc.empty_rings = names
+    return plcs
+
+
+def _empty_rings_by_geometry(empty: NDArray[np.int64]) -> dict[int, list[tuple[int, int]]]:
+    """Rows ``(geometry, polygon, ring)`` of the EMPTY rings dropped, as
+    ``{geometry: [(polygon, ring), ...]}`` (``stats["empty_rings"]``)."""
+    out: dict[int, list[tuple[int, int]]] = {}
+    for g, p, r in empty.tolist():
+        out.setdefault(g, []).append((p, r))
+    return out
 
 
 def layer_rings(geoms: NDArray[np.object_]) -> tuple[Any, ...]:
     """Flat ring arrays of a 1-D array of Polygons / MultiPolygons (empty parts
-    dropped), read by :func:`cdt_plugin.plc.shapely_polygon_rings`: ``xy, z,
-    ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom, has_z``.
+    and EMPTY rings dropped), read by :func:`cdt_plugin.plc.shapely_polygon_rings`:
+    ``xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom,
+    has_z, empty``, ``empty`` the rows ``(geometry, polygon, ring)`` of the EMPTY rings.
     ``z`` is None when no geometry has Z; ``bad_geom`` marks geometries with a
     ring of fewer than three points (a ring of zero area is found exactly, at
     any scale, by the route, which hands its geometry to the single call for
     the precise error)."""
-    rings = shapely_polygon_rings(shapely, geoms)
-    ring_geom = np.repeat(np.arange(len(geoms)), np.diff(rings.geom_ring_start))
+    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole = \
+        shapely_polygon_rings(shapely, geoms)
+    sizes = np.diff(ring_start)
+    ring_geom = np.repeat(np.arange(len(geoms)), np.diff(geom_ring_start))
+    empty = np.empty((0, 3), np.int64)
+    if (sizes == 0).any():   # EMPTY rings (holes without points): dropped, as GEOS does
+        drop = sizes == 0
+        first = np.flatnonzero(~ring_is_hole)            # each polygon's shell
+        shell_of = first[np.searchsorted(first, np.arange(len(sizes)), side="right") - 1]
+        empty = np.column_stack([ring_geom, ring_polygon, np.arange(len(sizes)) - shell_of])[drop]
+        ring_start = np.append(ring_start[:-1][~drop], ring_start[-1])
+        geom_ring_start = geom_ring_start - np.concatenate([[0], np.cumsum(np.bincount(
+            ring_geom[drop], minlength=len(geoms)))])
+        ring_polygon, ring_is_hole, ring_geom = ring_polygon[~drop], ring_is_hole[~drop], ring_geom[~drop]
+        sizes = sizes[~drop]
     bad_geom = np.zeros(len(geoms), bool)
-    bad_geom[ring_geom[np.diff(rings.ring_start) < 3]] = True
-    return (*rings, bad_geom, shapely.has_z(geoms))
+    bad_geom[ring_geom[sizes < 3]] = True
+    return (xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, bad_geom,
+            shapely.has_z(geoms), empty)

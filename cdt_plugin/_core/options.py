@@ -27,6 +27,7 @@ class RefineOptions(NamedTuple):
     max_area: float = 0.0           # 0: no global area bound (region seeds may bound theirs)
     conforming: bool = False        # split segments until every triangle is Delaunay
     split_boundary: bool = True     # False: no Steiner point on the domain boundary
+    split_segments: bool = True     # False: no Steiner point on any segment (Triangle's -YY)
 
 
 class RouteOptions(NamedTuple):

@@ -656,8 +656,8 @@ def cdt_route(plc, orders, options, snapped, prebuilt):
         room = STEINER_ROOM * nv + 64
         if area_of_label.shape[0] > 1:
             room += refinement_room(xi, yi, T, inside, region, area_of_label, 2_000_000)
-        rstatus, rc, lab, _, store = refine_store(store, lab, seg_ends, refinement, area_of_label,
-                                                  budget, room)
+        rstatus, rc, lab, _, store, _ = refine_store(store, lab, seg_ends, refinement, area_of_label,
+                                                     budget, room, np.empty(0, np.int64), np.int64(-1))
         tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
         counts[K_REF_STEINER] = rc[C_STEINER]
         counts[K_REF_SPLITS] = rc[C_SEG_SPLITS]

@@ -29,9 +29,11 @@ their orientation exactly; a piece that cannot be split that way is frozen
 (``cons < 0``), as are boundary pieces under ``split_boundary=False``.
 
 Triangle labels ``lab`` travel with the triangles: the region of an inside
-triangle (>= -1) or ``OUT``. Flips never cross a segment and the domain is
-bounded by segments (hull edges are made segments first), so the two
-triangles of a flip always share their label.
+triangle (>= -1), or the triangle of the mesh it came from when an existing
+mesh is refined (:mod:`.remesh`), or ``OUT``. Flips never cross a segment and
+the domain is bounded by segments (hull edges are made segments first), so
+the two triangles of a flip always share their label (an existing mesh's
+edges between triangles with different area bounds are made segments too).
 """
 from __future__ import annotations
 
@@ -850,22 +852,35 @@ def freeze_boundary(tri, twin, cons, lab, ntri):
             cons[twin[e]] = -cons[twin[e]]
 
 
-@kernel(apart=True, ahead=(STORE, I64, I64_2, REFINE_OPTIONS, F8, i8, i8),
-        returns=Tuple((i8, I64, I64, I64_2, STORE)))
-def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room):
+@kernel
+def freeze_segments(cons, ntri):
+    """``split_segments=False`` (Triangle's -YY): freeze every piece."""
+    for e in range(3 * ntri):
+        if cons[e] > 0:
+            cons[e] = -cons[e]
+
+
+@kernel(apart=True, ahead=(STORE, I64, I64_2, REFINE_OPTIONS, F8, i8, i8, I64, i8),
+        returns=Tuple((i8, I64, I64, I64_2, STORE, I64)))
+def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room, vseg, nv0):
     """Refine the store ``(tri, twin, cons, x, y, w, inf, ntri, nv)`` whose
     triangle labels are ``lab`` as ``refinement`` (a :class:`RefineOptions`:
-    its ``min_angle``, ``conforming`` and ``split_boundary``) asks, with the
+    its ``min_angle``, ``conforming``, ``split_boundary`` and ``split_segments``) asks, with the
     area bound of each label in ``area_of_label`` (:func:`area_bound`; the
     caller derives it from ``refinement.max_area`` and the region seeds), at
     most ``max_new`` Steiner points, and room for at least ``room`` vertices
     from the start (more is made by doubling). ``seg_ends`` (mesh ids of each
     segment's ends) gains the hull edges made segments. Frozen pieces are
     unfrozen on return. Returns ``(status, counts, lab, seg_ends, (tri, twin,
-    cons, x, y, w, inf, ntri, nv))``."""
+    cons, x, y, w, inf, ntri, nv), vseg)``. ``vseg`` is the segment id of each
+    vertex from ``nv0`` on that a refinement placed on a segment (0: none), as a
+    previous call returned it, or empty (and ``nv0`` -1) for a store no
+    refinement has touched: Shewchuk's rule around small input angles reads it
+    (:func:`at_small_input_angle`)."""
     tri, twin, cons, x, y, w, inf, ntri, nv = store
     min_angle, conforming = refinement.min_angle, refinement.conforming
-    nv0 = nv
+    if nv0 < 0:
+        nv0 = nv
     # the same refined mesh for any order of the input vertices and segments and
     # any segment direction: slots in canonical order (refinement scans them),
     # each segment from its smaller end (split points are placed along it)
@@ -876,7 +891,9 @@ def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room)
         if seg_ends[s, 0] > seg_ends[s, 1]:
             seg_ends[s, 0], seg_ends[s, 1] = seg_ends[s, 1], seg_ends[s, 0]
     seg_ends = with_hull_pieces(tri, twin, cons, lab, ntri, inf, seg_ends)
-    if not refinement.split_boundary:
+    if not refinement.split_segments:
+        freeze_segments(cons, ntri)
+    elif not refinement.split_boundary:
         freeze_boundary(tri, twin, cons, lab, ntri)
     sin2_bound, offconstant = 0.0, 0.0
     if min_angle > 0:
@@ -892,7 +909,7 @@ def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room)
     if inf < room:
         tri, twin, cons, x, y, w, inf = grow_store(tri, twin, cons, x, y, w, inf, nv, room)
     lab = _grown(lab, tri.shape[0] // 3, np.int64(OUT))
-    vseg = np.zeros(inf + 1, np.int64)
+    vseg = _grown(vseg, inf + 1, np.int64(0))
     counts = np.zeros(8, np.int64)
     params = RefineParameters(sin2_bound, offconstant, lens, conforming, max_new, area_of_label)
     heap, pieces = max(1024, ntri), np.int64(256)
@@ -909,7 +926,7 @@ def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room)
         cons[e] = abs(cons[e])
     if counts[C_UNREPAIRED]:   # (never seen: a repair needs a stack as deep as the mesh)
         counts[C_FLIPS] += flip_to_delaunay(tri, twin, cons, x, y, x, np.bool_(False), inf, ntri)
-    return status, counts, lab, seg_ends, (tri, twin, cons, x, y, w, inf, ntri, nv)
+    return status, counts, lab, seg_ends, (tri, twin, cons, x, y, w, inf, ntri, nv), vseg
 
 
 @kernel

@@ -27,7 +27,7 @@ from .flips import flip_from_stack
 from .mesh import DEAD, flip, nxt, prv
 from .ordering import sort_ids
 from .predicates import crossing_point as exact_crossing
-from .scaling import on_grid
+from .scaling import NO_FIT, fit_shift, on_grid
 from .status import (ALL_DONE, BUFFERS_TOO_SMALL, CROSSING, DONE, LOCATE_FAILED, LOST,  # noqa: F401
                      NEED_EDGE_ROOM, NEED_VERTEX_ROOM, ON_INPUT, OVERLAP, SPLIT_AT, STOP_CROSSING,
                      STOP_LIMIT, STOP_OVERLAP, TASK_LOST)
@@ -391,6 +391,30 @@ def intersection_point(x, y, p0, p1, q0, q1):
     hi = min(max(y[p0], y[p1]), max(y[q0], y[q1]))
     py = min(max(py, lo), hi)
     return px, py
+
+
+@entry
+def split_crossing(x, y, p0, p1, q0, q1):
+    """The crossing of segments ``p0 p1`` and ``q0 q1`` (known to cross) of
+    the points ``x, y``, placed as ``intersections="split"`` places it: in the
+    route's power-of-two scale of all the points (:mod:`.scaling`),
+    :func:`intersection_point` rounded to the grid (:func:`.scaling.on_grid`),
+    scaled back. Exact at every magnitude, where the crossing computed on the
+    unscaled doubles overflows (NaN from about 1e120) or underflows; the point
+    an error names."""
+    shift, _, _ = fit_shift(x, y, np.empty(0))
+    if shift == NO_FIT:     # (the route stops on the range first; kept for any other caller)
+        shift = 0
+    s = 2.0 ** shift        # a normal double: |shift| <= MAX_SHIFT
+    ends = (p0, p1, q0, q1)
+    X = np.empty(4)
+    Y = np.empty(4)
+    for i in range(4):
+        X[i] = x[ends[i]] * s
+        Y[i] = y[ends[i]] * s
+    px, py = intersection_point(X, Y, np.int64(0), np.int64(1), np.int64(2), np.int64(3))
+    back = 2.0 ** -shift
+    return on_grid(px) * back, on_grid(py) * back
 
 
 @kernel("int64(int64[:, ::1], int64, int64, int64, int64)")

@@ -60,10 +60,16 @@ def _triangulate_feature(feature: Feature, features: Sequence[Feature], options:
     # repair) unless crossings are to be split: the engine then meshes the rings
     # as they are, by even-odd depth where they cross.
     validate = repair or options.get("intersections") != "split"
+    try:      # (a feature that is no geometry fails alone too: skipped and named with "skip")
+        geometry = _shapely_geometry(feature) if feature.geometry is not None and validate else None
+    except CLIError as exc:
+        if errors == "skip":
+            return exc
+        raise
     try:
         if feature.geometry is not None and validate:
             from ..adapters.shapely import triangulate as triangulate_geometry
-            return triangulate_geometry(_shapely_geometry(feature), repair=repair, **options)
+            return triangulate_geometry(geometry, repair=repair, **options)
         if feature.geometry is not None:
             return triangulate(feature.geometry, **options)
         return triangulate(**feature.arrays, **options)

@@ -15,7 +15,7 @@ from cdt_plugin import PLC, NonFiniteCoordinateError  # noqa: E402
 from cdt_plugin.batch import geometry_plc  # noqa: E402
 from cdt_plugin.plc import geojson_features, geojson_parts, shapely_polygon_rings  # noqa: E402
 from cdt_plugin.report import earcut  # noqa: E402
-from checker import check_triangulation  # noqa: E402
+from checker import assert_valid, check_triangulation  # noqa: E402
 
 from cdt_plugin.adapters.shapely.reading import layer_rings  # noqa: E402
 
@@ -98,7 +98,7 @@ def test_a_layer_read_at_once_gives_each_geometry_its_plc(name):
     each geometry's PLC: the PLC of the geometry alone, wherever it sits in the layer."""
     layer = np.array([shapely.box(-5, -5, -4, -4), GEOMETRIES[name],
                       GEOMETRIES["multipolygon with holes"]], object)
-    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, _, has_z = layer_rings(layer)
+    xy, z, ring_start, geom_ring_start, ring_polygon, ring_is_hole, _, has_z, _ = layer_rings(layer)
     for g, geometry in enumerate(layer):
         plc = geometry_plc(xy, ring_start, geom_ring_start, ring_polygon, ring_is_hole,
                            z if has_z[g] else None, g)
@@ -180,21 +180,26 @@ def test_meshes_of_the_reader_and_the_walker_agree_and_check(name):
 
 @pytest.mark.parametrize("wkt", ["POLYGON ((0 0, 2 0, 2 2, 0 0), EMPTY)",
                                  "MULTIPOLYGON (((0 0, 2 0, 2 2, 0 0), EMPTY), ((5 5, 6 5, 6 6, 5 5)))"])
-def test_an_empty_hole_is_named_as_a_degenerate_ring(wkt):
-    # GEOS holds an EMPTY hole as a ring of no points, with no closing point to drop:
-    # the one call names it, and the layer's other geometries are read as before
-    from cdt_plugin import InvalidGeometryError
-    from cdt_plugin.adapters.shapely import triangulate_batch
+def test_an_empty_hole_is_dropped_and_named_in_stats(wkt):
+    # GEOS holds an EMPTY hole as a ring of no points (valid for GEOS, which drops it): the
+    # one call, the batch and the reader of arrays all drop it and name it in stats
+    from cdt_plugin.adapters.shapely import triangulate as shapely_triangulate, triangulate_batch
     geometry = shapely.from_wkt(wkt)
-    with pytest.raises(InvalidGeometryError, match="ring 1 of polygon 0 has fewer than three"):
-        cdt_plugin.triangulate(geometry)
+    without = shapely.from_wkt(wkt.replace(", EMPTY", ""))
+    expected = cdt_plugin.triangulate(without)
+    for tri in (cdt_plugin.triangulate(geometry), shapely_triangulate(geometry),
+                shapely_triangulate([geometry] * 17)[16]):       # (17: the vectorised reader)
+        assert tri.stats["empty_rings"] == [(0, 1)]
+        assert np.array_equal(tri.vertices, expected.vertices)
+        assert np.array_equal(tri.triangles, expected.triangles)
+        assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
     rings = shapely_polygon_rings(shapely, np.array([geometry, shapely.box(0, 0, 1, 1)]))
     assert np.diff(rings.ring_start).tolist()[:2] == [3, 0] and np.diff(rings.ring_start)[-1] == 4
-    with pytest.raises(InvalidGeometryError, match="geometry 0: a ring has fewer than three"):
-        triangulate_batch(np.array([geometry, shapely.box(0, 0, 1, 1)]))
-    batch = triangulate_batch(np.array([geometry, shapely.box(0, 0, 1, 1)]), errors="skip")
-    assert list(batch.errors) == [0]
-    box = batch.triangles[batch.geometry == 1]
-    used, local = np.unique(box, return_inverse=True)
-    report = check_triangulation(batch.vertices[used], local.reshape(box.shape))
-    assert report.ok and len(box) == 2, report
+    batch = triangulate_batch(np.array([shapely.box(0, 0, 1, 1), geometry]))
+    assert not batch.errors and batch.stats["empty_rings"] == {1: [(0, 1)]}
+    assert len(batch.triangles) == 2 + len(expected.triangles)
+    V, T = batch.mesh(1)      # the same triangles as the geometry without its EMPTY ring
+
+    def corners(V, T):
+        return sorted(sorted(map(tuple, V[t, :2].tolist())) for t in T)
+    assert corners(V, T) == corners(expected.vertices, expected.triangles)

@@ -309,7 +309,7 @@ def test_a_boundary_that_misses_the_points_is_a_clip_region_error(layer):
     (gpd.GeoDataFrame(geometry=[shapely.Point(0, 0)], index=["p"], crs=CRS),
      "boundary feature p is a Point"),
     (gpd.GeoDataFrame(geometry=[shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])], crs=CRS),
-     "boundary feature 0 is invalid (Self-intersection"),
+     "boundary feature 0 is invalid (Polygon is not valid: Self-intersection at (1.0, 1.0), on ring 0"),
     (gpd.GeoDataFrame(geometry=[None, shapely.Polygon()], crs=CRS), "has no polygon"),
     (shapely.LineString([(0, 0), (1, 1)]), "Polygon / MultiPolygon"),
     (shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)]), "invalid"),

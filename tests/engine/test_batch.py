@@ -28,7 +28,7 @@ def test_doctests():
 
 def _ring_segments(geom):
     """Input vertices and ring segments of one polygonal geometry (closing points dropped)."""
-    xy, _, ring_start, _, _, _, _, _ = _polygon_rings(np.array([geom], object))
+    xy, _, ring_start, _, _, _, _, _, _ = _polygon_rings(np.array([geom], object))
     segs = []
     for r in range(len(ring_start) - 1):
         i = np.arange(ring_start[r], ring_start[r + 1])
@@ -38,7 +38,7 @@ def _ring_segments(geom):
 
 def _vertex_starts(geoms):
     """Index in the batch's vertices of each geometry's first vertex."""
-    _, _, ring_start, geom_ring_start, _, _, _, _ = _polygon_rings(np.asarray(geoms, object))
+    _, _, ring_start, geom_ring_start, _, _, _, _, _ = _polygon_rings(np.asarray(geoms, object))
     return ring_start[geom_ring_start]
 
 

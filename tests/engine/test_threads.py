@@ -102,7 +102,7 @@ def _layer():
             parts = (np.empty((0, 2)), [0], [], [])
         else:
             star = shapely.affinity.translate(_star(5 + i % 40, holes=i % 3), xoff=3.0 * i)
-            p_xy, _, p_rs, _, p_rp, p_rh, _, _ = _polygon_rings(np.array([star], object))
+            p_xy, _, p_rs, _, p_rp, p_rh, _, _, _ = _polygon_rings(np.array([star], object))
             parts = (p_xy, p_rs, p_rp, p_rh)
         p_xy, p_rs, p_rp, p_rh = parts
         ring_start.extend((np.asarray(p_rs[1:]) + ring_start[-1]).tolist())

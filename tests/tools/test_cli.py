@@ -436,7 +436,7 @@ def test_errors_skip_leaves_out_failing_features_and_names_them(tmp_path, capsys
     assert cli.main(["mesh", str(src), "-o", str(out), "--errors", "skip"]) == 0
     captured = capsys.readouterr()
     assert captured.err.startswith("cdt-plugin: warning: skipped feature 0 (f0): Polygon is not "
-                                   "valid: Self-intersection[1 1]")
+                                   "valid: Self-intersection at (1.0, 1.0), on ring 0 of polygon 0")
     assert len(captured.err.splitlines()) == 1
     V = tio.read_node(tmp_path / "two.node").vertices
     T = tio.read_ele(out).triangles
@@ -455,6 +455,22 @@ def test_errors_skip_with_nothing_left_is_an_error(tmp_path, capsys):
     assert err[1] == f"cdt-plugin: error: {src}: no feature could be meshed (1 skipped)"
     assert not (tmp_path / "b.ele").exists()
     assert cli.main(["mesh", str(src), "-o", "b.ele", "--errors", "ignore"]) == 2   # usage
+
+
+def test_errors_skip_skips_a_feature_that_is_no_geometry(tmp_path, capsys):
+    """A feature whose GeoJSON geometry shapely cannot read fails alone: --errors skip
+    names it and meshes the others."""
+    pytest.importorskip("shapely")
+    src = tmp_path / "two.json"
+    src.write_text(json.dumps(_collection({"type": "Polygon", "coordinates": [[[0, 0], [1]]]},
+                                          SQUARE)))
+    out = tmp_path / "two.ele"
+    assert cli.main(["mesh", str(src), "-o", str(out)]) == 1
+    assert "feature 0 (f0): not a valid GeoJSON geometry" in capsys.readouterr().err
+    assert cli.main(["mesh", str(src), "-o", str(out), "--errors", "skip"]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("cdt-plugin: warning: skipped feature 0 (f0): not a valid GeoJSON geometry")
+    assert len(tio.read_ele(out).triangles) == 2
 
 
 @needs_corpus
@@ -485,6 +501,23 @@ def test_errors_skip_on_a_projected_world_layer(tmp_path, capsys):
         assert (mine.geom_type == "Polygon").all()
         polygon = given[given["name"] == name].geometry.iloc[0]
         assert mine.area.sum() == pytest.approx(polygon.area, rel=1e-6)
+
+
+def test_errors_skip_skips_a_feature_that_does_not_project(tmp_path, capsys):
+    """A feature whose coordinates do not project (a latitude beyond the pole in Web
+    Mercator) is skipped and named with --errors skip; the other is meshed."""
+    gpd = pytest.importorskip("geopandas")
+    src = tmp_path / "two.json"
+    src.write_text(json.dumps(_collection({"type": "Polygon", "coordinates": [
+        [[0, 80], [10, 80], [10, 95], [0, 95], [0, 80]]]}, SQUARE)))
+    out = tmp_path / "two.gpkg"
+    args = ["mesh", str(src), "-o", str(out), "--project", "EPSG:3857", "--no-progress"]
+    assert cli.main(args) == 1
+    assert "error: feature 0 (f0): coordinates do not project" in capsys.readouterr().err
+    assert cli.main(args + ["--errors", "skip"]) == 0
+    err = capsys.readouterr().err
+    assert "cdt-plugin: warning: skipped feature 0 (f0): coordinates do not project" in err
+    assert len(gpd.read_file(out)) == 2       # the square's two triangles
 
 
 @pytest.mark.parametrize("output", ["out.ply", "out.ele", "out.geojson", "out.gpkg"])
