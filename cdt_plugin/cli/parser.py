@@ -8,6 +8,7 @@ from pathlib import Path
 from .. import __version__
 from ..compiling import ROUTES
 from .commands import compile_command, mesh_command, report_command, tin_command, voronoi_command
+from .triangle import add_triangle_command
 
 EXAMPLES = """\
 examples:
@@ -23,18 +24,20 @@ examples:
   cdt-plugin tin points.gpkg --breaklines lines.gpkg -o dem.tif --resolution 10
   cdt-plugin report polygon.json --against earcut
   cdt-plugin report polygon.geojson --against other_mesh.obj --json
+  cdt-plugin triangle -pq30a0.1 A.poly        (Triangle's own command line: writes A.1.node, A.1.ele...)
 """
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser (subcommands ``mesh``, ``report``, ``voronoi``, ``tin`` and ``compile``)."""
+    """The argument parser (subcommands ``mesh``, ``report``, ``voronoi``, ``tin``, ``triangle`` and
+    ``compile``)."""
     fmt = argparse.RawDescriptionHelpFormatter
     parser = argparse.ArgumentParser(
         prog="cdt-plugin", formatter_class=fmt, epilog=EXAMPLES,
         description="Constrained Delaunay triangulation of polygon and PSLG files: "
                     "mesh them, report their quality, compare with other meshes.")
     parser.add_argument("--version", action="version", version=f"cdt-plugin {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{mesh,report,voronoi,tin,compile}", required=True)
+    sub = parser.add_subparsers(dest="command", metavar="{mesh,report,voronoi,tin,triangle,compile}", required=True)
 
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("input", metavar="INPUT",
@@ -133,6 +136,8 @@ def build_parser() -> argparse.ArgumentParser:
     tin.add_argument("--method", choices=("linear", "natural"), default="linear",
                      help="interpolation on the grid (default: linear)")
     tin.set_defaults(func=tin_command)
+
+    add_triangle_command(sub)
 
     comp = sub.add_parser("compile", formatter_class=fmt,
                           help="compile every route ahead of time (Docker images, CI, Dask workers)",

@@ -48,13 +48,16 @@ from .writing import (
     write_ele,
     write_neigh,
     write_node,
+    write_off,
     write_poly,
     write_triangulation,
+    write_voronoi,
 )
 
 __all__ = [
     "NodeData", "PolyData", "EleData", "EdgeData",
     "read_node", "read_poly", "read_ele", "read_edge", "read_neigh",
     "write_node", "write_poly", "write_ele", "write_edge", "write_neigh", "write_triangulation",
+    "write_voronoi", "write_off",
     "WRITE_FIRST_INDEX",
 ]

@@ -39,10 +39,12 @@ def _attribute_rows(attributes: ArrayLike | None, n: int) -> NDArray[np.float64]
     return attrs
 
 
-def _edge_lines(edges: NDArray[np.int64], markers: NDArray[np.int64] | None) -> list[str]:
+def _edge_lines(edges: NDArray[np.int64], markers: NDArray[np.int64] | None,
+                f0: int = WRITE_FIRST_INDEX) -> list[str]:
     """The lines of a ``.edge`` file, which are also the segment section of a ``.poly``:
-    ``<#edges> <#markers 0|1>``, then ``<#> <endpoint> <endpoint> [marker]``."""
-    f0 = WRITE_FIRST_INDEX
+    ``<#edges> <#markers 0|1>``, then ``<#> <endpoint> <endpoint> [marker]``, numbered
+    from ``f0``."""
+    _check_first(f0)
     lines = [f"{edges.shape[0]} {0 if markers is None else 1}"]
     for i in range(edges.shape[0]):
         row = f"{i + f0} {edges[i, 0] + f0} {edges[i, 1] + f0}"
@@ -53,14 +55,14 @@ def _edge_lines(edges: NDArray[np.int64], markers: NDArray[np.int64] | None) -> 
 
 
 def _node_lines(vertices: ArrayLike, attributes: ArrayLike | None,
-                markers: ArrayLike | None) -> list[str]:
+                markers: ArrayLike | None, f0: int = WRITE_FIRST_INDEX) -> list[str]:
+    _check_first(f0)
     v = as_xy(vertices, "vertices", empty=True)
     n = v.shape[0]
     attrs = _attribute_rows(attributes, n)
     marks = _opt_rows(markers, n, "markers", np.int64)
     na = 0 if attrs is None else attrs.shape[1]
     lines = [f"{n} 2 {na} {0 if marks is None else 1}"]
-    f0 = WRITE_FIRST_INDEX
     for i in range(n):
         parts = [str(i + f0), _fmt(v[i, 0]), _fmt(v[i, 1])]
         if attrs is not None:
@@ -71,8 +73,14 @@ def _node_lines(vertices: ArrayLike, attributes: ArrayLike | None,
     return lines
 
 
-def _write(path: str | os.PathLike[str], lines: list[str], kind: str) -> None:
-    header = f"# {kind} written by cdt_plugin.io (numbering from {WRITE_FIRST_INDEX})"
+def _check_first(f0: int) -> None:
+    if f0 not in (0, 1):
+        raise InputShapeError(f"first_index must be 0 or 1 (Triangle's numberings), got {f0!r}")
+
+
+def _write(path: str | os.PathLike[str], lines: list[str], kind: str,
+           f0: int = WRITE_FIRST_INDEX) -> None:
+    header = f"# {kind} written by cdt_plugin.io (numbering from {f0})"
     with open(path, "w", encoding="utf-8", newline="\n") as f:
         f.write(header + "\n" + "\n".join(lines) + "\n")
 
@@ -83,8 +91,10 @@ def _mesh_array(data: ArrayLike | Triangulation, name: str) -> ArrayLike:
 
 
 def write_node(path: str | os.PathLike[str], vertices: ArrayLike | Triangulation,
-               attributes: ArrayLike | None = None, markers: ArrayLike | None = None) -> None:
-    """Write a ``.node`` file, vertices numbered from 1; floats round-trip exactly.
+               attributes: ArrayLike | None = None, markers: ArrayLike | None = None, *,
+               first_index: int = WRITE_FIRST_INDEX) -> None:
+    """Write a ``.node`` file, vertices numbered from ``first_index`` (1, Triangle's
+    default, or 0 as its ``-z``); floats round-trip exactly.
     ``vertices``: an (n, 2) array or a Triangulation (its vertices).
 
     >>> import os, tempfile, cdt_plugin
@@ -94,15 +104,16 @@ def write_node(path: str | os.PathLike[str], vertices: ArrayLike | Triangulation
     >>> read_node(path).vertices.tolist()
     [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
     """
-    _write(path, _node_lines(_mesh_array(vertices, "vertices"), attributes, markers),
-           "Triangle .node")
+    _write(path, _node_lines(_mesh_array(vertices, "vertices"), attributes, markers, first_index),
+           "Triangle .node", first_index)
 
 
 def write_poly(path: str | os.PathLike[str], vertices: ArrayLike | Triangulation,
                segments: ArrayLike | None = None, holes: ArrayLike | None = None,
                regions: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
-               attributes: ArrayLike | None = None, markers: ArrayLike | None = None) -> None:
-    """Write a ``.poly`` file (vertices inline, numbered from 1).
+               attributes: ArrayLike | None = None, markers: ArrayLike | None = None, *,
+               first_index: int = WRITE_FIRST_INDEX) -> None:
+    """Write a ``.poly`` file (vertices inline, numbered from ``first_index``: 1 or 0).
 
     ``segments`` are zero-based in memory; ``regions`` rows are (x, y, attribute, max_area),
     a NaN max_area is written as -1 (no constraint, in Triangle's reading). ``vertices``
@@ -120,12 +131,12 @@ def write_poly(path: str | os.PathLike[str], vertices: ArrayLike | Triangulation
         segments = _mesh_array(vertices, "segments")
         if segments is vertices:
             raise InputShapeError("write_poly needs segments (or a Triangulation)")
-    lines = _node_lines(_mesh_array(vertices, "vertices"), attributes, markers)
+    f0 = first_index
+    lines = _node_lines(_mesh_array(vertices, "vertices"), attributes, markers, f0)
     n = int(lines[0].split()[0])
     s = as_index(segments, "segments", 2, n)
     smarks = _opt_rows(segment_markers, s.shape[0], "segment_markers", np.int64)
-    lines += _edge_lines(s, smarks)
-    f0 = WRITE_FIRST_INDEX
+    lines += _edge_lines(s, smarks, f0)
     h = as_xy(holes if holes is not None else np.zeros((0, 2)), "holes", empty=True)
     lines.append(str(h.shape[0]))
     for j in range(h.shape[0]):
@@ -142,12 +153,13 @@ def write_poly(path: str | os.PathLike[str], vertices: ArrayLike | Triangulation
         for j in range(r.shape[0]):
             area = r[j, 3] if r.shape[1] == 4 and np.isfinite(r[j, 3]) else -1.0
             lines.append(f"{j + f0} {_fmt(r[j, 0])} {_fmt(r[j, 1])} {_fmt(r[j, 2])} {_fmt(area)}")
-    _write(path, lines, "Triangle .poly")
+    _write(path, lines, "Triangle .poly", f0)
 
 
 def write_ele(path: str | os.PathLike[str], triangles: ArrayLike | Triangulation,
-              attributes: ArrayLike | None = None) -> None:
-    """Write a ``.ele`` file (triangles and corners numbered from 1). ``triangles``: a
+              attributes: ArrayLike | None = None, *, first_index: int = WRITE_FIRST_INDEX) -> None:
+    """Write a ``.ele`` file (triangles and corners numbered from ``first_index``: 1
+    or 0). ``triangles``: a
     (k, 3) or (k, 6) index array or a Triangulation (its triangles).
 
     >>> import os, tempfile, cdt_plugin
@@ -164,41 +176,46 @@ def write_ele(path: str | os.PathLike[str], triangles: ArrayLike | Triangulation
         raise InputShapeError("triangles contain negative vertex indices")
     attrs = _attribute_rows(attributes, t.shape[0])
     na = 0 if attrs is None else attrs.shape[1]
-    f0 = WRITE_FIRST_INDEX
+    f0 = first_index
+    _check_first(f0)
     lines = [f"{t.shape[0]} {cols} {na}"]
     for i in range(t.shape[0]):
         parts = [str(i + f0)] + [str(int(x) + f0) for x in t[i]]
         if attrs is not None:
             parts.extend(_fmt(x) for x in attrs[i])
         lines.append(" ".join(parts))
-    _write(path, lines, "Triangle .ele")
+    _write(path, lines, "Triangle .ele", f0)
 
 
 def write_edge(path: str | os.PathLike[str], edges: ArrayLike | Triangulation,
-               markers: ArrayLike | None = None) -> None:
-    """Write a ``.edge`` file (edges and endpoints numbered from 1). ``edges``: an (m, 2)
+               markers: ArrayLike | None = None, *, first_index: int = WRITE_FIRST_INDEX) -> None:
+    """Write a ``.edge`` file (edges and endpoints numbered from ``first_index``: 1 or
+    0). ``edges``: an (m, 2)
     index array or a Triangulation (every edge of its triangles)."""
     e = as_index(_mesh_array(edges, "edges"), "edges", 2)
     if (e < 0).any():
         raise InputShapeError("edges contain negative vertex indices")
     marks = _opt_rows(markers, e.shape[0], "markers", np.int64)
-    _write(path, _edge_lines(e, marks), "Triangle .edge")
+    _write(path, _edge_lines(e, marks, first_index), "Triangle .edge", first_index)
 
 
-def write_neigh(path: str | os.PathLike[str], neighbors: ArrayLike | Triangulation) -> None:
-    """Write a ``.neigh`` file (triangles numbered from 1, -1 for no neighbour).
+def write_neigh(path: str | os.PathLike[str], neighbors: ArrayLike | Triangulation, *,
+                first_index: int = WRITE_FIRST_INDEX) -> None:
+    """Write a ``.neigh`` file (triangles numbered from ``first_index``: 1 or 0; -1 for
+    no neighbour).
     ``neighbors``: a (k, 3) array (column j: across the edge opposite corner j, as
     Triangle numbers them) or a Triangulation (its neighbours)."""
     nb = as_index(_mesh_array(neighbors, "neighbors"), "neighbors", 3)
     k = nb.shape[0]
     if ((nb < -1) | (nb >= k)).any():
         raise InputShapeError(f"neighbors must be -1 or in 0..{k - 1}")
-    f0 = WRITE_FIRST_INDEX
+    f0 = first_index
+    _check_first(f0)
     lines = [f"{k} 3"]
     for i in range(k):
         lines.append(" ".join([str(i + f0)] + [str(int(x) + f0) if x >= 0 else "-1"
                                                 for x in nb[i]]))
-    _write(path, lines, "Triangle .neigh")
+    _write(path, lines, "Triangle .neigh", f0)
 
 
 def write_triangulation(path: str | os.PathLike[str], tri: Triangulation,
@@ -239,3 +256,58 @@ def write_triangulation(path: str | os.PathLike[str], tri: Triangulation,
     write_poly(paths[2], tri.vertices, tri.segments,
                segment_markers=tri.segment_markers if markers else None)
     return paths
+
+
+def write_voronoi(node_path: str | os.PathLike[str], edge_path: str | os.PathLike[str],
+                  points: ArrayLike, edges: ArrayLike, rays: tuple[ArrayLike, ArrayLike], *,
+                  first_index: int = WRITE_FIRST_INDEX) -> None:
+    """Write a Voronoi diagram as Triangle's ``-v`` does: its vertices to a ``.v.node``
+    file, its edges to a ``.v.edge`` file, where a finite edge is ``<#> <v1> <v2>`` and
+    a ray ``<#> <v1> -1 <dx> <dy>`` (from vertex ``v1`` in the direction ``(dx, dy)``).
+    ``edges`` (m, 2) and ``rays`` ``(origins (r,), directions (r, 2))`` are zero-based;
+    everything is numbered from ``first_index``.
+
+    >>> import os, tempfile
+    >>> from cdt_plugin.io import read_node
+    >>> d = tempfile.mkdtemp()
+    >>> write_voronoi(os.path.join(d, "a.v.node"), os.path.join(d, "a.v.edge"), [[0.5, 0.5]],
+    ...               [], ([0, 0], [[0, -1], [1, 1]]))
+    >>> open(os.path.join(d, "a.v.edge")).read().splitlines()[1:]
+    ['2 0', '1 1 -1 0.0 -1.0', '2 1 -1 1.0 1.0']
+    """
+    f0 = first_index
+    _check_first(f0)
+    pts = as_xy(points, "points", empty=True)
+    e = as_index(np.asarray(edges, np.int64).reshape(-1, 2), "edges", 2, pts.shape[0])
+    origin = as_index(np.asarray(rays[0], np.int64).reshape(-1, 1), "ray origins", 1,
+                      pts.shape[0]).reshape(-1)
+    direction = np.asarray(rays[1], np.float64).reshape(-1, 2)
+    if len(direction) != len(origin) or not np.isfinite(direction).all():
+        raise InputShapeError("rays must be one finite direction per origin")
+    _write(node_path, _node_lines(pts, None, None, f0), "Triangle .v.node", f0)
+    lines = [f"{len(e) + len(origin)} 0"]
+    lines += [f"{i + f0} {e[i, 0] + f0} {e[i, 1] + f0}" for i in range(len(e))]
+    lines += [f"{len(e) + j + f0} {origin[j] + f0} -1 {_fmt(direction[j, 0])} {_fmt(direction[j, 1])}"
+              for j in range(len(origin))]
+    _write(edge_path, lines, "Triangle .v.edge", f0)
+
+
+def write_off(path: str | os.PathLike[str], vertices: ArrayLike, triangles: ArrayLike) -> None:
+    """Write a mesh in Geomview's Object File Format as Triangle's ``-g`` does: ``OFF``,
+    the counts, each vertex as ``x y 0``, each triangle as ``3 a b c`` (numbered from 0:
+    the format's rule; six-node triangles give their corners).
+
+    >>> import os, tempfile
+    >>> path = os.path.join(tempfile.mkdtemp(), "t.off")
+    >>> write_off(path, [[0, 0], [1, 0], [0, 1]], [[0, 1, 2]])
+    >>> open(path).read().splitlines()
+    ['OFF', '3 1 0', '0.0 0.0 0.0', '1.0 0.0 0.0', '0.0 1.0 0.0', '3 0 1 2']
+    """
+    v = as_xy(vertices, "vertices", empty=True)
+    t = np.asarray(triangles)
+    t = as_index(t[:, :3] if t.ndim == 2 and t.shape[1] == 6 else t, "triangles", 3, v.shape[0])
+    lines = ["OFF", f"{v.shape[0]} {t.shape[0]} 0"]
+    lines += [f"{_fmt(x)} {_fmt(y)} 0.0" for x, y in v]
+    lines += [f"3 {a} {b} {c}" for a, b, c in t]
+    with open(path, "w", encoding="utf-8", newline="\n") as f:
+        f.write("\n".join(lines) + "\n")
