@@ -44,6 +44,7 @@ from typing import Callable, Tuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._core.boundary import boundary_flags
 from ._core.certify import locate_all
 from ._core.query import convex_disk
 from ._routes import hull_triangles
@@ -56,6 +57,7 @@ __all__ = ["Tags", "carry_attributes", "edge_markers", "make_tags", "refined_tag
 #: A base mesh for interpolation: vertices (n, 2), triangles (k, 3), attributes (n, k).
 BaseMesh = Tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]
 _NONE = np.iinfo(np.int64).max          # "no candidate" in the minimum reductions below
+_NO_PAIRS = np.empty((0, 2), np.int64)
 
 
 @dataclass(frozen=True)
@@ -129,18 +131,12 @@ def _keys(a: NDArray[np.int64], b: NDArray[np.int64], n: int) -> NDArray[np.int6
     return np.minimum(a, b) * n + np.maximum(a, b)
 
 
-def _boundary_ends(tri: TriangulationLike) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """The two ends of every boundary edge (in one triangle only)."""
-    T = tri.triangles
-    k, j = np.nonzero(tri.neighbors < 0)
-    return T[k, (j + 1) % 3], T[k, (j + 2) % 3]
-
-
-def _on_boundary(tri: TriangulationLike, edges: NDArray[np.int64]) -> NDArray[np.bool_]:
-    """Which of ``edges`` (vertex pairs) lie on the boundary of the triangulation."""
-    n = len(tri.vertices)
-    a, b = _boundary_ends(tri)
-    return np.isin(_keys(edges[:, 0], edges[:, 1], n), _keys(a, b, n))
+def _boundary(tri: TriangulationLike, pairs: NDArray[np.int64]) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """Which of ``pairs`` (vertex pairs) are boundary edges of the triangulation
+    (in one triangle only), and which vertices lie on the boundary."""
+    T = np.ascontiguousarray(tri.triangles, np.int64)
+    nb = np.ascontiguousarray(tri.neighbors, np.int64)
+    return boundary_flags(T, nb, len(tri.vertices), np.ascontiguousarray(pairs, np.int64))
 
 
 def _input_segment_markers(tri: TriangulationLike, tags: Tags | None) -> NDArray[np.int64] | None:
@@ -169,7 +165,7 @@ def segment_markers(tri: TriangulationLike, tags: Tags | None) -> NDArray[np.int
     nonzero, else 1 on the boundary, else 0 (a piece of the convex hull, id -1,
     is on the boundary)."""
     pieces = np.asarray(tri.segments, np.int64).reshape(-1, 2)
-    out = _on_boundary(tri, pieces).astype(np.int64)
+    out = _boundary(tri, pieces)[0].astype(np.int64)
     marks = _input_segment_markers(tri, tags)
     if marks is not None and len(pieces):
         ids = np.asarray(tri.segment_ids, np.int64)
@@ -182,7 +178,7 @@ def edge_markers(tri: TriangulationLike, tags: Tags | None) -> NDArray[np.int64]
     """The marker of each row of ``tri.edges``: that of the segment piece it is,
     else 1 on the boundary, else 0."""
     edges = np.asarray(tri.edges, np.int64).reshape(-1, 2)
-    out = _on_boundary(tri, edges).astype(np.int64)
+    out = _boundary(tri, edges)[0].astype(np.int64)
     pieces = np.asarray(tri.segments, np.int64).reshape(-1, 2)
     if tags is not None and tags.segment_markers is not None and len(pieces) and len(edges):
         n = len(tri.vertices)
@@ -199,11 +195,7 @@ def vertex_markers(tri: TriangulationLike, tags: Tags | None) -> NDArray[np.int6
     """The marker of each output vertex: its input marker if nonzero, else the
     nonzero marker of the first input segment it lies on, else 1 on the
     boundary, else 0."""
-    n = len(tri.vertices)
-    out = np.zeros(n, np.int64)
-    a, b = _boundary_ends(tri)
-    out[a] = 1
-    out[b] = 1
+    out = _boundary(tri, _NO_PAIRS)[1].astype(np.int64)
     vm = np.asarray(tri.vertex_map)
     marks = _input_segment_markers(tri, tags)
     if tags is not None and marks is not None and len(marks):
