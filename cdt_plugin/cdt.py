@@ -38,6 +38,7 @@ from .markers import vertex_attributes as attributes_of
 from .options import MeshOptions, checked_options, route_plan
 from .parallel import check_workers, resolve_workers
 from .plc import PLC, GeometryLike, as_plc
+from .sizing import SizeTest, check_size_test, refine_until_suitable
 from .triangulation import Triangulation
 from .validate import range_error
 
@@ -67,7 +68,7 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 max_steiner: int | None = None, workers: int | None = None,
                 vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
                 vertex_attributes: ArrayLike | None = None,
-                split_segments: bool = True) -> Triangulation:
+                split_segments: bool = True, suitable: SizeTest | None = None) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
     Parameters
@@ -135,6 +136,13 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         With ``False`` no Steiner point goes on any segment, inside the domain
         or on its boundary (Triangle's ``-YY``); the triangles at segments may
         then miss the bounds.
+    suitable : callable, optional
+        A size test (Triangle's ``-u``): ``suitable(org, dest, apex, area)``
+        over arrays, the corners (k, 2) and areas (k,) of every triangle,
+        returning (k,) booleans, True where a triangle is good enough. The
+        triangles it rejects are refined (each to at most half its area) until
+        it accepts them all, the other bounds kept; it is called once per round
+        on the whole mesh (:func:`cdt_plugin.sizing.refine_until_suitable`).
     max_steiner : int, optional
         Cap on Steiner points (intersections with ``"split"`` plus refinement).
         Crossings are counted before anything is built: more than the cap
@@ -193,13 +201,20 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                                     split_boundary=split_boundary, max_steiner=max_steiner,
                                     split_segments=split_segments)
     workers = check_workers(workers)
+    if suitable is not None:
+        check_size_test(suitable)
     plc = as_plc(vertices, segments, holes, regions)
     tags = None
     if (vertex_markers is not None or segment_markers is not None or vertex_attributes is not None
             or plc.vertex_markers is not None or plc.segment_markers is not None
             or plc.vertex_attributes is not None):
         tags = plc_tags(plc, vertex_markers, segment_markers, vertex_attributes)
-    return triangulate_plc(plc, options, t0=t0, workers=workers, tags=tags)
+    tri = triangulate_plc(plc, options, t0=t0, workers=workers, tags=tags)
+    if suitable is None:
+        return tri
+    return refine_until_suitable(tri, suitable, max_area=max_area, max_steiner=max_steiner,
+                                 min_angle=min_angle, conforming_delaunay=conforming_delaunay,
+                                 split_boundary=split_boundary, split_segments=split_segments)
 
 
 def plc_tags(plc: PLC, vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,

@@ -33,7 +33,8 @@ gives the same constrained Delaunay triangulation), ``v`` (the package's
 ``triangulate`` drops Triangle's Voronoi output too: use :func:`voronoi`).
 ``C`` checks the result with the exact certificate (Lemma 2.14) and raises
 :class:`~cdt_plugin.errors.NotDelaunayError` if it fails; ``i`` uses incremental
-insertion; ``u`` raises (:func:`cdt_plugin.switches.user_test_error`).
+insertion; ``u`` applies the size test the package compiles in
+(:func:`sample_size_test`).
 """
 from __future__ import annotations
 
@@ -47,7 +48,8 @@ from ..cdt import triangulate as cdt_triangulate
 from ..delaunay import delaunay as cdt_delaunay
 from ..markers import make_tags
 from ..errors import InputShapeError, NotDelaunayError, RefinementLimitError, TooFewPointsError
-from ..switches import Switches, read_switches, user_test_error
+from ..sizing import refine_until_suitable
+from ..switches import Switches, read_switches
 from ..triangulation import Triangulation
 from ..validate import as_array, as_points, real_array
 
@@ -88,8 +90,6 @@ def triangulate(tri: TriangleDict, opts: str = "") -> dict[str, NDArray[Any]]:
     (9, (9, 1), dtype('int32'))
     """
     s = read_switches(opts)
-    if s.user_test:
-        raise user_test_error(opts)
     _check_keys(tri)
     if s.refine:
         return _output(*_refined(tri, s), tri=tri, s=s)
@@ -135,6 +135,8 @@ def _meshed(tri: TriangleDict, s: Switches) -> Triangulation:
     if smallest and s.max_steiner is None:
         vertices = as_points(vertices, "vertices")      # (checked before it is measured)
         keywords = {**keywords, "max_steiner": _steiner_cap(vertices, smallest)}
+    if s.user_test:
+        keywords = {**keywords, "suitable": sample_size_test}
     try:
         mesh = cdt_triangulate(vertices, segments, holes=holes, regions=regions, **keywords, **marks)
     except RefinementLimitError as stop:
@@ -238,9 +240,35 @@ def _refined(tri: TriangleDict, s: Switches) -> tuple[Triangulation, NDArray[np.
                            split_boundary=kw.get("split_boundary", True),
                            split_segments=kw.get("split_segments", True),
                            max_steiner=steiner)
+        if s.user_test:
+            mesh = refine_until_suitable(mesh, sample_size_test, min_angle=s.min_angle,
+                                         conforming_delaunay=s.conforming_delaunay,
+                                         split_boundary=kw.get("split_boundary", True),
+                                         split_segments=kw.get("split_segments", True),
+                                         max_steiner=steiner)
     except RefinementLimitError as stop:
         mesh = _stopped_at_s(stop, s)
     return mesh, _carried_attributes(base, mesh, attributes)
+
+
+def sample_size_test(org: NDArray[np.float64], dest: NDArray[np.float64], apex: NDArray[np.float64],
+                     area: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """The size test ``u`` applies: the sample ``triunsuitable`` of ``triangle.c``,
+    which the ``triangle`` package compiles in (a triangle is too large when its
+    longest edge squared exceeds ``0.05 (x^2 + y^2) + 0.02`` at its first
+    corner), vectorised (:mod:`cdt_plugin.sizing`). Which corner is first is
+    Triangle's orientation of the moment there, corner 0 here: the meshes
+    differ, the test they pass is the same. For a test of your own, pass
+    ``suitable=`` to :func:`cdt_plugin.triangulate`.
+
+    >>> import numpy as np
+    >>> sample_size_test(np.zeros((1, 2)), np.array([[0.1, 0.0]]), np.array([[0.0, 0.1]]),
+    ...                  np.array([0.005])).tolist()
+    [True]
+    """
+    longest = np.maximum.reduce([((dest - org) ** 2).sum(1), ((apex - dest) ** 2).sum(1),
+                                 ((org - apex) ** 2).sum(1)])
+    return longest <= 0.05 * (org ** 2).sum(1) + 0.02
 
 
 def _marks(tri: TriangleDict, s: Switches, segments: bool) -> dict[str, Any]:

@@ -508,9 +508,33 @@ def test_switch_triangle_would_misread(switches):
         tr.triangulate(SQUARE, switches)
 
 
-def test_user_test_switch():
-    with pytest.raises(SwitchError, match="triunsuitable"):
-        tr.triangulate(SQUARE, "pu")
+def _sample_test_holds(t):
+    """Every triangle passes triangle.c's sample triunsuitable at some corner taken as
+    its origin (Triangle tests the orientation of the moment)."""
+    V, T = t["vertices"], t["triangles"][:, :3]
+    longest = np.max([((V[T[:, i]] - V[T[:, (i + 1) % 3]]) ** 2).sum(1) for i in range(3)], axis=0)
+    ok = np.zeros(len(T), bool)
+    for i in range(3):
+        ok |= longest <= 0.05 * (V[T[:, i]] ** 2).sum(1) + 0.02
+    return ok
+
+
+@pytest.mark.parametrize("switches", ["pu", "pq25u", "pqu"])
+def test_user_test_switch_applies_the_packages_sample_test(switches):
+    big = {"vertices": [[0, 0], [4, 0], [4, 4], [0, 4]], "segments": SQUARE["segments"]}
+    ours, theirs = tr.triangulate(big, switches), triangle.triangulate(big, switches)
+    assert _sample_test_holds(ours).all()
+    assert 0.8 < len(ours["triangles"]) / len(theirs["triangles"]) < 1.25
+    assert_valid(ours["vertices"], ours["triangles"], segments=ours["segments"], domain="segments")
+    if "q" in switches:
+        assert _min_angles(ours["vertices"], ours["triangles"]).min() >= (25 if "25" in switches else 20) - 1e-9
+
+
+def test_user_test_after_refining_a_mesh():
+    big = {"vertices": [[0, 0], [4, 0], [4, 4], [0, 4]], "triangles": [[0, 1, 2], [0, 2, 3]]}
+    ours = tr.triangulate(big, "ru")
+    assert _sample_test_holds(ours).all() and len(ours["triangles"]) > 100
+    assert ours["vertices"][:4].tolist() == big["vertices"]
 
 
 def test_unknown_key():

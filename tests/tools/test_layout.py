@@ -45,7 +45,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
                                  "cdt_plugin.quadratic", "cdt_plugin.refining")),
     ("results", ("cdt_plugin.triangulation",)),
     ("public functions", ("cdt_plugin", "cdt_plugin.delaunay", "cdt_plugin.cdt", "cdt_plugin.dynamic",
-                          "cdt_plugin.batch", "cdt_plugin.lift")),
+                          "cdt_plugin.batch", "cdt_plugin.lift", "cdt_plugin.sizing")),
     ("tools and adapters", ("cdt_plugin.io*", "cdt_plugin.warmup", "cdt_plugin.adapters*",
                             "cdt_plugin.triangle*")),
     ("command line", ("cdt_plugin.cli*", "cdt_plugin.__main__")),
