@@ -38,7 +38,8 @@ Errors are one line on stderr (``cdt-plugin: error: ...``) and exit status 1;
 command-line usage errors exit with 2.
 
 The package, top down: :mod:`~cdt_plugin.cli.parser` (the options),
-:mod:`~cdt_plugin.cli.commands` (the five commands), :mod:`~cdt_plugin.cli.layers`
+:mod:`~cdt_plugin.cli.commands` (five commands), :mod:`~cdt_plugin.cli.triangle` (Triangle's
+own command line), :mod:`~cdt_plugin.cli.layers`
 (layer jobs through :mod:`cdt_plugin.adapters.geo`), :mod:`~cdt_plugin.cli.meshing`
 (per-feature meshing), :mod:`~cdt_plugin.cli.readers` and :mod:`~cdt_plugin.cli.writers`
 (one reader per input kind; the outputs), :mod:`~cdt_plugin.cli.formats` (extensions and

@@ -1,4 +1,4 @@
-"""The argument parser of the command line: the five subcommands, their options
+"""The argument parser of the command line: the six subcommands, their options
 and the examples shown by ``--help``."""
 from __future__ import annotations
 

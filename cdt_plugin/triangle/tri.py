@@ -262,9 +262,9 @@ def sample_size_test(org: NDArray[np.float64], dest: NDArray[np.float64], apex: 
     ``suitable=`` to :func:`cdt_plugin.triangulate`.
 
     >>> import numpy as np
-    >>> sample_size_test(np.zeros((1, 2)), np.array([[0.1, 0.0]]), np.array([[0.0, 0.1]]),
-    ...                  np.array([0.005])).tolist()
-    [True]
+    >>> corners = np.array([[0.0, 0.0], [1.0, 1.0]]), np.array([[0.1, 0.0], [1.1, 1.0]])
+    >>> sample_size_test(*corners, np.array([[0.0, 0.1], [1.0, 1.1]]), np.array([0.005, 0.005])).tolist()
+    [True, False]
     """
     longest = np.maximum.reduce([((dest - org) ** 2).sum(1), ((apex - dest) ** 2).sum(1),
                                  ((org - apex) ** 2).sum(1)])
