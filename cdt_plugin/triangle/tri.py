@@ -262,8 +262,8 @@ def sample_size_test(org: NDArray[np.float64], dest: NDArray[np.float64], apex: 
     ``suitable=`` to :func:`cdt_plugin.triangulate`.
 
     >>> import numpy as np
-    >>> corners = np.array([[0.0, 0.0], [1.0, 1.0]]), np.array([[0.1, 0.0], [1.1, 1.0]])
-    >>> sample_size_test(*corners, np.array([[0.0, 0.1], [1.0, 1.1]]), np.array([0.005, 0.005])).tolist()
+    >>> org, dest, apex = np.array([[0.0, 0.0], [1, 1]]), np.array([[0.05, 0], [2, 1]]), np.array([[0, 0.05], [1, 2]])
+    >>> sample_size_test(org, dest, apex, np.array([0.00125, 0.5])).tolist()   # small near the origin
     [True, False]
     """
     longest = np.maximum.reduce([((dest - org) ** 2).sum(1), ((apex - dest) ** 2).sum(1),
