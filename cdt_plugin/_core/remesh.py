@@ -11,8 +11,10 @@ kept, so the holes and pockets of the mesh are triangles too, labelled
 ``OUT``, with the ghosts around the hull. Each given triangle's slot is
 labelled with its index (the area bound of label ``t`` is then the bound of
 triangle ``t``); the edges that are neither a segment to keep nor on the
-mesh's boundary lose their segment id, so refinement may flip them, but for
-those between triangles with different area bounds (:func:`bound_borders`).
+mesh's boundary lose their segment id, so refinement may flip them. With
+per-triangle bounds a label is only where refinement starts looking: each
+triangle it makes or changes takes the label of the given triangle that holds
+its centroid (:func:`.refine.home_of`).
 
 :func:`refine_existing` refines such a store (or the store a previous
 refinement left) and makes the output arrays, with what a further refinement
@@ -32,7 +34,7 @@ from .mesh import nxt, prv
 from .options import RefineOptions, named
 from .output import cdt_arrays
 from .pipeline import dedup_tasks, insert_all_segments, route_points, solid_with_flags
-from .refine import C_FLIPS, OUT, area_bound, count_below, refine_store
+from .refine import C_FLIPS, OUT, count_below, refine_store
 from .scaling import unscale_rows
 from .segments import by_smaller_end
 from .status import ALL_DONE, OK, ROUTE_OK, STOP_CROSSING, STOP_OVERLAP
@@ -235,37 +237,19 @@ def existing_mesh_store(px, py, T, segs, order_in, horizontal_in, options):
     return MESH_OK, info, shift, order, store, lab, seg_ends
 
 
-@kernel
-def bound_borders(tri, twin, cons, ntri, lab, area_of_label, seg_ends):
-    """Make every edge between two triangles with different area bounds a
-    segment (ids after ``seg_ends``, whose rows they are appended to), so that
-    no flip joins them: each triangle refinement makes then lies in triangles
-    of the mesh with one bound, and meets it. Returns the lengthened ``seg_ends``."""
-    more = np.empty((3 * ntri, 2), np.int64)
-    k = 0
-    for e in range(3 * ntri):
-        f = twin[e]
-        if cons[e] != 0 or e > f or lab[e // 3] == OUT or lab[f // 3] == OUT:
-            continue
-        if area_bound(area_of_label, lab[e // 3]) != area_bound(area_of_label, lab[f // 3]):
-            k += 1
-            cons[e] = seg_ends.shape[0] + k
-            cons[f] = cons[e]
-            more[k - 1, 0] = tri[e]
-            more[k - 1, 1] = tri[f]
-    return np.concatenate((seg_ends, more[:k]))
-
-
 @entry
 def refine_existing(store, lab, seg_ends, m, refinement, area_of_label, max_new, room, order, shift,
-                    vseg):
+                    vseg, home):
     """Refine ``store`` (the coordinates scaled by ``2**shift``, mesh vertex
     ``i < n`` output vertex ``order[i]``, later ones in their order) whose slot
     labels are ``lab``, as ``refinement`` (a plain :class:`.options.RefineOptions`)
     asks, with the area bound of each label in ``area_of_label``
     (:func:`.refine.area_bound`), at most ``max_new`` Steiner points and room
     for ``room`` vertices from the start, ``vseg`` what the refinement before
-    returned (empty for a store none has touched: :func:`.refine.refine_store`).
+    returned (empty for a store none has touched: :func:`.refine.refine_store`),
+    ``home`` the triangles the labels name with their neighbours, each label
+    moved to the triangle that holds its triangle's centroid (per-triangle
+    bounds; two empty arrays for one bound: :func:`.refine.refine_store`).
     The store's arrays are refined in place (or grown). Returns ``(status,
     counts, (store, vseg), seg_ends, out_slot,
     vertices, triangles, neighbors, constrained, pieces, piece_ids, parents,
@@ -277,26 +261,23 @@ def refine_existing(store, lab, seg_ends, m, refinement, area_of_label, max_new,
     ``refinement``'s bound.
 
     The ``m`` first segments are those to keep; the others bound the domain
-    (their ids are past ``m`` and the outside is on one side) or, inside it,
-    are the edges between triangles with different area bounds
-    (:func:`bound_borders`), segments while refinement runs only. The mesh is
-    made constrained Delaunay first (flips never cross a segment, so none
-    joins two triangles with different bounds); refinement needs it."""
+    (their ids are past ``m`` and the outside is on one side). The mesh is
+    made constrained Delaunay first: refinement needs it."""
     options = RefineOptions(*refinement)
     tri, twin, cons, ntri = store[0], store[1], store[2], store[7]
     n_base = seg_ends.shape[0]
     free_inner_edges(tri, twin, cons, ntri, lab, m)
-    seg_ends = bound_borders(tri, twin, cons, ntri, lab, area_of_label, seg_ends)
     # refinement needs a constrained Delaunay triangulation (its walks and cavities do)
     flips = flip_to_delaunay(tri, twin, cons, store[3], store[4], store[3], np.bool_(False), store[6],
                              ntri)
     n = order.shape[0]
     status, counts, lab, seg_ends, store, vseg = refine_store(store, lab, seg_ends, options,
-                                                              area_of_label, max_new, room, vseg, n)
+                                                              area_of_label, max_new, room, vseg, n,
+                                                              home)
     tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
     free_inner_edges(tri, twin, cons, ntri, lab, m)
     for v in range(vseg.shape[0]):
-        if vseg[v] > n_base:        # on an edge between two bounds: no segment next time
+        if vseg[v] > n_base:        # on a segment this refinement made: none next time
             vseg[v] = 0
     counts[C_FLIPS] += flips
     T, N, tid, cflag = solid_with_flags(tri, twin, cons, ntri, inf)
