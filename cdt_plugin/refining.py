@@ -123,7 +123,7 @@ def refine_mesh(tri: Any, options: MeshOptions, bounds: NDArray[np.float64] | No
     if state is not None and already_met(options, areas, bounds, state):
         return unchanged(tri, options, state, t0)
     if state is None:
-        state = read_mesh(V, T, tri.segments, tri.segment_ids)
+        state = read_mesh(V, T, tri.neighbors, tri.segments, tri.segment_ids)
     else:       # refinement works in place: the state stays as it is for another call
         state = state._replace(store=tuple(a.copy() if isinstance(a, np.ndarray) else a
                                            for a in state.store), vseg=state.vseg.copy())
@@ -193,9 +193,10 @@ def unchanged(tri: Any, options: MeshOptions, state: RefineState, t0: float) -> 
                    tri.segment_ids, np.arange(len(tri.triangles)), below, stats, True, state)
 
 
-def read_mesh(V: NDArray[np.float64], T: NDArray[np.int64], segments: NDArray[np.int64],
-              segment_ids: NDArray[np.int64]) -> RefineState:
-    """The half-edge store of the mesh ``V, T`` keeping ``segments`` (of
+def read_mesh(V: NDArray[np.float64], T: NDArray[np.int64], neighbors: NDArray[np.int64],
+              segments: NDArray[np.int64], segment_ids: NDArray[np.int64]) -> RefineState:
+    """The half-edge store of the mesh ``V, T`` (``neighbors`` as a
+    :class:`Triangulation` has them) keeping ``segments`` (of
     original ids ``segment_ids``), ready for :func:`refine_mesh`; or the
     :class:`InvalidMeshError` that names where the triangles are not a
     triangulation."""
@@ -206,7 +207,8 @@ def read_mesh(V: NDArray[np.float64], T: NDArray[np.int64], segments: NDArray[np
     segs = np.ascontiguousarray(segments, np.int64)
     with deferred_interrupt(len(x)):
         status, info, shift, order, store, lab, seg_ends = existing_mesh_store(
-            x, y, np.ascontiguousarray(T, np.int64), segs, order, horizontal, _STORE_OPTIONS)
+            x, y, np.ascontiguousarray(T, np.int64), np.ascontiguousarray(neighbors, np.int64), segs,
+            order, horizontal, _STORE_OPTIONS)
     if status != MESH_OK:
         raise_mesh_error(status, info, V, T, segs, order[seg_ends])
     out_slot = np.where(lab != OUT, lab, -1)

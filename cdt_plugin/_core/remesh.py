@@ -51,36 +51,37 @@ MESH_INTERNAL = 7      # (never seen) a stage stopped: (stage, status)
 
 
 @kernel
-def mesh_edges(T, segs, n):
+def mesh_edges(T, nb, segs, n):
     """The segments ``segs`` (vertex pairs), then every other edge of the
-    triangles ``T`` once: ``(edges, -1)``, or ``(segs, s)`` when segment ``s``
-    is not an edge of the triangles."""
-    k = T.shape[0]
-    half = np.empty((3 * k, 2), np.int64)
-    for t in range(k):
-        for j in range(3):
-            half[3 * t + j, 0] = T[t, j]
-            half[3 * t + j, 1] = T[t, (j + 1) % 3]
-    start, group = by_smaller_end(half, 3 * k, n)
-    listed = np.zeros(3 * k, np.bool_)       # an edge already listed (its first half-edge)
-    for s in range(segs.shape[0]):
-        i = find_edge(half, start, group, segs[s, 0], segs[s, 1])
-        if i < 0:
-            return segs, s
-        listed[i] = True
-    edges = np.empty((segs.shape[0] + 3 * k, 2), np.int64)
-    copy_rows(edges, segs, segs.shape[0])
+    triangles ``T`` once, from its smaller end (``nb`` their neighbours,
+    :func:`triangle_neighbors`: an edge is listed by the triangle of smaller
+    index): ``(edges, -1)``, or ``(segs, s)`` when segment ``s`` is not an
+    edge of the triangles. Linear time (the segments grouped by their smaller
+    end)."""
     m = segs.shape[0]
-    for a in range(n):
-        for p in range(start[a], start[a + 1]):
-            i = group[p]
-            b = max(half[i, 0], half[i, 1])
-            if find_edge(half, start, group, a, b) != i or listed[i]:
-                continue          # listed as a segment, or not the edge's first half-edge
-            edges[m, 0] = a
-            edges[m, 1] = b
-            m += 1
-    return edges[:m], np.int64(-1)
+    start, group = by_smaller_end(segs, m, n)
+    found = np.zeros(m, np.bool_)         # a segment's first row: an edge of the triangles
+    edges = np.empty((m + 3 * T.shape[0], 2), np.int64)
+    copy_rows(edges, segs, m)
+    k = m
+    for t in range(T.shape[0]):
+        for j in range(3):
+            if 0 <= nb[t, j] < t:
+                continue                  # listed from the other side
+            a = min(T[t, (j + 1) % 3], T[t, (j + 2) % 3])
+            b = max(T[t, (j + 1) % 3], T[t, (j + 2) % 3])
+            s = find_edge(segs, start, group, a, b)
+            if s >= 0:
+                found[s] = True
+                continue
+            edges[k, 0] = a
+            edges[k, 1] = b
+            k += 1
+    for s in range(m):
+        f = find_edge(segs, start, group, segs[s, 0], segs[s, 1])
+        if f < 0 or not found[f]:
+            return segs, np.int64(s)
+    return edges[:k], np.int64(-1)
 
 
 @entry
@@ -114,15 +115,15 @@ def triangle_neighbors(T, n):
 
 
 @kernel
-def find_edge(half, start, group, u, v):
-    """The first half-edge (row of ``half``, grouped by :func:`.segments.by_smaller_end`)
-    joining ``u`` and ``v`` either way; -1 if none."""
+def find_edge(pairs, start, group, u, v):
+    """The first row of the vertex pairs ``pairs`` (grouped by
+    :func:`.segments.by_smaller_end`) joining ``u`` and ``v`` either way; -1 if none."""
     if u == v:
         return -1
     a, b = min(u, v), max(u, v)
     for p in range(start[a], start[a + 1]):
         i = group[p]
-        if max(half[i, 0], half[i, 1]) == b:
+        if max(pairs[i, 0], pairs[i, 1]) == b:
             return i
     return -1
 
@@ -168,8 +169,9 @@ def free_inner_edges(tri, twin, cons, ntri, lab, m):
 
 
 @entry
-def existing_mesh_store(px, py, T, segs, order_in, horizontal_in, options):
-    """The store of the mesh ``T`` (counter-clockwise triangles, indices checked)
+def existing_mesh_store(px, py, T, nb, segs, order_in, horizontal_in, options):
+    """The store of the mesh ``T`` (counter-clockwise triangles, indices checked,
+    ``nb`` their neighbours as :func:`triangle_neighbors` gives them)
     over the vertices ``px, py``, keeping the segments ``segs``, as the
     module's docstring says; ``options`` the route's (:func:`.options.plain`:
     divide and conquer, room for refinement). Returns ``(status, info, shift,
@@ -185,7 +187,7 @@ def existing_mesh_store(px, py, T, segs, order_in, horizontal_in, options):
                 np.empty(0), np.empty(0), np.int64(0), np.int64(0), np.int64(0))
     no = np.empty(0, np.int64)
     no2 = np.empty((0, 2), np.int64)
-    edges, bad = mesh_edges(T, segs, n)
+    edges, bad = mesh_edges(T, nb, segs, n)
     if bad >= 0:
         info[0] = bad
         return MESH_NOT_EDGE, info, np.int64(0), no, no_store, no, no2
