@@ -357,21 +357,26 @@ def home_of(x, y, home, home_nb, start, px, py):
 
 
 @kernel
-def queue_if_bad(tri, x, y, lab, params, Q, qs, t):
+def queue_if_bad(tri, x, y, lab, params, Q, qs, t, located):
     """Queue triangle ``t`` if it is inside the domain and breaks a bound.
     With a mesh of origin (``params.home``, :func:`home_of`), ``t``'s label is
-    first made the triangle of that mesh that holds its centroid. Returns
-    False when the queue is full."""
+    first made the triangle of that mesh that holds its centroid, unless
+    ``located`` (three corners a slot) shows the slot holds the triangle it
+    held when last located. Returns False when the queue is full."""
     L = lab[t]
     if L == OUT:
         return True
     a = np.int64(tri[3 * t])     # (int64 as in refine_loop: one compilation of the tests)
     b = np.int64(tri[3 * t + 1])
     c = np.int64(tri[3 * t + 2])
-    if params.home.shape[0] > 0:
+    if params.home.shape[0] > 0 and (located[3 * t] != a or located[3 * t + 1] != b
+                                     or located[3 * t + 2] != c):
         px, py = centroid(x, y, a, b, c)
         L = home_of(x, y, params.home, params.home_nb, L, px, py)
         lab[t] = L
+        located[3 * t] = a
+        located[3 * t + 1] = b
+        located[3 * t + 2] = c
     angle_bad, area_bad, key = is_bad(x, y, a, b, c, params, L)
     if angle_bad or area_bad:
         return queue_triangle(Q, qs, key, t, a, b, c)
@@ -750,7 +755,8 @@ def insert_free(mesh, ntri, q, code, h, lab, work, counts):
 
 # ------------------------------------------------------------- main loop
 RefineBuffers = namedtuple("RefineBuffers",
-                           "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub")
+                           "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub "
+                           "located")
 
 
 class RefineParameters(NamedTuple):
@@ -805,7 +811,7 @@ def refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers):
             scanned_at = counts[C_STEINER]
             # scan everything: bad triangles and encroached pieces
             for t in range(ntri):
-                if not queue_if_bad(tri, x, y, lab, params, Q, qs, t):
+                if not queue_if_bad(tri, x, y, lab, params, Q, qs, t, buffers.located):
                     return HEAP_FULL, ntri, nv
             for e in range(3 * ntri):
                 if cons[e] > 0 and e < twin[e] and piece_needs_split(tri, twin, x, y, inf, lab,
@@ -903,7 +909,7 @@ def refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers):
         e = e0
         while True:
             t = e // 3
-            if not queue_if_bad(tri, x, y, lab, params, Q, qs, t):
+            if not queue_if_bad(tri, x, y, lab, params, Q, qs, t, buffers.located):
                 return HEAP_FULL, ntri, nv
             for k in range(3):
                 g = 3 * t + k
@@ -1050,7 +1056,8 @@ def refine_run(mesh, ntri, nv, lab, segments, params, counts, heap, pieces):
             np.empty(NBUCKETS, np.int64), np.empty(NBUCKETS, np.int64), np.zeros(4, np.int64),
             np.empty((pieces, 4), np.int64),        # e, u, v, forced
             np.zeros(cap_tri, np.int64), np.empty(cap_tri + 8, np.int64), np.empty(inf + 16, np.int64),
-            np.empty(64, np.int64), np.zeros(2, np.int64), np.zeros(1, np.int8))
+            np.empty(64, np.int64), np.zeros(2, np.int64), np.zeros(1, np.int8),
+            np.full(3 * cap_tri if params.home.shape[0] > 0 else 0, -1, np.int32))
         status, ntri, nv = refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers)
         if status == HEAP_FULL:
             heap *= 2
