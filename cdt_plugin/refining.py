@@ -85,7 +85,8 @@ class RefineState(NamedTuple):
 
 class Refined(NamedTuple):
     """The arrays of a refined mesh (:func:`refine_mesh`): ``parents`` is the
-    triangle of the mesh refined (its row) each new triangle was made from,
+    triangle of the mesh refined (its row) each new triangle was made from
+    (with bounds that differ between triangles, the one holding its centroid),
     ``complete`` False when ``max_steiner`` stopped refinement."""
 
     vertices: NDArray[np.float64]

@@ -322,13 +322,34 @@ def holds(x, y, home, h, px, py):
 
 
 @kernel
+def in_fans(x, y, home, home_nb, h, px, py):
+    """A triangle of ``home`` around a corner of triangle ``h`` (turning both
+    ways round it, up to 64 triangles each) that holds the point; -1 if none."""
+    for i in range(3):
+        v = home[h, i]
+        for side in range(1, 3):     # across the edge opposite corner c + side: one at v
+            g = h
+            for _ in range(64):
+                c = 0
+                while home[g, c] != v:
+                    c += 1
+                g = home_nb[g, (c + side) % 3]
+                if g < 0 or g == h:
+                    break
+                if holds(x, y, home, g, px, py) == 0:
+                    return g
+    return -1
+
+
+@kernel
 def home_of(x, y, home, home_nb, start, px, py):
     """The triangle of the mesh ``home`` (rows of corners, counter-clockwise,
     ``home_nb[h, j]`` the neighbour across the edge opposite corner ``j``, -1
     none) that holds the point ``(px, py)``, its edges included: a visibility
     walk from triangle ``start``, leaving by the edges in turn (so it cannot
-    circle for ever in a triangulation that is not Delaunay), then a scan of
-    every triangle if the walk meets the boundary or goes on too long.
+    circle for ever in a triangulation that is not Delaunay); where it meets
+    the boundary (a domain that is not convex), the triangles around the
+    corners of the last one (:func:`in_fans`); then a scan of every triangle.
     ``start`` when no triangle holds the point (a centroid rounded off a thin
     triangle at the boundary)."""
     h = start
@@ -348,6 +369,9 @@ def home_of(x, y, home, home_nb, start, px, py):
                     j = i
                     break
         if home_nb[h, j] < 0:
+            g = in_fans(x, y, home, home_nb, h, px, py)
+            if g >= 0:
+                return g
             break
         h = home_nb[h, j]
     for g in range(home.shape[0]):

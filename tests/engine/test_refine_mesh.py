@@ -366,3 +366,30 @@ def test_markers_and_attributes_are_carried():
     again = out.refine(max_area=0.005)
     assert np.allclose(again.vertex_attributes[:, 0], 1 + 2 * again.vertices[:, 0] - 3 * again.vertices[:, 1],
                        atol=1e-12)
+
+
+def test_home_of_finds_the_holder_in_a_domain_that_is_not_convex():
+    """The walk that relocates a label (per-triangle bounds) meets the boundary of a U-shaped
+    mesh; the triangles around the corners, then a scan, find the holder all the same."""
+    from cdt_plugin._core.refine import home_of, in_fans
+
+    V = np.array([[i, j] for j in range(3) for i in range(4)], float)
+    squares = [(i, j) for j in range(2) for i in range(3) if (i, j) != (1, 1)]
+    T = []
+    for i, j in squares:
+        a, b, c, d = i + 4 * j, i + 1 + 4 * j, i + 1 + 4 * (j + 1), i + 4 * (j + 1)
+        T += [[a, b, c], [a, c, d]]
+    base = cdt_plugin.Triangulation.from_triangles(V, T)
+    home, nb = base.triangles.astype(np.int64), base.neighbors.astype(np.int64)
+    x, y = base.vertices[:, 0].copy(), base.vertices[:, 1].copy()
+    P = base.vertices
+    for start in range(len(home)):
+        for p in [(2.6, 1.5), (2.2, 1.8), (0.3, 1.6), (1.5, 0.9), (2.0, 1.0), (0.5, 0.5)]:
+            got = int(home_of(x, y, home, nb, np.int64(start), *p))
+            assert all(orient2d_exact(P[home[got, (j + 1) % 3]], P[home[got, (j + 2) % 3]], p) >= 0
+                       for j in range(3)), (start, p, got)
+    # around the corners: from a triangle of the upper left square at vertex (1, 1), a point
+    # of the lower middle square, which shares that vertex
+    h = next(t for t in range(len(home)) if 5 in home[t] and P[home[t]][:, 1].max() == 2)
+    got = int(in_fans(x, y, home, nb, np.int64(h), 1.2, 0.8))
+    assert got >= 0 and set(home[got].tolist()) <= {1, 2, 5, 6}
