@@ -983,7 +983,7 @@ def freeze_segments(cons, ntri):
             cons[e] = -cons[e]
 
 
-@kernel(apart=True, ahead=(STORE, I64, I64_2, REFINE_OPTIONS, F8, i8, i8, I64, i8),
+@kernel(apart=True, ahead=(STORE, I64, I64_2, REFINE_OPTIONS, F8, i8, i8, I64, i8, Tuple((I64_2, I64_2))),
         returns=Tuple((i8, I64, I64, I64_2, STORE, I64)))
 def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room, vseg, nv0,
                  home):
