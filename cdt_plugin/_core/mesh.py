@@ -282,6 +282,33 @@ def grow_store(tri, twin, cons, x, y, w, inf, nv, at_least):
 
 
 @kernel
+def by_first_then_second(first, second, n):
+    """The order of items ``0..n-1`` by ``(first, second)`` (whole numbers
+    from 0 held as floats): a counting sort by ``first``, then each group by
+    ``second`` (:func:`.ordering.sort_ids`) — linear for a triangulation's
+    slots, whose groups are as small as the vertices' degrees."""
+    top = 0
+    for i in range(n):
+        top = max(top, int(first[i]))
+    start = np.zeros(top + 2, np.int64)
+    for i in range(n):
+        start[int(first[i]) + 1] += 1
+    for v in range(top + 1):
+        start[v + 1] += start[v]
+    order = np.empty(n, np.int64)
+    fill = start[:top + 1].copy()
+    for i in range(n):
+        v = int(first[i])
+        order[fill[v]] = i
+        fill[v] += 1
+    tmp = np.empty(n, np.int64)
+    for v in range(top + 1):
+        if start[v + 1] - start[v] > 1:
+            sort_ids(order, start[v], start[v + 1], first, second, tmp)
+    return order
+
+
+@kernel
 def canonical_slots(tri, twin, cons, ntri):
     """Renumber the live triangles in place in an order that depends on the
     triangulation only, not on how it was built: each starts at its smallest
@@ -306,8 +333,7 @@ def canonical_slots(tri, twin, cons, ntri):
         second[n] = tri[e + (r + 1) % 3]
         live[n] = t
         n += 1
-    order = np.arange(n)
-    sort_ids(order, np.int64(0), np.int64(n), first, second, np.empty(n, np.int64))
+    order = by_first_then_second(first, second, n)
     old = np.empty(n, np.int64)
     where = np.full(3 * ntri, -1, np.int64)        # old half-edge -> new half-edge
     for i in range(n):

@@ -656,8 +656,10 @@ def cdt_route(plc, orders, options, snapped, prebuilt):
         room = STEINER_ROOM * nv + 64
         if area_of_label.shape[0] > 1:
             room += refinement_room(xi, yi, T, inside, region, area_of_label, 2_000_000)
+        no_home = np.empty((0, 3), np.int64)
         rstatus, rc, lab, _, store, _ = refine_store(store, lab, seg_ends, refinement, area_of_label,
-                                                     budget, room, np.empty(0, np.int64), np.int64(-1))
+                                                     budget, room, np.empty(0, np.int64), np.int64(-1),
+                                                     (no_home, no_home))
         tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
         counts[K_REF_STEINER] = rc[C_STEINER]
         counts[K_REF_SPLITS] = rc[C_SEG_SPLITS]

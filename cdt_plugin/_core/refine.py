@@ -50,7 +50,7 @@ from .jit import F8, I64, I64_2, STORE, Tuple, i8, kernel
 from .kernel import edge_is_illegal, orient
 from .locate import solid_step
 from .options import REFINE_OPTIONS
-from .predicates import incircle, orient2d
+from .predicates import CCW_ERRBOUND_A, incircle, orient2d
 from .mesh import canonical_slots, flip, grow_store, nxt, prv, split_edge, split_triangle
 from .scaling import on_grid
 from .status import (FINISHED, HEAP_FULL, INSIDE, LIMIT, NEED_ROOM, ON_EDGE, ON_VERTEX,  # noqa: F401
@@ -272,15 +272,135 @@ def queue_pop(Q, qs):
 
 
 @kernel
-def queue_if_bad(tri, x, y, lab, params, Q, qs, t):
+def centroid(x, y, a, b, c):
+    """The centroid of triangle ``a b c`` in floating point, the same for any
+    order of its corners (each coordinate summed smallest first)."""
+    return _mean3(x[a], x[b], x[c]), _mean3(y[a], y[b], y[c])
+
+
+@kernel
+def _mean3(p, q, r):
+    lo, hi = min(p, q), max(p, q)
+    if r < lo:
+        lo, r = r, lo
+    elif r > hi:
+        hi, r = r, hi
+    return ((lo + r) + hi) / 3.0       # r: the middle one
+
+
+@kernel
+def beyond(x, y, u, v, px, py):
+    """Whether the point lies strictly right of ``u -> v`` (exact: the
+    floating-point filter of :func:`.predicates.orient2d` inline, the call
+    where it cannot decide)."""
+    left = (x[u] - px) * (y[v] - py)
+    right = (y[u] - py) * (x[v] - px)
+    det = left - right
+    bound = CCW_ERRBOUND_A * (abs(left) + abs(right))
+    if det > bound:
+        return False
+    if -det > bound:
+        return True
+    return orient2d(x[u], y[u], x[v], y[v], px, py) < 0
+
+
+@kernel
+def holds(x, y, home, h, px, py):
+    """Whether triangle ``h`` of ``home`` (counter-clockwise) holds the point,
+    its edges included (exact); else the first corner ``j`` whose opposite
+    edge has the point strictly outside, as ``-1 - j``."""
+    a = home[h, 0]
+    b = home[h, 1]
+    c = home[h, 2]
+    if beyond(x, y, b, c, px, py):
+        return -1
+    if beyond(x, y, c, a, px, py):
+        return -2
+    if beyond(x, y, a, b, px, py):
+        return -3
+    return 0
+
+
+@kernel
+def in_fans(x, y, home, home_nb, h, px, py):
+    """A triangle of ``home`` around a corner of triangle ``h`` (turning both
+    ways round it, up to 64 triangles each) that holds the point; -1 if none."""
+    for i in range(3):
+        v = home[h, i]
+        for side in range(1, 3):     # across the edge opposite corner c + side: one at v
+            g = h
+            for _ in range(64):
+                c = 0
+                while home[g, c] != v:
+                    c += 1
+                g = home_nb[g, (c + side) % 3]
+                if g < 0 or g == h:
+                    break
+                if holds(x, y, home, g, px, py) == 0:
+                    return g
+    return -1
+
+
+@kernel
+def home_of(x, y, home, home_nb, start, px, py):
+    """The triangle of the mesh ``home`` (rows of corners, counter-clockwise,
+    ``home_nb[h, j]`` the neighbour across the edge opposite corner ``j``, -1
+    none) that holds the point ``(px, py)``, its edges included: a visibility
+    walk from triangle ``start``, leaving by the edges in turn (so it cannot
+    circle for ever in a triangulation that is not Delaunay); where it meets
+    the boundary (a domain that is not convex), the triangles around the
+    corners of the last one (:func:`in_fans`); then a scan of every triangle.
+    ``start`` when no triangle holds the point (a centroid rounded off a thin
+    triangle at the boundary)."""
+    h = start
+    turn = start
+    for _ in range(64 + home.shape[0] // 16):
+        r = holds(x, y, home, h, px, py)
+        if r == 0:
+            return h
+        j = -1 - r
+        turn += 1
+        for k in range(3):           # another edge the point is beyond, from a turning start
+            i = (turn + k) % 3
+            if i != j:
+                u = home[h, (i + 1) % 3]
+                v = home[h, (i + 2) % 3]
+                if home_nb[h, i] >= 0 and beyond(x, y, u, v, px, py):
+                    j = i
+                    break
+        if home_nb[h, j] < 0:
+            g = in_fans(x, y, home, home_nb, h, px, py)
+            if g >= 0:
+                return g
+            break
+        h = home_nb[h, j]
+    for g in range(home.shape[0]):
+        if holds(x, y, home, g, px, py) == 0:
+            return g
+    return start
+
+
+@kernel
+def queue_if_bad(tri, x, y, lab, params, Q, qs, t, located):
     """Queue triangle ``t`` if it is inside the domain and breaks a bound.
-    Returns False when the queue is full."""
+    With a mesh of origin (``params.home``, :func:`home_of`), ``t``'s label is
+    first made the triangle of that mesh that holds its centroid, unless
+    ``located`` (three corners a slot) shows the slot holds the triangle it
+    held when last located. Returns False when the queue is full."""
     L = lab[t]
     if L == OUT:
         return True
     a = np.int64(tri[3 * t])     # (int64 as in refine_loop: one compilation of the tests)
     b = np.int64(tri[3 * t + 1])
     c = np.int64(tri[3 * t + 2])
+    if params.home.shape[0] > 0 and (located[3 * t] != a or located[3 * t + 1] != b
+                                     or located[3 * t + 2] != c):
+        px, py = centroid(x, y, a, b, c)
+        L = home_of(x, y, params.home, params.home_nb, L, px, py)
+        lab[t] = L
+        located[3 * t] = a
+        located[3 * t + 1] = b
+        located[3 * t + 2] = c
     angle_bad, area_bad, key = is_bad(x, y, a, b, c, params, L)
     if angle_bad or area_bad:
         return queue_triangle(Q, qs, key, t, a, b, c)
@@ -659,7 +779,8 @@ def insert_free(mesh, ntri, q, code, h, lab, work, counts):
 
 # ------------------------------------------------------------- main loop
 RefineBuffers = namedtuple("RefineBuffers",
-                           "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub")
+                           "hitems hnext hfree qhead qtail qstate sq mark bstack stack enc fc no_sub "
+                           "located")
 
 
 class RefineParameters(NamedTuple):
@@ -672,6 +793,8 @@ class RefineParameters(NamedTuple):
     conforming: bool                # split pieces that are not locally Delaunay too
     max_new: int                    # Steiner points the loop may insert
     area_of_label: np.ndarray       # area bound per triangle label (:func:`area_bound`)
+    home: np.ndarray                # the mesh the labels name, to relocate them (:func:`home_of`)
+    home_nb: np.ndarray             # its neighbours (empty ``home``: labels stay with their slots)
 
 
 @kernel(_nrt=False)
@@ -712,7 +835,7 @@ def refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers):
             scanned_at = counts[C_STEINER]
             # scan everything: bad triangles and encroached pieces
             for t in range(ntri):
-                if not queue_if_bad(tri, x, y, lab, params, Q, qs, t):
+                if not queue_if_bad(tri, x, y, lab, params, Q, qs, t, buffers.located):
                     return HEAP_FULL, ntri, nv
             for e in range(3 * ntri):
                 if cons[e] > 0 and e < twin[e] and piece_needs_split(tri, twin, x, y, inf, lab,
@@ -810,7 +933,7 @@ def refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers):
         e = e0
         while True:
             t = e // 3
-            if not queue_if_bad(tri, x, y, lab, params, Q, qs, t):
+            if not queue_if_bad(tri, x, y, lab, params, Q, qs, t, buffers.located):
                 return HEAP_FULL, ntri, nv
             for k in range(3):
                 g = 3 * t + k
@@ -860,9 +983,10 @@ def freeze_segments(cons, ntri):
             cons[e] = -cons[e]
 
 
-@kernel(apart=True, ahead=(STORE, I64, I64_2, REFINE_OPTIONS, F8, i8, i8, I64, i8),
+@kernel(apart=True, ahead=(STORE, I64, I64_2, REFINE_OPTIONS, F8, i8, i8, I64, i8, Tuple((I64_2, I64_2))),
         returns=Tuple((i8, I64, I64, I64_2, STORE, I64)))
-def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room, vseg, nv0):
+def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room, vseg, nv0,
+                 home):
     """Refine the store ``(tri, twin, cons, x, y, w, inf, ntri, nv)`` whose
     triangle labels are ``lab`` as ``refinement`` (a :class:`RefineOptions`:
     its ``min_angle``, ``conforming``, ``split_boundary`` and ``split_segments``) asks, with the
@@ -876,7 +1000,10 @@ def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room,
     vertex from ``nv0`` on that a refinement placed on a segment (0: none), as a
     previous call returned it, or empty (and ``nv0`` -1) for a store no
     refinement has touched: Shewchuk's rule around small input angles reads it
-    (:func:`at_small_input_angle`)."""
+    (:func:`at_small_input_angle`). ``home`` is ``(triangles, neighbours)`` of
+    the mesh whose triangles the labels are (store ids), each triangle's label
+    then becoming the one that holds its centroid (:func:`queue_if_bad`), or
+    two empty arrays (labels stay with their slots)."""
     tri, twin, cons, x, y, w, inf, ntri, nv = store
     min_angle, conforming = refinement.min_angle, refinement.conforming
     if nv0 < 0:
@@ -911,7 +1038,8 @@ def refine_store(store, lab, seg_ends, refinement, area_of_label, max_new, room,
     lab = _grown(lab, tri.shape[0] // 3, np.int64(OUT))
     vseg = _grown(vseg, inf + 1, np.int64(0))
     counts = np.zeros(8, np.int64)
-    params = RefineParameters(sin2_bound, offconstant, lens, conforming, max_new, area_of_label)
+    params = RefineParameters(sin2_bound, offconstant, lens, conforming, max_new, area_of_label,
+                              home[0], home[1])
     heap, pieces = max(1024, ntri), np.int64(256)
     while True:
         status, ntri, nv, heap, pieces = refine_run((tri, twin, cons, x, y, inf), ntri, nv, lab,
@@ -952,7 +1080,8 @@ def refine_run(mesh, ntri, nv, lab, segments, params, counts, heap, pieces):
             np.empty(NBUCKETS, np.int64), np.empty(NBUCKETS, np.int64), np.zeros(4, np.int64),
             np.empty((pieces, 4), np.int64),        # e, u, v, forced
             np.zeros(cap_tri, np.int64), np.empty(cap_tri + 8, np.int64), np.empty(inf + 16, np.int64),
-            np.empty(64, np.int64), np.zeros(2, np.int64), np.zeros(1, np.int8))
+            np.empty(64, np.int64), np.zeros(2, np.int64), np.zeros(1, np.int8),
+            np.full(3 * cap_tri if params.home.shape[0] > 0 else 0, -1, np.int32))
         status, ntri, nv = refine_loop(mesh, ntri, nv, lab, segments, params, counts, buffers)
         if status == HEAP_FULL:
             heap *= 2

@@ -11,8 +11,10 @@ kept, so the holes and pockets of the mesh are triangles too, labelled
 ``OUT``, with the ghosts around the hull. Each given triangle's slot is
 labelled with its index (the area bound of label ``t`` is then the bound of
 triangle ``t``); the edges that are neither a segment to keep nor on the
-mesh's boundary lose their segment id, so refinement may flip them, but for
-those between triangles with different area bounds (:func:`bound_borders`).
+mesh's boundary lose their segment id, so refinement may flip them. With
+per-triangle bounds a label is only where refinement starts looking: each
+triangle it makes or changes takes the label of the given triangle that holds
+its centroid (:func:`.refine.home_of`).
 
 :func:`refine_existing` refines such a store (or the store a previous
 refinement left) and makes the output arrays, with what a further refinement
@@ -32,7 +34,7 @@ from .mesh import nxt, prv
 from .options import RefineOptions, named
 from .output import cdt_arrays
 from .pipeline import dedup_tasks, insert_all_segments, route_points, solid_with_flags
-from .refine import C_FLIPS, OUT, area_bound, count_below, refine_store
+from .refine import C_FLIPS, OUT, count_below, refine_store
 from .scaling import unscale_rows
 from .segments import by_smaller_end
 from .status import ALL_DONE, OK, ROUTE_OK, STOP_CROSSING, STOP_OVERLAP
@@ -49,36 +51,37 @@ MESH_INTERNAL = 7      # (never seen) a stage stopped: (stage, status)
 
 
 @kernel
-def mesh_edges(T, segs, n):
+def mesh_edges(T, nb, segs, n):
     """The segments ``segs`` (vertex pairs), then every other edge of the
-    triangles ``T`` once: ``(edges, -1)``, or ``(segs, s)`` when segment ``s``
-    is not an edge of the triangles."""
-    k = T.shape[0]
-    half = np.empty((3 * k, 2), np.int64)
-    for t in range(k):
-        for j in range(3):
-            half[3 * t + j, 0] = T[t, j]
-            half[3 * t + j, 1] = T[t, (j + 1) % 3]
-    start, group = by_smaller_end(half, 3 * k, n)
-    listed = np.zeros(3 * k, np.bool_)       # an edge already listed (its first half-edge)
-    for s in range(segs.shape[0]):
-        i = find_edge(half, start, group, segs[s, 0], segs[s, 1])
-        if i < 0:
-            return segs, s
-        listed[i] = True
-    edges = np.empty((segs.shape[0] + 3 * k, 2), np.int64)
-    copy_rows(edges, segs, segs.shape[0])
+    triangles ``T`` once, from its smaller end (``nb`` their neighbours,
+    :func:`triangle_neighbors`: an edge is listed by the triangle of smaller
+    index): ``(edges, -1)``, or ``(segs, s)`` when segment ``s`` is not an
+    edge of the triangles. Linear time (the segments grouped by their smaller
+    end)."""
     m = segs.shape[0]
-    for a in range(n):
-        for p in range(start[a], start[a + 1]):
-            i = group[p]
-            b = max(half[i, 0], half[i, 1])
-            if find_edge(half, start, group, a, b) != i or listed[i]:
-                continue          # listed as a segment, or not the edge's first half-edge
-            edges[m, 0] = a
-            edges[m, 1] = b
-            m += 1
-    return edges[:m], np.int64(-1)
+    start, group = by_smaller_end(segs, m, n)
+    found = np.zeros(m, np.bool_)         # a segment's first row: an edge of the triangles
+    edges = np.empty((m + 3 * T.shape[0], 2), np.int64)
+    copy_rows(edges, segs, m)
+    k = m
+    for t in range(T.shape[0]):
+        for j in range(3):
+            if 0 <= nb[t, j] < t:
+                continue                  # listed from the other side
+            a = min(T[t, (j + 1) % 3], T[t, (j + 2) % 3])
+            b = max(T[t, (j + 1) % 3], T[t, (j + 2) % 3])
+            s = find_edge(segs, start, group, a, b)
+            if s >= 0:
+                found[s] = True
+                continue
+            edges[k, 0] = a
+            edges[k, 1] = b
+            k += 1
+    for s in range(m):
+        f = find_edge(segs, start, group, segs[s, 0], segs[s, 1])
+        if f < 0 or not found[f]:
+            return segs, np.int64(s)
+    return edges[:k], np.int64(-1)
 
 
 @entry
@@ -112,15 +115,15 @@ def triangle_neighbors(T, n):
 
 
 @kernel
-def find_edge(half, start, group, u, v):
-    """The first half-edge (row of ``half``, grouped by :func:`.segments.by_smaller_end`)
-    joining ``u`` and ``v`` either way; -1 if none."""
+def find_edge(pairs, start, group, u, v):
+    """The first row of the vertex pairs ``pairs`` (grouped by
+    :func:`.segments.by_smaller_end`) joining ``u`` and ``v`` either way; -1 if none."""
     if u == v:
         return -1
     a, b = min(u, v), max(u, v)
     for p in range(start[a], start[a + 1]):
         i = group[p]
-        if max(half[i, 0], half[i, 1]) == b:
+        if max(pairs[i, 0], pairs[i, 1]) == b:
             return i
     return -1
 
@@ -166,8 +169,9 @@ def free_inner_edges(tri, twin, cons, ntri, lab, m):
 
 
 @entry
-def existing_mesh_store(px, py, T, segs, order_in, horizontal_in, options):
-    """The store of the mesh ``T`` (counter-clockwise triangles, indices checked)
+def existing_mesh_store(px, py, T, nb, segs, order_in, horizontal_in, options):
+    """The store of the mesh ``T`` (counter-clockwise triangles, indices checked,
+    ``nb`` their neighbours as :func:`triangle_neighbors` gives them)
     over the vertices ``px, py``, keeping the segments ``segs``, as the
     module's docstring says; ``options`` the route's (:func:`.options.plain`:
     divide and conquer, room for refinement). Returns ``(status, info, shift,
@@ -183,7 +187,7 @@ def existing_mesh_store(px, py, T, segs, order_in, horizontal_in, options):
                 np.empty(0), np.empty(0), np.int64(0), np.int64(0), np.int64(0))
     no = np.empty(0, np.int64)
     no2 = np.empty((0, 2), np.int64)
-    edges, bad = mesh_edges(T, segs, n)
+    edges, bad = mesh_edges(T, nb, segs, n)
     if bad >= 0:
         info[0] = bad
         return MESH_NOT_EDGE, info, np.int64(0), no, no_store, no, no2
@@ -235,37 +239,19 @@ def existing_mesh_store(px, py, T, segs, order_in, horizontal_in, options):
     return MESH_OK, info, shift, order, store, lab, seg_ends
 
 
-@kernel
-def bound_borders(tri, twin, cons, ntri, lab, area_of_label, seg_ends):
-    """Make every edge between two triangles with different area bounds a
-    segment (ids after ``seg_ends``, whose rows they are appended to), so that
-    no flip joins them: each triangle refinement makes then lies in triangles
-    of the mesh with one bound, and meets it. Returns the lengthened ``seg_ends``."""
-    more = np.empty((3 * ntri, 2), np.int64)
-    k = 0
-    for e in range(3 * ntri):
-        f = twin[e]
-        if cons[e] != 0 or e > f or lab[e // 3] == OUT or lab[f // 3] == OUT:
-            continue
-        if area_bound(area_of_label, lab[e // 3]) != area_bound(area_of_label, lab[f // 3]):
-            k += 1
-            cons[e] = seg_ends.shape[0] + k
-            cons[f] = cons[e]
-            more[k - 1, 0] = tri[e]
-            more[k - 1, 1] = tri[f]
-    return np.concatenate((seg_ends, more[:k]))
-
-
 @entry
 def refine_existing(store, lab, seg_ends, m, refinement, area_of_label, max_new, room, order, shift,
-                    vseg):
+                    vseg, home):
     """Refine ``store`` (the coordinates scaled by ``2**shift``, mesh vertex
     ``i < n`` output vertex ``order[i]``, later ones in their order) whose slot
     labels are ``lab``, as ``refinement`` (a plain :class:`.options.RefineOptions`)
     asks, with the area bound of each label in ``area_of_label``
     (:func:`.refine.area_bound`), at most ``max_new`` Steiner points and room
     for ``room`` vertices from the start, ``vseg`` what the refinement before
-    returned (empty for a store none has touched: :func:`.refine.refine_store`).
+    returned (empty for a store none has touched: :func:`.refine.refine_store`),
+    ``home`` the triangles the labels name with their neighbours, each label
+    moved to the triangle that holds its triangle's centroid (per-triangle
+    bounds; two empty arrays for one bound: :func:`.refine.refine_store`).
     The store's arrays are refined in place (or grown). Returns ``(status,
     counts, (store, vseg), seg_ends, out_slot,
     vertices, triangles, neighbors, constrained, pieces, piece_ids, parents,
@@ -277,26 +263,23 @@ def refine_existing(store, lab, seg_ends, m, refinement, area_of_label, max_new,
     ``refinement``'s bound.
 
     The ``m`` first segments are those to keep; the others bound the domain
-    (their ids are past ``m`` and the outside is on one side) or, inside it,
-    are the edges between triangles with different area bounds
-    (:func:`bound_borders`), segments while refinement runs only. The mesh is
-    made constrained Delaunay first (flips never cross a segment, so none
-    joins two triangles with different bounds); refinement needs it."""
+    (their ids are past ``m`` and the outside is on one side). The mesh is
+    made constrained Delaunay first: refinement needs it."""
     options = RefineOptions(*refinement)
     tri, twin, cons, ntri = store[0], store[1], store[2], store[7]
     n_base = seg_ends.shape[0]
     free_inner_edges(tri, twin, cons, ntri, lab, m)
-    seg_ends = bound_borders(tri, twin, cons, ntri, lab, area_of_label, seg_ends)
     # refinement needs a constrained Delaunay triangulation (its walks and cavities do)
     flips = flip_to_delaunay(tri, twin, cons, store[3], store[4], store[3], np.bool_(False), store[6],
                              ntri)
     n = order.shape[0]
     status, counts, lab, seg_ends, store, vseg = refine_store(store, lab, seg_ends, options,
-                                                              area_of_label, max_new, room, vseg, n)
+                                                              area_of_label, max_new, room, vseg, n,
+                                                              home)
     tri, twin, cons, xi, yi, wi, inf, ntri, nv = store
     free_inner_edges(tri, twin, cons, ntri, lab, m)
     for v in range(vseg.shape[0]):
-        if vseg[v] > n_base:        # on an edge between two bounds: no segment next time
+        if vseg[v] > n_base:        # on a segment this refinement made: none next time
             vseg[v] = 0
     counts[C_FLIPS] += flips
     T, N, tid, cflag = solid_with_flags(tri, twin, cons, ntri, inf)

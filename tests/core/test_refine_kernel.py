@@ -42,7 +42,8 @@ def run(s, lab, min_angle=0.0, max_area=0.0, max_new=100_000):
     store = (s.tri, s.twin, s.cons, s.x, s.y, s.w, s.inf, s.ntri, s.nv)
     options = RefineOptions(min_angle=float(min_angle), max_area=float(max_area))
     status, counts, lab, seg_ends, store, _ = refine_store(store, lab, s.seg_ends, options, area,
-                                                           max_new, 0, np.empty(0, np.int64), -1)
+                                                           max_new, 0, np.empty(0, np.int64), -1,
+                                                           (np.empty((0, 3), np.int64),) * 2)
     tri, twin, cons, x, y, w, inf, ntri, nv = store
     return int(status), counts, lab, seg_ends, (tri, twin, cons, int(ntri), int(inf), x, y, int(nv))
 
