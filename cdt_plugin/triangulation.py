@@ -314,14 +314,13 @@ class Triangulation:
         ``split_segments`` forbid it). The options are those of
         :func:`cdt_plugin.triangulate`, but ``max_area`` may also be an array
         with one bound per triangle of ``triangles`` (Triangle's ``.area``
-        file; a value <= 0 or NaN: no bound for that triangle). Bounds follow
-        the triangles: a new triangle has the bound of the triangle it was
-        made in, and the edges between triangles with different bounds are
-        kept while refinement runs (split where needed, never flipped), so no
-        triangle of the result is larger than the bound of any triangle of
-        this mesh it overlaps (Triangle flips across them and averages the two
-        bounds). The mesh is made constrained Delaunay first (flips that cross
-        no segment, boundary edge or such edge), as refinement needs.
+        file; a value <= 0 or NaN: no bound for that triangle). Bounds go by
+        location: no triangle of the result is larger than the bound of the
+        triangle of this mesh that holds its centroid (decided exactly; where
+        refinement flips an edge between triangles with different bounds,
+        Triangle averages the two instead). The mesh is made constrained
+        Delaunay first (flips that cross no segment or boundary edge), as
+        refinement needs, and the result is constrained Delaunay.
 
         The result's ``vertices`` are this mesh's, in the same order, then the
         new Steiner points; ``segment_ids`` name the original segments (those

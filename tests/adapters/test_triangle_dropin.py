@@ -25,21 +25,12 @@ triangle = pytest.importorskip("triangle")
 
 FOLDER = corpus_dir() / "triangle"
 NAMES = sorted({p.name.split(".")[0] for p in FOLDER.glob("*.*")})
-# Triangulation.refine with one area bound per triangle and segments leaves edges that are
-# not locally Delaunay (Triangle's mesh of the same switches has none): a defect of the
-# refinement, kept in view until it is fixed (strict: the test fails once it passes)
-NOT_DELAUNAY = pytest.mark.xfail(strict=True, reason="refine(max_area=per triangle) with "
-                                 "segments leaves non-Delaunay edges")
 SWITCHES = ["p", "pq", "pq30a0.01", "pa", "pAa", "pc", "pD", "pY", "pYY", "pe", "pn", "pv", "po2",
             "pq30Aao2", "r", "ra", "rpq", "rpqa", "pj", "pS10", "", "c", "pB", "pP", "pN", "pE",
             "pO", "pi"]
 
 
-def _marked(switches: str):
-    return pytest.param(switches, marks=NOT_DELAUNAY) if switches.startswith("rpqa") else switches
-
-
-MATRIX = [_marked(s) for s in SWITCHES]
+MATRIX = list(SWITCHES)
 # what the other parts of issue 44 bring (the markers and refine branches), by attribute
 MARKERS = hasattr(cdt_plugin.Triangulation, "vertex_markers")
 REFINE = hasattr(cdt_plugin.Triangulation, "refine")
@@ -211,7 +202,7 @@ def _same_per_vertex(ours: dict, theirs: dict, key: str, on=None, inputs: int = 
         assert a == pytest.approx(b, rel=1e-9, abs=1e-12)
 
 
-@pytest.mark.parametrize("switches", [_marked(s + "B") for s in SWITCHES if "B" not in s])
+@pytest.mark.parametrize("switches", [s + "B" for s in SWITCHES if "B" not in s])
 @pytest.mark.parametrize("name", ["A", "face", "la", "double_hex", "dots"])
 def test_matrix_without_markers(name, switches):
     if (name, switches) == ("face", "pq30a0.01B"):
