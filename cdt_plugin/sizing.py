@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .errors import CDTError, RefinementLimitError
+from .refining import triangle_areas
 from .triangulation import Triangulation
 
 #: ``suitable(org, dest, apex, area) -> (k,) bool``: which triangles are good enough.
@@ -92,13 +93,6 @@ def refine_until_suitable(tri: Triangulation, suitable: SizeTest, *,
                 f"({rounds + 1} rounds); raise max_steiner or relax the test (the mesh so far is "
                 "in this error's .triangulation)", triangulation=exc.triangulation) from exc
         rounds += 1
-
-
-def triangle_areas(V: NDArray[np.float64], T: NDArray[np.int64]) -> NDArray[np.float64]:
-    """The area of each triangle of ``T`` (rows of vertex indices into ``V``)."""
-    a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
-    return 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1])
-                        - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
 
 
 def _verdict(answer: Any, k: int) -> NDArray[np.bool_]:
