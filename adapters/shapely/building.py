@@ -39,9 +39,12 @@ def to_shapely(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = None,
     if z is not None:
         zz = np.broadcast_to(np.asarray(z, dtype=np.float64), (len(V),))
         V = np.column_stack([V, zz])
-    order = [0, 1, 2, 0] if ccw else [0, 2, 1, 0]
-    polys = triangle_polygons(V, T[:, order]) if len(T) else np.empty(0, object)
+    polys = triangle_polygons(V, T[:, _CCW if ccw else _CW]) if len(T) else np.empty(0, object)
     return shapely.geometrycollections(polys)
+
+
+_CCW = np.array([0, 1, 2, 0], np.intp)     # (corner orders of the closed shells)
+_CW = np.array([0, 2, 1, 0], np.intp)
 
 
 #: Triangles per thread worth starting one for when making their polygons
@@ -66,6 +69,8 @@ def triangle_polygons(vertices: NDArray[np.float64], corners: NDArray[np.int64],
     [<POLYGON ((0 0, 1 0, 0 1, 0 0))>]
     """
     k = len(corners)
+    if k < POLYGONS_PER_THREAD and k <= POLYGON_PIECE:     # (one piece, this thread: a small call's path)
+        return _ring_polygons(vertices[corners])
     threads = resolve_workers(workers, k // POLYGONS_PER_THREAD)
     pieces = max(threads, -(-k // POLYGON_PIECE))     # (a piece's rings: at most 64 MB in 2D)
     bounds = [k * i // pieces for i in range(pieces + 1)]
