@@ -34,13 +34,18 @@ def to_shapely(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = None,
     >>> gc.geom_type, len(gc.geoms), bool(shapely.is_ccw(gc.geoms[0].exterior))
     ('GeometryCollection', 2, False)
     """
+    return shapely.geometrycollections(triangle_shells(tri, z=z, ccw=ccw))
+
+
+def triangle_shells(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = None,
+                    ccw: bool = False) -> NDArray[np.object_]:
+    """The Polygons of :func:`to_shapely`, as an array (one per triangle)."""
     T = np.asarray(tri.triangles)
     V = np.asarray(tri.vertices, dtype=np.float64)
     if z is not None:
         zz = np.broadcast_to(np.asarray(z, dtype=np.float64), (len(V),))
         V = np.column_stack([V, zz])
-    polys = triangle_polygons(V, T[:, _CCW if ccw else _CW]) if len(T) else np.empty(0, object)
-    return shapely.geometrycollections(polys)
+    return triangle_polygons(V, T[:, _CCW if ccw else _CW]) if len(T) else np.empty(0, object)
 
 
 _CCW = np.array([0, 1, 2, 0], np.intp)     # (corner orders of the closed shells)

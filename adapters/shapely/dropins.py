@@ -15,7 +15,7 @@ from cdt_plugin import CDTError, InputShapeError
 from cdt_plugin.validate import as_points
 
 _EMPTY_COLLECTION = shapely.GeometryCollection()    # geometries are immutable: one serves all
-from cdt_plugin.adapters.shapely.building import to_shapely
+from cdt_plugin.adapters.shapely.building import to_shapely, triangle_shells
 from cdt_plugin.adapters.shapely.cells import cells_to_polygons
 from cdt_plugin.adapters.shapely.reading import (MULTIPOLYGON, POLYGON, collections_to_polygonal,
                                                  geometry_plcs, is_array_input, like_input,
@@ -53,6 +53,16 @@ def _check_geometries(flat: np.ndarray) -> None:
         bad = flat[np.flatnonzero(~ok)[0]]
         raise TypeError(f"one of the arguments is of incorrect type: {type(bad).__name__} "
                         "(expected shapely geometries or None)")
+
+
+def _positional_deprecated(names: list[str]) -> Any:
+    """shapely's own warning for arguments passed by position that it wants by
+    keyword (shapely 2.1 and later, which warn so; earlier ones do not)."""
+    try:
+        from shapely.decorators import deprecate_positional
+    except ImportError:
+        return lambda fn: fn
+    return deprecate_positional(names, category=DeprecationWarning)
 
 
 def _reject_ufunc_kwargs(name: str, kwargs: dict) -> None:
@@ -138,14 +148,22 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
     idx = np.flatnonzero(polygonal)
     indexed = arr.ndim > 0
     if len(idx):
-        plcs = geometry_plcs(flat[idx], method, indexed=idx if indexed else False)
-        for i, plc in zip(idx, plcs):
+        # each Polygon of a MultiPolygon on its own, as GEOS meshes them: parts that
+        # overlap give overlapping triangles, each part's validity is its own
+        parts, owner = shapely.get_parts(flat[idx], return_index=True)
+        solid = ~shapely.is_empty(parts)
+        parts, owner = parts[solid], idx[owner[solid]]
+        plcs = geometry_plcs(parts, method, indexed=owner if indexed else False)
+        shells: list[list[NDArray[np.object_]]] = [[] for _ in range(len(flat))]
+        for i, plc in zip(owner, plcs):
             assert plc is not None      # (only a missing geometry has none: these are polygons)
             try:
                 tri = cdt_plugin.triangulate(plc)
             except CDTError as e:
                 raise with_index(e, int(i), indexed)
-            out[i] = to_shapely(tri, z=_vertex_z(tri, plc.z) if plc.z is not None else None)
+            shells[i].append(triangle_shells(tri, z=_vertex_z(tri, plc.z) if plc.z is not None else None))
+        for i in idx:
+            out[i] = shapely.geometrycollections(np.concatenate(shells[i]) if shells[i] else [])
     return _elementwise_output(out, arr.shape, geometry)
 
 
@@ -170,8 +188,8 @@ def delaunay_triangles(geometry: Any, tolerance: ArrayLike = 0.0, only_edges: Ar
         ``tolerance`` and every dropped vertex is within it of a kept one. GEOS
         applies the same rule only against the vertices of the edge its point
         location ends at, so on clusters it may keep a point that is dropped
-        here. A negative or NaN tolerance raises :class:`cdt_plugin.CDTError`
-        (GEOS treats a negative one as 0 and returns None for NaN).
+        here. A NaN tolerance gives None, as in shapely; a negative one
+        raises :class:`cdt_plugin.CDTError` (GEOS treats it as 0).
     only_edges : bool or array_like, default False
         A MultiLineString of the edges instead of the triangles.
     **kwargs
@@ -220,6 +238,8 @@ def delaunay_triangles(geometry: Any, tolerance: ArrayLike = 0.0, only_edges: Ar
     indexed = arr.ndim > 0
     out = np.empty(len(flat), dtype=object)
     for i in np.flatnonzero(~shapely.is_missing(flat)):
+        if np.isnan(tol[i]):
+            continue
         xyz = coords[start[i]:start[i + 1]]
         try:
             out[i] = _delaunay_of_vertices(xyz if has_z[i] else xyz[:, :2], tol[i], edges[i])
@@ -234,7 +254,7 @@ def _tolerance_array(tolerance: ArrayLike) -> np.ndarray:
     except (TypeError, ValueError):
         raise CDTError(f"tolerance must be a number >= 0 (or an array of them), got {tolerance!r}") \
             from None
-    bad = ~(tol >= 0)
+    bad = tol < 0                  # (NaN gives None, as shapely's functions return)
     if bad.any():
         raise CDTError(f"tolerance must be >= 0 (the distance under which vertices are snapped "
                        f"together), got {float(tol[bad].ravel()[0])!r}")
@@ -291,6 +311,7 @@ def _snapped(xy: np.ndarray, tolerance: float) -> np.ndarray:
     return np.flatnonzero(keep)
 
 
+@_positional_deprecated(["extend_to", "only_edges", "ordered"])
 def voronoi_polygons(geometry: Any, tolerance: ArrayLike = 0.0, extend_to: Any = None,
                      only_edges: ArrayLike = False, ordered: ArrayLike = False, **kwargs: Any) -> Any:
     """Drop-in for ``shapely.voronoi_polygons`` (same signature, same output
@@ -307,8 +328,8 @@ def voronoi_polygons(geometry: Any, tolerance: ArrayLike = 0.0, extend_to: Any =
         Snap vertices closer than this together, as in
         :func:`delaunay_triangles` (lexicographic order, a vertex closer than
         ``tolerance`` to one kept before it is dropped). Exact duplicates are
-        always merged. A negative or NaN tolerance raises
-        :class:`cdt_plugin.CDTError`.
+        always merged. A NaN tolerance gives None, as in shapely; a negative
+        one raises :class:`cdt_plugin.CDTError`.
     extend_to : Geometry or array_like, optional
         The cells are cut to GEOS's envelope: the bounding box of the vertices
         (all of them, snapped or not) grown by its larger side on every side
@@ -387,7 +408,7 @@ def voronoi_polygons(geometry: Any, tolerance: ArrayLike = 0.0, extend_to: Any =
     start = np.searchsorted(owner, np.arange(len(flat) + 1))
     indexed = arr.ndim > 0
     out = np.empty(len(flat), dtype=object)
-    for i in np.flatnonzero(~shapely.is_missing(flat)):
+    for i in np.flatnonzero(~shapely.is_missing(flat) & ~np.isnan(tol)):
         try:
             out[i] = _voronoi_of_vertices(coords[start[i]:start[i + 1]], tol[i], extent[i], edges[i])
         except CDTError as e:
