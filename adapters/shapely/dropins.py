@@ -108,6 +108,8 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
         * GeometryCollection of clockwise triangle Polygons (closed 4-point
           shells, z kept for 3D input), given polygonal input (Polygon,
           MultiPolygon, or the polygonal members of a GeometryCollection);
+          each Polygon is meshed on its own, as GEOS does, so the parts of a
+          MultiPolygon may overlap or share edges (each part must be valid);
         * empty GeometryCollection, given empty or non-polygonal input;
         * ``None`` for ``None``.
 
