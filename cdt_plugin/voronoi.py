@@ -133,6 +133,8 @@ class Voronoi:
     vertices : (f, 2) float64
         One Voronoi vertex per face of the Delaunay subdivision: its
         circumcentre (power centre with weights). Cocircular sites give one vertex.
+        A vertex beyond the doubles (nearly collinear sites near the largest
+        magnitudes) is inf; clipped cells are still cut exactly as elsewhere.
     region_offsets, region_indices : int64 arrays
         The cell of site ``i`` is ``region_indices[region_offsets[i]:region_offsets[i + 1]]``:
         Voronoi vertex ids counter-clockwise; an unbounded cell ends with -1,
@@ -156,7 +158,8 @@ class Voronoi:
     def __init__(self, tri: TriangulationLike, fused: NDArray[np.bool_] | None, subdivision: Subdivision,
                  vertices: NDArray[np.float64], region_offsets: NDArray[np.int64],
                  region_indices: NDArray[np.int64], unbounded: NDArray[np.bool_],
-                 rings: tuple[NDArray[np.int64], NDArray[np.int64]], threads: int = 1) -> None:
+                 rings: tuple[NDArray[np.int64], NDArray[np.int64]],
+                 unit: tuple[NDArray[np.float64], int] | None = None, threads: int = 1) -> None:
         self.points = tri.vertices
         self.weights = tri.weights
         self.vertices = vertices
@@ -174,6 +177,9 @@ class Voronoi:
         self._rings = rings
         self._threads = threads
         self._ridges: tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]] | None = None
+        # the vertices as computed, times 2**-e (beyond the doubles, a vertex is inf in
+        # ``vertices`` but finite here: clipping works from these)
+        self._unit = unit if unit is not None else (vertices, 0)
 
     def __repr__(self) -> str:
         kind = "power diagram" if self.weights is not None else "Voronoi diagram"
@@ -261,9 +267,10 @@ class Voronoi:
         inside = ((pts[:, 0] >= xmin) & (pts[:, 0] <= xmax) & (pts[:, 1] >= ymin) & (pts[:, 1] <= ymax))
         if not inside.any():
             raise ClipRegionError(f"the clip box {box} contains none of the {len(pts)} points")
-        x, y, w, e = _near_unit(self._tri, np.array(box), self.vertices)
+        x, y, w, e = _near_unit(self._tri, np.array(box))      # (the sites and the box: doubles)
         offsets, ring = self._rings
-        centres = np.ldexp(self.vertices, -e) if e else self.vertices
+        unit, unit_e = self._unit
+        centres = np.ldexp(unit, unit_e - e) if unit_e != e else unit
         b = np.ldexp(np.array(box), -e)
         parts = _in_ranges(self._threads, len(pts), lambda lo, hi: clip_cells(
             x, y, w, self._tri.triangles, offsets, ring, self.unbounded,
@@ -324,6 +331,7 @@ class _Dual(NamedTuple):
     region_indices: NDArray[np.int64]
     unbounded: NDArray[np.bool_]
     rings: tuple[NDArray[np.int64], NDArray[np.int64]]
+    unit: tuple[NDArray[np.float64], int]       # the centres times 2**-e, and e
 
 
 def _store_dual(tri: TriangulationLike, mesh: MeshStore, scaled: _Scaled, threads: int) -> _Dual | None:
@@ -358,9 +366,9 @@ def _store_dual(tri: TriangulationLike, mesh: MeshStore, scaled: _Scaled, thread
     if wrong < nv:
         _not_convex(tri, wrong, start[wrong] == -1)
     sub = Subdivision.of_triangles(T)
-    if redo.any():
+    if redo.any() or not np.isfinite(centres).all():      # (a triangle so flat its centre rounded to NaN)
         redo_centres(ux, uy, uw, sub.offsets, sub.indices, centres, redo, np.int64(0), np.int64(k))
-    return _Dual(None, sub, np.ldexp(centres, e) if e else centres, offsets, cells, hull, (offsets, cells))
+    return _Dual(None, sub, _scaled_back(centres, e), offsets, cells, hull, (offsets, cells), (centres, e))
 
 
 def _general_dual(tri: TriangulationLike, scaled: _Scaled, threads: int) -> _Dual:
@@ -400,8 +408,17 @@ def _general_dual(tri: TriangulationLike, scaled: _Scaled, threads: int) -> _Dua
         region_indices = mapped_empty(region_offsets[-1], np.int64)
         _in_ranges(threads, nv, lambda lo, hi: pack_cells(
             offsets, cells, sizes, region_offsets, region_indices, lo, hi))
-    return _Dual(fused, sub, np.ldexp(centres, e) if e else centres, region_offsets, region_indices,
-                 hull, (offsets, ring))
+    return _Dual(fused, sub, _scaled_back(centres, e), region_offsets, region_indices,
+                 hull, (offsets, ring), (centres, e))
+
+
+def _scaled_back(centres: NDArray[np.float64], e: int) -> NDArray[np.float64]:
+    """``centres * 2**e``: inf where a Voronoi vertex lies beyond the doubles
+    (nearly collinear sites near the largest magnitudes)."""
+    if not e:
+        return centres
+    with np.errstate(over="ignore"):
+        return np.ldexp(centres, e)
 
 
 #: From this many triangles the kernels run on two threads (each on half the range)

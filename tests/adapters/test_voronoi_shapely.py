@@ -1,6 +1,8 @@
 """The voronoi_polygons drop-in of the shapely adapter against the real
 shapely/GEOS (no mocks): the same cells (site by site), edges, envelope,
 options, element-wise forms and degenerate cases."""
+import warnings
+
 import numpy as np
 import pytest
 
@@ -397,3 +399,43 @@ def test_polygon_clip_of_sites_too_close_for_geos_raises_a_range_error():
     # a box is cut by cdt_plugin itself: its cells tile it
     cells = tri.voronoi(clip=(-3.0, -3.0, 3.0, 3.0)).to_shapely()
     assert sum(c.area for c in cells) == pytest.approx(36.0, rel=REL)
+
+
+def _cells_at_unit(cells, k):
+    return np.array(shapely.transform(cells, lambda c: np.ldexp(c, -k)).geoms)
+
+
+@pytest.mark.parametrize("k", [-1000, -600, 0, 600, 1000])
+@pytest.mark.parametrize("flatness", [1e-6, 1e-10, 1e-14])
+def test_nearly_collinear_sites_give_three_cells_at_every_scale(k, flatness):
+    # three sites ~100 apart, the third off the line of the others by `flatness` of their
+    # distance: the Voronoi vertex lies ~1/flatness away (beyond the doubles at 2**1000,
+    # where the diagram's vertex is inf but the cells, cut to the envelope, are not)
+    rng = np.random.default_rng(int(-np.log10(flatness)))
+    for _ in range(20):
+        a, b = rng.random(2) * 100, rng.random(2) * 100
+        c = a + rng.uniform(-1, 2) * (b - a) + flatness * np.array([a[1] - b[1], b[0] - a[0]])
+        sites = np.array([a, b, c])
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")          # no overflow or invalid-value warning either
+            cells = _cells_at_unit(sa.voronoi_polygons(shapely.MultiPoint(np.ldexp(sites, k))), k)
+        assert len(cells) == 3 and shapely.is_valid(cells).all()
+        owners = [int(np.flatnonzero(shapely.intersects_xy(cells, *s))[0]) for s in sites]
+        assert sorted(owners) == [0, 1, 2]
+        envelope = shapely.envelope(shapely.union_all(cells))
+        assert shapely.area(cells).sum() == pytest.approx(shapely.area(envelope), rel=1e-9)
+        geos = np.array(shapely.voronoi_polygons(shapely.MultiPoint(sites)).geoms)
+        assert sorted(shapely.area(cells)) == pytest.approx(sorted(shapely.area(geos)), rel=1e-6, abs=1e-6)
+
+
+def test_a_centre_that_rounds_to_nan_is_computed_again():
+    # the floating-point determinant of these three sites rounds to 0: the centre is
+    # redone in double-double, not left NaN (which gave three empty cells)
+    sites = [[8.92167096469092, 18.79677956483793], [63.24193172808431, 65.83868337883321],
+             [83.3987733539855, 83.294715283573]]
+    tri = cdt_plugin.delaunay(sites)
+    assert len(tri.triangles) == 1 and np.isfinite(tri.voronoi().vertices).all()
+    cells = np.array(sa.voronoi_polygons(shapely.MultiPoint(sites)).geoms)
+    geos = np.array(shapely.voronoi_polygons(shapely.MultiPoint(sites)).geoms)
+    assert (shapely.area(cells) > 0).all()
+    assert sorted(shapely.area(cells)) == pytest.approx(sorted(shapely.area(geos)), rel=1e-6)
