@@ -210,6 +210,29 @@ def c3_warmup(_data: dict) -> dict:
     return {"items": [segment_soup(30, seed=1)]}
 
 
+def jagged_ring(n: int, offset: float, seed: int = 0) -> dict:
+    """A ring of ``n`` vertices 50-60 from its centre, at ``offset`` on both axes.
+    Far from the origin (1e15: coordinates on a grid of 0.125) rounding makes some of
+    its edges cross; snap rounding (``split``) must still cost about what it costs at
+    the origin, where none cross."""
+    rng = np.random.default_rng(seed)
+    angle = np.sort(rng.random(n)) * 2 * np.pi
+    radius = 50 + 10 * rng.random(n)
+    V = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)]) + offset
+    S = np.column_stack([np.arange(n), (np.arange(n) + 1) % n]).astype(np.int64)
+    return {"name": f"ring{n}@{offset:g}", "V": V, "S": S, "H": np.empty((0, 2)), "faces": None,
+            "not_polygon": f"ring{n} at {offset:g} (edges cross after rounding)", "split": True}
+
+
+def c4(offset: float):
+    def make() -> dict:
+        return {"items": [jagged_ring(2_000, offset)]}
+    return make
+
+
+def c4_warmup(_data: dict) -> dict:
+    return {"items": [jagged_ring(50, 1e15, seed=1)]}
+
 
 WORKLOADS = [
     Workload("c1-1e4", "C1 star 10k + 200x64 holes (22,800 v)", c1(10_000), c1_warmup,
@@ -224,6 +247,10 @@ WORKLOADS = [
              number=50, memory=False),
     Workload("c3-1e3", "C3 1,000 crossing segments (split, convex hull)", c3(1_000), c3_warmup,
              2_000),
+    Workload("c4-origin", "C4 jagged 2,000-vertex ring at the origin (split, convex hull)", c4(0.0),
+             c4_warmup, 2_000),
+    Workload("c4-1e15", "C4 the same ring translated by 1e15 (48 edge pairs cross after rounding)",
+             c4(1e15), c4_warmup, 2_000),
 ]
 
 # ----------------------------------------------------------------------------- quality

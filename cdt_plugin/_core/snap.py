@@ -180,7 +180,14 @@ def make_grid(x, y, items):
         gx, gy = 1, max(cells, 1) if h > 0 else 1
     cw = w / gx if w > 0 else 1.0
     ch = h / gy if h > 0 else 1.0
-    margin = big * 2.0 ** -40 + GRID
+    # ulp(big) <= big 2**-52: a pixel reaches half an ulp, a column's edge as
+    # segment_cells computes it is within a few ulps of the one cell_of places points by,
+    # and the walk's y there is off by a few ulps of the largest coordinate; 8 ulps
+    # covers each (segment_cells widens the columns by it too, so a steep segment's y
+    # range holds the points cell_of puts on either side of an edge). The margin was
+    # 2**-40 (4096 ulps): for a drawing 120 wide at 1e15 from the origin, 900 units, which
+    # put every piece in every bucket and tested all pairs in each, for minutes.
+    margin = big * 2.0 ** -49 + GRID
     return x0, y0, cw, ch, np.int64(gx), np.int64(gy), margin
 
 
@@ -209,8 +216,8 @@ def segment_cells(ax, ay, bx, by, grid, out):
         ylo, yhi = loy, hiy
         if c0 != c1 and bx != ax:
             slope = (by - ay) / (bx - ax)
-            xl = max(lox, x0 + c * cw)
-            xr = min(hix, x0 + (c + 1) * cw)
+            xl = max(lox, x0 + c * cw - margin)
+            xr = min(hix, x0 + (c + 1) * cw + margin)
             yl = ay + (xl - ax) * slope
             yr = ay + (xr - ax) * slope
             ylo = max(min(yl, yr) - margin, loy)

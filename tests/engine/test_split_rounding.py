@@ -310,3 +310,28 @@ def test_every_crossing_of_a_dense_soup_by_default():
     assert check_triangulation(tri.vertices, tri.triangles, segments=tri.segments, domain="hull").ok
     assert check_steiner_segments(P, S, tri.vertices, tri.vertex_map, tri.segments, tri.segment_ids,
                                   partial=bool(tri.stats["merged_overlaps"])).ok
+
+
+def _jagged_ring(n, offset):
+    rng = np.random.default_rng(0)
+    angle = np.sort(rng.random(n)) * 2 * np.pi
+    radius = 50 + 10 * rng.random(n)
+    P = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)]) + offset
+    return P, np.column_stack([np.arange(n), (np.arange(n) + 1) % n])
+
+
+def test_the_buckets_stay_small_far_from_the_origin():
+    """A drawing 120 wide at 1e15 from the origin (coordinates on a grid of 0.125):
+    the buckets' margin follows the coordinates' rounding (a few ulps), not a
+    fraction of their size that spans the drawing. With the old margin (2**-40 of
+    the largest coordinate, 900 units here) every piece fell in every bucket and
+    the crossing search tested every pair in each (minutes); now a piece meets a
+    few buckets, and the result is the snap-rounded mesh (checked exactly)."""
+    from cdt_plugin._core.snap import bucket_segments, make_grid
+    P, S = _jagged_ring(2000, 1e15)
+    x, y = P[:, 0].copy(), P[:, 1].copy()
+    pieces = np.column_stack([S, np.arange(len(S))]).astype(np.int64)
+    start, _ = bucket_segments(x, y, pieces, make_grid(x, y, np.int64(len(S))))
+    assert start[-1] / len(S) < 20          # buckets per piece (2,000 with the old margin)
+    tri = assert_snapped_mesh(P, S)
+    assert tri.stats["intersection_points"] > 0      # rounding made edges cross
