@@ -19,7 +19,7 @@ from cdt_plugin.adapters.shapely.building import to_shapely, triangle_shells
 from cdt_plugin.adapters.shapely.cells import cells_to_polygons
 from cdt_plugin.adapters.shapely.reading import (MULTIPOLYGON, POLYGON, collections_to_polygonal,
                                                  geometry_plcs, is_array_input, like_input,
-                                                 plain_polygon, repair_method, with_index)
+                                                 mesh_if_plainly_valid, repair_method, with_index)
 
 
 
@@ -137,8 +137,9 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
     """
     _reject_ufunc_kwargs("constrained_delaunay_triangles", kwargs)
     method = repair_method(repair)
-    if plain_polygon(geometry):
-        return to_shapely(cdt_plugin.triangulate(geometry))
+    tri = mesh_if_plainly_valid(geometry)
+    if tri is not None:
+        return to_shapely(tri)
     arr = _geometry_array(geometry)
     flat = arr.ravel().copy()
     _check_geometries(flat)
