@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 
 from .errors import MeshExportError
 from .optional import require
+from .quadratic import edge_rows
 
 if TYPE_CHECKING:
     import meshio
@@ -72,7 +73,7 @@ def to_meshio(tri: Any, quadratic: bool = False) -> meshio.Mesh:
         qm = tri.quadratic()
         base = qm.to_meshio()                  # (meshio's node order of triangle6)
         points, triangles = base.points, base.cells[0].data
-        lines = np.column_stack([segments, len(tri.vertices) + _rows_of(qm.edges, segments)])
+        lines = np.column_stack([segments, len(tri.vertices) + edge_rows(qm.edges, segments)])
         point_data = {"vertex_markers": qm.vertex_markers}
         attributes = qm.vertex_attributes
         kinds = ("triangle6", "line3")
@@ -255,7 +256,7 @@ def to_skfem(tri: Any, quadratic: bool = False, *, boundaries: Names | None = No
     else:
         mesh = skfem.MeshTri1(np.ascontiguousarray(corners.T), np.ascontiguousarray(new[T].T))
     edges = new[np.asarray(tri.edges, np.int64)]
-    facet_rows = _rows_of(edges, np.asarray(mesh.facets, np.int64).T)
+    facet_rows = edge_rows(edges, np.asarray(mesh.facets, np.int64).T)
     facets = {name: np.flatnonzero(np.isin(facet_rows, rows)) for name, rows in facet_sets.items()}
     return mesh.with_boundaries(facets).with_subdomains(element_sets)
 
@@ -310,13 +311,3 @@ def _named_sets(wanted: Dict[str, NDArray[np.int64]] | None, values: NDArray[np.
                 f"{what}[{name!r}]: no {item} has {label} {int(absent[0])} (the {label}s present: "
                 f"{', '.join(map(str, present.tolist()))})")
     return {name: np.flatnonzero(np.isin(values, ids)) for name, ids in wanted.items()}
-
-
-def _rows_of(edges: NDArray[np.int64], pairs: NDArray[np.int64]) -> NDArray[np.int64]:
-    """The row of ``edges`` that is each of ``pairs`` (either direction; each pair
-    must be an edge)."""
-    n = int(max(edges.max(initial=0), pairs.max(initial=0))) + 1
-    key = np.minimum(edges[:, 0], edges[:, 1]) * n + np.maximum(edges[:, 0], edges[:, 1])
-    by = np.argsort(key)
-    return by[np.searchsorted(key[by], np.minimum(pairs[:, 0], pairs[:, 1]) * n
-                              + np.maximum(pairs[:, 0], pairs[:, 1]))]
