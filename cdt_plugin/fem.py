@@ -43,6 +43,8 @@ if TYPE_CHECKING:
 
 __all__ = ["gmsh_physical", "gmsh_tags_only", "to_meshio", "to_skfem"]
 
+_INT_MIN, _INT_MAX = -2 ** 31, 2 ** 31 - 1        # gmsh's tags are C ints
+
 #: Names given to scikit-fem: ``{name: a marker or region id, or a list of them}``.
 Names = Mapping[str, Any]
 
@@ -67,8 +69,31 @@ def to_meshio(tri: Any, quadratic: bool = False) -> meshio.Mesh:
     _check_quadratic(quadratic)
     _need_triangles(tri, "to_meshio")
     meshio = require("meshio", "Triangulation.to_meshio")
-    segments = np.asarray(tri.segments, np.int64).reshape(-1, 2)
+    points, triangles, lines, point_data = _nodes_and_cells(tri, quadratic)
     regions = np.asarray(tri.regions, np.int64)
+    markers = np.asarray(tri.segment_markers, np.int64)
+    plain_triangles = {"region": regions, "marker": np.zeros(len(regions), np.int64)}
+    plain_lines = {"region": np.full(len(lines), -1, np.int64), "marker": markers}
+    if tri.region_attributes is not None:
+        plain_triangles["region_attribute"] = np.asarray(tri.region_attributes, np.float64)
+        plain_lines["region_attribute"] = np.full(len(lines), np.nan)
+    kinds = ("triangle6", "line3") if quadratic else ("triangle", "line")
+    blocks = (_blocks(kinds[0], 2, triangles, gmsh_physical(tri), plain_triangles)
+              + _blocks(kinds[1], 1, lines, markers, plain_lines))
+    cell_data = {name: [block[3][name] for block in blocks] for name in blocks[0][3]}
+    dim_tags = _node_entities(len(points), blocks)
+    if dim_tags is not None:
+        point_data["gmsh:dim_tags"] = dim_tags
+    return meshio.Mesh(points, [(kind, data) for kind, _, data, _ in blocks],
+                       point_data=point_data, cell_data=cell_data)
+
+
+def _nodes_and_cells(tri: Any, quadratic: bool) -> tuple[NDArray[np.float64], NDArray[np.int64],
+                                                          NDArray[np.int64], Dict[str, NDArray[Any]]]:
+    """The nodes, triangle cells and line cells (in meshio's node order) and the
+    point data (markers, attribute columns) of ``tri``: its vertices and
+    triangles, or the six-node mesh of :meth:`~cdt_plugin.Triangulation.quadratic`."""
+    segments = np.asarray(tri.segments, np.int64).reshape(-1, 2)
     if quadratic:
         qm = tri.quadratic()
         base = qm.to_meshio()                  # (meshio's node order of triangle6)
@@ -76,31 +101,13 @@ def to_meshio(tri: Any, quadratic: bool = False) -> meshio.Mesh:
         lines = np.column_stack([segments, len(tri.vertices) + edge_rows(qm.edges, segments)])
         point_data = {"vertex_markers": qm.vertex_markers}
         attributes = qm.vertex_attributes
-        kinds = ("triangle6", "line3")
     else:
         points, triangles, lines = np.asarray(tri.vertices, np.float64), tri.triangles, segments
         point_data = {"vertex_markers": tri.vertex_markers}
         attributes = tri.vertex_attributes
-        kinds = ("triangle", "line")
-    if attributes is not None:
-        for j in range(attributes.shape[1]):
-            point_data[f"vertex_attribute_{j + 1}"] = attributes[:, j]
-    physical = gmsh_physical(tri)
-    markers = np.asarray(tri.segment_markers, np.int64)
-    plain_triangles = {"region": regions, "marker": np.zeros(len(regions), np.int64)}
-    plain_lines = {"region": np.full(len(lines), -1, np.int64), "marker": markers}
-    if tri.region_attributes is not None:
-        plain_triangles["region_attribute"] = np.asarray(tri.region_attributes, np.float64)
-        plain_lines["region_attribute"] = np.full(len(lines), np.nan)
-    blocks = (_blocks(kinds[0], 2, triangles, physical, plain_triangles)
-              + _blocks(kinds[1], 1, lines, markers, plain_lines))
-    cells = [(kind, data) for kind, _, data, _ in blocks]
-    cell_data: Dict[str, List[NDArray[Any]]] = {
-        name: [block[3][name] for block in blocks] for name in blocks[0][3]}
-    dim_tags = _node_entities(len(points), blocks)
-    if dim_tags is not None:
-        point_data["gmsh:dim_tags"] = dim_tags
-    return meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data)
+    for j in range(0 if attributes is None else attributes.shape[1]):
+        point_data[f"vertex_attribute_{j + 1}"] = attributes[:, j]
+    return points, triangles, lines, point_data
 
 
 def gmsh_tags_only(mesh: meshio.Mesh) -> meshio.Mesh:
@@ -117,6 +124,12 @@ def gmsh_tags_only(mesh: meshio.Mesh) -> meshio.Mesh:
     ['gmsh:geometrical', 'gmsh:physical']
     """
     meshio = require("meshio", "fem.gmsh_tags_only")
+    for name in ("gmsh:physical", "gmsh:geometrical"):
+        for block, tags in zip(mesh.cells, mesh.cell_data.get(name, [])):
+            if len(tags) and not (tags.min() >= _INT_MIN and tags.max() <= _INT_MAX):
+                bad = tags[(tags < _INT_MIN) | (tags > _INT_MAX)][0]
+                raise MeshExportError(f"{name} tag {bad} of a {block.type} cell does not fit "
+                                      "gmsh's 32-bit tags: mark with smaller numbers")
     return meshio.Mesh(mesh.points, mesh.cells,
                        point_data={k: v for k, v in mesh.point_data.items() if k.startswith("gmsh:")},
                        cell_data={k: v for k, v in mesh.cell_data.items() if k.startswith("gmsh:")})
@@ -124,7 +137,7 @@ def gmsh_tags_only(mesh: meshio.Mesh) -> meshio.Mesh:
 
 def gmsh_physical(tri: Any) -> NDArray[np.int64]:
     """The gmsh physical tag of each triangle of ``tri``: its region attribute when
-    every one is a whole number, else its region index + 1 (gmsh counts from 1), and
+    every one is a whole number of 32 bits, else its region index + 1 (gmsh counts from 1), and
     for a triangle in no region one more than the largest of those (a mesh without
     regions: 1 everywhere; every tag positive, as gmsh's physical groups are).
 
@@ -138,7 +151,7 @@ def gmsh_physical(tri: Any) -> NDArray[np.int64]:
     values = tri.region_attributes
     if values is not None:
         values = np.asarray(values, np.float64)
-        if np.isfinite(values).all() and (values == np.round(values)).all():
+        if (np.abs(values) <= _INT_MAX).all() and (values == np.round(values)).all():
             return values.astype(np.int64)
     regions = np.asarray(tri.regions, np.int64)
     tags = regions + 1
@@ -173,16 +186,11 @@ def _node_entities(n: int, blocks: List[Block]) -> NDArray[np.int64] | None:
     owner = np.zeros(n, np.int64)           # (a node in no cell: the first block's)
     for b, block in enumerate(blocks):
         owner[block[2].ravel()] = b
-    nodes = [np.unique(block[2]) for block in blocks]
-    chosen: Dict[int, int] = {}             # node -> the block it is reserved for
-    lacking = []
-    for b in range(len(blocks)):
-        mine = nodes[b][owner[nodes[b]] == b]
-        if len(mine):
-            chosen[int(mine[0])] = b
-        else:
-            lacking.append(b)
-    if not all(_augment(b, nodes, chosen, set()) for b in lacking):
+    held, first = np.unique(owner, return_index=True)
+    chosen = dict(zip(first.tolist(), held.tolist()))      # node -> the block it is kept for
+    nodes: Dict[int, List[int]] = {}                      # (each block's, when first needed)
+    if not all(_augment(b, blocks, nodes, chosen, set())
+               for b in np.setdiff1d(np.arange(len(blocks)), held).tolist()):
         return None
     for v, b in chosen.items():
         owner[v] = b
@@ -190,14 +198,18 @@ def _node_entities(n: int, blocks: List[Block]) -> NDArray[np.int64] | None:
     return entity[owner]
 
 
-def _augment(b: int, nodes: List[NDArray[np.int64]], chosen: Dict[int, int], seen: set[int]) -> bool:
-    """Reserve a node for block ``b``: a free one of its nodes, or one whose block
-    can be moved to another node in turn (Kuhn's augmenting path)."""
-    for v in nodes[b].tolist():
+def _augment(b: int, blocks: List[Block], nodes: Dict[int, List[int]], chosen: Dict[int, int],
+             seen: set[int]) -> bool:
+    """Keep a node for block ``b``: a free one of its nodes, or one whose block
+    can be moved to another node in turn (Kuhn's augmenting path). ``nodes``:
+    the distinct nodes of the blocks asked so far."""
+    if b not in nodes:
+        nodes[b] = np.unique(blocks[b][2]).tolist()
+    for v in nodes[b]:
         if v in seen:
             continue
         seen.add(v)
-        if v not in chosen or _augment(chosen[v], nodes, chosen, seen):
+        if v not in chosen or _augment(chosen[v], blocks, nodes, chosen, seen):
             chosen[v] = b
             return True
     return False

@@ -344,3 +344,16 @@ def test_poisson_example_converges_at_second_order():
     errors = [error for _, _, error in rows]
     assert errors[0] > errors[1] > errors[2] > 0
     assert rate > 1.8, rows
+
+
+def test_tags_beyond_32_bits_named(tmp_path):
+    tri = checked(SQUARE, SIDES, segment_markers=[2 ** 31, 1, 1, 1], max_area=0.5)
+    mesh = tri.to_meshio()
+    assert max(t.max() for t in mesh.cell_data["gmsh:physical"]) == 2 ** 31   # meshio keeps it
+    with pytest.raises(MeshExportError, match="tag 2147483648 of a line cell does not fit"):
+        gmsh_tags_only(mesh)
+    # region attributes too large for a tag are not tags: the regions number the triangles
+    V = SQUARE + [[1, 0], [1, 2]]
+    S = [[0, 4], [4, 1], [1, 2], [2, 5], [5, 3], [3, 0], [4, 5]]
+    tri = checked(V, S, regions=[[0.5, 1, 1e12], [1.5, 1, 3]])
+    assert np.array_equal(gmsh_physical(tri), tri.regions + 1)
