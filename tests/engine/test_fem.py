@@ -357,3 +357,26 @@ def test_tags_beyond_32_bits_named(tmp_path):
     S = [[0, 4], [4, 1], [1, 2], [2, 5], [5, 3], [3, 0], [4, 5]]
     tri = checked(V, S, regions=[[0.5, 1, 1e12], [1.5, 1, 3]])
     assert np.array_equal(gmsh_physical(tri), tri.regions + 1)
+
+
+@pytest.mark.parametrize("fmt", ["gmsh", "gmsh22"])
+def test_gmsh_reads_the_physical_groups(plate, tmp_path, fmt):
+    # gmsh itself (the bench extra's package) sees every physical group with its elements
+    gmsh = pytest.importorskip("gmsh")
+    path = tmp_path / "plate.msh"
+    meshio.write(path, gmsh_tags_only(plate.to_meshio()), file_format=fmt)
+    gmsh.initialize(["gmsh", "-v", "0"])
+    try:
+        gmsh.open(str(path))
+        counts = Counter()
+        for dim, tag in gmsh.model.getPhysicalGroups():
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(dim, tag):
+                counts[(dim, tag)] += sum(len(t) for t in gmsh.model.mesh.getElements(dim, entity)[1])
+    finally:
+        gmsh.finalize()
+    lines, triangles = expected_tags(plate)
+    want = Counter({(1, t): n for t, n in Counter(t for (_, t) in lines.elements()).items()})
+    want.update({(2, t): n for t, n in Counter(t for (_, t) in triangles.elements()).items()})
+    if fmt == "gmsh22":            # msh 2.2: physical tag 0 is no physical group
+        del want[(1, 0)]
+    assert counts == want
