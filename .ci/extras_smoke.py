@@ -130,6 +130,20 @@ def cli():
         assert abs(mesh.area - 16.0) < 1e-9, mesh.area
 
 
+def fem():
+    import meshio
+    import cdt_plugin
+    tri = cdt_plugin.triangulate([[0, 0], [2, 0], [2, 2], [0, 2]], [[0, 1], [1, 2], [2, 3], [3, 0]],
+                                 segment_markers=[1, 2, 3, 4], max_area=0.5)
+    with tempfile.TemporaryDirectory() as d:
+        for name, fmt in (("m.msh", "gmsh"), ("m.vtu", "vtu"), ("m.xdmf", "xdmf")):  # (xdmf: h5py)
+            meshio.write(os.path.join(d, name), tri.to_meshio(), file_format=fmt)
+            back = meshio.read(os.path.join(d, name))
+            assert sum(len(b.data) for b in back.cells if b.type == "triangle") == len(tri.triangles)
+    mesh = tri.to_skfem()
+    assert sorted(mesh.boundaries) == ["marker_1", "marker_2", "marker_3", "marker_4"], mesh
+
+
 def bench():
     import manifold3d  # noqa: F401  (trimesh's engine, a peer)
     import mapbox_earcut
@@ -137,6 +151,7 @@ def bench():
     import scipy.spatial
     import shapely
     import triangle
+    import gmsh  # noqa: F401  (the sizing benchmark's peer)
     square = np.array([[0, 0], [1, 0], [1, 1], [0, 1.0]])
     assert len(triangle.triangulate({"vertices": square}, "Q")["triangles"]) == 2
     assert len(scipy.spatial.Delaunay(square).simplices) == 2
@@ -162,13 +177,13 @@ def docs():
 def test():
     import hypothesis  # noqa: F401
     import pytest  # noqa: F401
-    for check in (shapely_, trimesh_, open3d_, gis, dask, plot):
+    for check in (shapely_, trimesh_, open3d_, gis, dask, plot, fem):
         check()
 
 
 CHECKS = {"core": core, "shapely": shapely_, "trimesh": trimesh_, "open3d": open3d_, "gis": gis,
-          "dask": dask, "plot": plot, "cli": cli, "bench": bench, "test": test, "docs": docs,
-          "all": lambda: [c() for c in (shapely_, trimesh_, gis, dask, plot, cli)]}
+          "dask": dask, "plot": plot, "cli": cli, "fem": fem, "bench": bench, "test": test, "docs": docs,
+          "all": lambda: [c() for c in (shapely_, trimesh_, gis, dask, plot, cli, fem)]}
 
 if __name__ == "__main__":
     extra = sys.argv[1]

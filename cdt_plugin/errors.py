@@ -148,6 +148,13 @@ class NoPolygonsError(CDTError):
     goes in a ``.node`` file)."""
 
 
+class MeshExportError(CDTError):
+    """A finite-element mesh cannot be made as asked
+    (:meth:`cdt_plugin.Triangulation.to_meshio`, ``to_skfem``): a malformed option
+    (which one, and why), a boundary or subdomain naming a marker or region that no
+    edge or triangle has, or a triangulation without triangles."""
+
+
 class RefinementLimitError(CDTError):
     """Quality refinement inserted ``max_steiner`` points and was not done.
 

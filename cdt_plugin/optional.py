@@ -29,6 +29,7 @@ EXTRA_OF = {
     "dask": "dask", "dask_geopandas": "dask", "distributed": "dask",
     "tqdm": "cli",
     "mapbox_earcut": "bench",
+    "meshio": "fem", "skfem": "fem", "h5py": "fem", "gmsh": "bench",
 }
 
 

@@ -34,7 +34,7 @@ from .types import TriangulationLike
 if TYPE_CHECKING:
     import meshio
 
-__all__ = ["QuadraticMesh", "quadratic"]
+__all__ = ["QuadraticMesh", "edge_rows", "quadratic"]
 
 
 @dataclass(frozen=True)
@@ -92,10 +92,8 @@ def quadratic(tri: TriangulationLike, vertex_markers: NDArray[np.int64],
     E = np.asarray(tri.edges, np.int64).reshape(-1, 2)
     T = np.asarray(tri.triangles, np.int64)
     n = len(V)
-    key = np.minimum(E[:, 0], E[:, 1]) * n + np.maximum(E[:, 0], E[:, 1])
-    by = np.argsort(key)
-    a, b = T[:, [1, 2, 0]], T[:, [2, 0, 1]]            # the edge opposite corner 0, 1, 2
-    side = by[np.searchsorted(key[by], np.minimum(a, b) * n + np.maximum(a, b))]
+    opposite = np.stack([T[:, [1, 2, 0]], T[:, [2, 0, 1]]], axis=-1)   # edge opposite corner 0, 1, 2
+    side = edge_rows(E, opposite.reshape(-1, 2)).reshape(-1, 3)
     attributes = None
     if vertex_attributes is not None:
         attributes = np.concatenate([vertex_attributes,
@@ -103,3 +101,17 @@ def quadratic(tri: TriangulationLike, vertex_markers: NDArray[np.int64],
     return QuadraticMesh(np.concatenate([V, (V[E[:, 0]] + V[E[:, 1]]) / 2]),
                          np.concatenate([T, n + side], axis=1).reshape(-1, 6), E,
                          np.concatenate([vertex_markers, edge_markers]), attributes, edge_markers)
+
+
+def edge_rows(edges: NDArray[np.int64], pairs: NDArray[np.int64]) -> NDArray[np.int64]:
+    """The row of ``edges`` ((e, 2) vertex pairs) that is each of ``pairs`` ((m, 2),
+    either direction; each pair must be one of the edges).
+
+    >>> edge_rows(np.array([[0, 1], [1, 2], [2, 0]]), np.array([[2, 1], [0, 2]])).tolist()
+    [1, 2]
+    """
+    n = int(max(edges.max(initial=0), pairs.max(initial=0))) + 1
+    key = np.minimum(edges[:, 0], edges[:, 1]) * n + np.maximum(edges[:, 0], edges[:, 1])
+    by = np.argsort(key)
+    return by[np.searchsorted(key[by], np.minimum(pairs[:, 0], pairs[:, 1]) * n
+                              + np.maximum(pairs[:, 0], pairs[:, 1]))]

@@ -28,8 +28,10 @@ from .validate import as_points, as_segments, as_triangle_bounds, exact_range
 if TYPE_CHECKING:
     from .refining import RefineState
     import matplotlib.tri
+    import meshio
     import open3d
     import shapely
+    import skfem
     import trimesh
     from matplotlib.axes import Axes
 
@@ -488,6 +490,38 @@ class Triangulation:
                            "inside the domain): matplotlib.tri.Triangulation needs at least one")
         x, y = self.vertices.T.copy()          # a copy: matplotlib keeps what it is given
         return mtri.Triangulation(x, y, self.triangles)
+
+    def to_meshio(self, quadratic: bool = False) -> meshio.Mesh:
+        """This triangulation as a ``meshio.Mesh`` for finite-element codes (needs
+        meshio): ``triangle`` cells (``triangle6`` with ``quadratic``) and the
+        segments as ``line`` cells (``line3``), tagged as gmsh and meshio users
+        expect (``gmsh:physical``: segment markers, region attributes or ids), ready
+        for ``meshio.write`` to ``.msh`` (``file_format="gmsh"`` or ``"gmsh22"``),
+        ``.vtu`` or ``.xdmf`` (see :func:`cdt_plugin.fem.to_meshio`).
+
+        >>> import cdt_plugin
+        >>> tri = cdt_plugin.triangulate([[0, 0], [2, 0], [0, 2]], [[0, 1], [1, 2], [2, 0]])
+        >>> [(block.type, len(block.data)) for block in tri.to_meshio().cells]
+        [('triangle', 1), ('line', 3)]
+        """
+        from .fem import to_meshio            # (loaded on first use)
+        return to_meshio(self, quadratic)
+
+    def to_skfem(self, quadratic: bool = False, *, boundaries: Any = None,
+                 subdomains: Any = None) -> skfem.Mesh:
+        """This triangulation as a scikit-fem ``MeshTri`` (``MeshTri2`` with
+        ``quadratic``; needs scikit-fem) with boundaries named by the edge markers
+        and subdomains by the regions (see :func:`cdt_plugin.fem.to_skfem`).
+
+        >>> import cdt_plugin
+        >>> tri = cdt_plugin.triangulate([[0, 0], [2, 0], [0, 2]], [[0, 1], [1, 2], [2, 0]],
+        ...                              segment_markers=[4, 0, 0])
+        >>> mesh = tri.to_skfem(boundaries={"bottom": 4, "rest": 1})
+        >>> mesh.boundaries["bottom"].tolist(), len(mesh.boundaries["rest"])
+        ([0], 2)
+        """
+        from .fem import to_skfem
+        return to_skfem(self, quadratic, boundaries=boundaries, subdomains=subdomains)
 
     # ------------------------------------------------------- report and plots
     def report(self, against: MeshLike | None = None, **kwargs: Any) -> Report:

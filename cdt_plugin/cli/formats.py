@@ -14,6 +14,7 @@ MESH_FORMATS = (".ply", ".obj", ".stl", ".glb", ".off")
 GEOJSON_FORMATS = (".geojson", ".json")
 TRIANGLE_FORMATS = (".node", ".ele", ".poly")
 GIS_FORMATS = (".shp", ".gpkg", ".parquet")
+FEM_FORMATS = (".msh", ".vtu", ".xdmf")          # finite-element meshes, written by meshio
 INPUT_FORMATS = (".poly", ".node", ".geojson", ".json", ".wkt") + GIS_FORMATS
 LAYER_OUTPUTS = (".gpkg", ".parquet") + GEOJSON_FORMATS
 GRID_OUTPUTS = (".tif", ".tiff", ".npy")
@@ -43,6 +44,10 @@ def check_packages(args: argparse.Namespace) -> None:
             needs.append(("trimesh", f"writing {suffix}"))
         elif suffix in GEOJSON_FORMATS:
             needs.append(("shapely", "writing GeoJSON"))
+        elif suffix in FEM_FORMATS:
+            needs.append(("meshio", f"writing {suffix}"))
+            if suffix == ".xdmf":
+                needs.append(("h5py", "writing .xdmf"))
         elif suffix == ".gpkg":
             needs.append(("geopandas", "writing .gpkg"))
         elif suffix == ".parquet":

@@ -19,6 +19,7 @@ examples:
   cdt-plugin mesh countries.geojson -o countries.glb --extrude 0.5
   cdt-plugin mesh shape.wkt -o shape.stl --extrude 2 --plot shape.png
   cdt-plugin mesh A.poly -o A.ele --min-angle 30 --max-area 0.01
+  cdt-plugin mesh A.poly -o A.msh --min-angle 30 --max-area 0.01   (gmsh, tagged by the markers)
   cdt-plugin voronoi shops.gpkg --boundary city.gpkg -o cells.gpkg
   cdt-plugin voronoi stations.shp --boundary country.geojson --weights power -o cells.geojson
   cdt-plugin tin points.gpkg --breaklines lines.gpkg -o dem.tif --resolution 10
@@ -71,7 +72,9 @@ def build_parser() -> argparse.ArgumentParser:
                                       "refined) and write the mesh to OUTPUT.")
     mesh.add_argument("-o", "--output", required=True, type=Path, metavar="OUTPUT",
                       help="output file: .ply .obj .stl .glb .off (trimesh), .geojson/.json, "
-                           ".node/.ele/.poly (Triangle: all three written), .gpkg, .parquet; "
+                           ".node/.ele/.poly (Triangle: all three written), .msh (gmsh), "
+                           ".vtu, .xdmf (finite-element codes, tagged by the markers; meshio), "
+                           ".gpkg, .parquet; "
                            "from a layer (.shp/.gpkg/.parquet/.geojson) .gpkg, .parquet "
                            "(GeoParquet, the fastest) and .geojson get one feature per "
                            "triangle with the source attributes")

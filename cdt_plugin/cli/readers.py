@@ -53,7 +53,9 @@ def read_input(path: Path, layer: str | None = None) -> list[Feature]:
 
 
 def _read_poly(path: Path) -> list[Feature]:
-    return [Feature(path.name, arrays={"vertices": io.read_poly(path).to_plc()})]
+    poly = io.read_poly(path)           # (the markers tag the boundaries of .msh, .vtu, .xdmf)
+    return [Feature(path.name, arrays={"vertices": poly.to_plc(), "vertex_markers": poly.markers,
+                                       "segment_markers": poly.segment_markers})]
 
 
 def _read_node(path: Path) -> list[Feature]:

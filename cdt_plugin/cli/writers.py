@@ -11,7 +11,9 @@ from typing import TYPE_CHECKING, Any, Callable, Sequence
 import numpy as np
 
 from .. import io
-from .formats import GEOJSON_FORMATS, MESH_FORMATS, TRIANGLE_FORMATS, import_for, suffix_name
+from ..fem import gmsh_tags_only
+from .formats import FEM_FORMATS, GEOJSON_FORMATS, MESH_FORMATS, TRIANGLE_FORMATS, import_for, \
+    suffix_name
 from .readers import Feature
 from .terminal import CLIError
 
@@ -32,7 +34,7 @@ def check_output(path: Path, extrude: float | None) -> str:
     """The output's extension, or CLIError for an unknown format, ``--extrude``
     to a format without solids or a missing directory."""
     suffix = path.suffix.lower()
-    known = MESH_FORMATS + GEOJSON_FORMATS + TRIANGLE_FORMATS + (".gpkg", ".parquet")
+    known = MESH_FORMATS + GEOJSON_FORMATS + TRIANGLE_FORMATS + FEM_FORMATS + (".gpkg", ".parquet")
     if suffix not in known:
         raise CLIError(f"{path}: unknown output format {suffix_name(path)!r}; expected one "
                        f"of {', '.join(known)}")
@@ -76,10 +78,39 @@ def write_output(path: Path, features: Sequence[Feature], tris: Sequence[Triangu
             for f, t in zip(features, tris)]}
         path.write_text(json.dumps(out), encoding="utf-8")
         return f"wrote {path}: {len(tris)} feature(s), {len(combined.triangles):,} triangles"
+    if suffix in FEM_FORMATS:
+        return write_fem(path, combined)
     base = path.with_suffix("")
     io.write_triangulation(path, combined, attributes=combined.regions if len(tris) > 1 else None)
     return (f"wrote {base}.node/.ele/.poly: {len(combined.vertices):,} vertices, "
             f"{len(combined.triangles):,} triangles, {len(combined.segments):,} segment edges")
+
+
+def write_fem(path: Path, tri: Triangulation) -> str:
+    """Write ``tri`` for finite-element codes through meshio
+    (:meth:`~cdt_plugin.Triangulation.to_meshio`): ``.msh`` as gmsh 4.1 with the
+    tags only (:func:`~cdt_plugin.fem.gmsh_tags_only`), or 2.2 when 4.1 cannot
+    give every tagged entity a node of its own; ``.vtu``;
+    ``.xdmf`` with its arrays in an HDF5 file beside it (``.h5``, needs h5py).
+    Returns a one-line summary."""
+    meshio = import_for("meshio", f"writing {path.suffix.lower()}")
+    mesh = tri.to_meshio()
+    suffix, version = path.suffix.lower(), ""
+    if suffix == ".msh":
+        mesh = gmsh_tags_only(mesh)
+        entities = "gmsh:dim_tags" in mesh.point_data
+        version = "gmsh 4.1" if entities else "gmsh 2.2"
+        meshio.write(path, mesh, file_format="gmsh" if entities else "gmsh22")
+    elif suffix == ".xdmf":
+        import_for("h5py", "writing .xdmf")
+        meshio.write(path, mesh, file_format="xdmf")
+        version = f"and {path.with_suffix('.h5').name}"
+    else:
+        mesh.points = np.column_stack([mesh.points, np.zeros(len(mesh.points))])   # VTK's 3D
+        meshio.write(path, mesh, file_format="vtu")
+    lines = sum(len(block.data) for block in mesh.cells if block.type == "line")
+    return (f"wrote {path}{f' ({version})' if version else ''}: {len(tri.vertices):,} vertices, "
+            f"{len(tri.triangles):,} triangles, {lines:,} segment edges")
 
 
 def write_layer(path: Path, triangles: GeoDataFrame | pyarrow.Table, mesh: GeoMesh,

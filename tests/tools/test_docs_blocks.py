@@ -51,7 +51,8 @@ NEEDS = {"cdt_plugin.plot": "matplotlib", "tri.plot(": "matplotlib", "report imp
          "adapters import geo": "geopandas", "cdt_trimesh": "trimesh", "to_open3d": "open3d",
          "to_parquet": "pyarrow", "--plot": "matplotlib", "--against earcut": "mapbox_earcut",
          ".gpkg": "geopandas", ".geojson": "geopandas", "--against": "trimesh", ".obj": "trimesh",
-         ".glb": "trimesh", "dask_geopandas": "distributed"}
+         ".glb": "trimesh", "dask_geopandas": "distributed", "to_meshio": "meshio",
+         "to_skfem": "skfem", ".msh": "meshio", ".vtu": "meshio", ".xdmf": "h5py"}
 
 
 @dataclass

@@ -68,6 +68,7 @@ TYPED_MODULES = [
     "cdt_plugin.markers",
     "cdt_plugin.queries",
     "cdt_plugin.quadratic",
+    "cdt_plugin.fem",
     "cdt_plugin.refining",
     "cdt_plugin.sizing",
     "cdt_plugin.report",
