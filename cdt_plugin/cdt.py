@@ -312,7 +312,7 @@ def triangulate_plc(plc: PLC, options: MeshOptions, *, t0: float | None = None,
         _raise_stop(status, info, plc)
     seconds = time.perf_counter() - t0
     tri = Triangulation.from_route(ints, vertices, plc, functools.partial(
-        _stats, plc, algorithm, counts, refine, seconds))
+        _stats, plc, algorithm, counts, int(ints[3]), refine, seconds))
     if tags is not None:
         tri.tags = tags
     if status == ROUTE_REFINE_LIMIT:
@@ -342,12 +342,14 @@ def _threaded_store(x, y, order, n_segments, snapped, route_options):
     return (tri, twin, cons, dup, np.int64(ntri)), order
 
 
-def _stats(plc, algorithm, counts, refine, seconds, tri) -> dict:
-    """The route's counts by name (``tri``: its result)."""
-    vertex_map = tri.vertex_map
+def _stats(plc, algorithm, counts, kept, refine, seconds, tri) -> dict:
+    """The route's counts by name (``tri``: its result, whose vertices after
+    the first ``kept`` are Steiner points; its other arrays are made only
+    where a count needs them)."""
     segs = plc.segments
     zero = []
     if counts[K_ZERO_SEGMENTS]:
+        vertex_map = tri.vertex_map
         zero = np.flatnonzero(vertex_map[segs[:, 0]] == vertex_map[segs[:, 1]]).tolist()
     stats = {"algorithm": algorithm, "input_points": len(plc.vertices), "input_segments": len(segs),
              "zero_length_segments": zero, "duplicate_segments": int(counts[K_DUPLICATE_SEGMENTS]),
@@ -355,7 +357,7 @@ def _stats(plc, algorithm, counts, refine, seconds, tri) -> dict:
              "merged_overlaps": int(counts[K_MERGED_OVERLAPS]),
              "intersection_points": int(counts[K_INTERSECTIONS]), "flips": int(counts[K_FLIPS]),
              "duplicates": int(counts[K_DUPLICATES]), "submerged": 0, "vertices": len(tri.vertices),
-             "triangles": len(tri.triangles), "steiner": len(tri.steiner), "seconds": seconds}
+             "triangles": len(tri.triangles), "steiner": len(tri.vertices) - kept, "seconds": seconds}
     if plc.empty_rings:
         stats["empty_rings"] = list(plc.empty_rings)
     if refine:
