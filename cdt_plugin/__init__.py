@@ -33,6 +33,7 @@ from .errors import (
     UnknownIdError,
     UnresolvedCrossingError,
 )
+from .nearness import size_near
 from .plc import PLC
 
 from .triangulation import Triangulation
@@ -51,6 +52,7 @@ __all__ = [
     "Triangulation",
     "delaunay",
     "triangulate",
+    "size_near",
     "InvalidGeometryError",
     "InvalidMeshError",
     "OverlappingSegmentsError",
