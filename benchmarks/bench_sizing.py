@@ -33,7 +33,7 @@ S2 (goal: time and triangle count within 1.1x of Triangle's).
 
 Usage (from the repository root)::
 
-    python benchmarks/bench_sizing.py               # 3 rounds, about two minutes
+    python benchmarks/bench_sizing.py               # 2 rounds, about three minutes
     python benchmarks/bench_sizing.py --rounds 1    # a smoke run
 """
 from __future__ import annotations
@@ -359,7 +359,7 @@ def render(graded, constant, rounds: int) -> str:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--rounds", type=int, default=2)
     ap.add_argument("--out", default=str(HERE / "results" / "sizing.md"))
     args = ap.parse_args(argv)
     doms = domains()

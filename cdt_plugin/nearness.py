@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core.distance import bucket_grid, nearest_distances
-from .errors import CDTError
+from .errors import SizeFieldError
 from .plc import PLC, geojson_features
 from .validate import as_xy
 
@@ -119,10 +119,10 @@ def size_near(geometries: GeometriesLike, size_min: float, size_max: float,
 
     Raises
     ------
-    CDTError
+    SizeFieldError
         A bad number (naming the argument and the value), or geometries that
-        hold no point and no segment. The geometry readers' errors
-        (:class:`~cdt_plugin.errors.InputShapeError`,
+        hold no point and no segment (a :class:`~cdt_plugin.CDTError`). The
+        geometry readers' errors (:class:`~cdt_plugin.errors.InputShapeError`,
         :class:`~cdt_plugin.errors.NonFiniteCoordinateError`) for malformed input.
 
     Examples
@@ -147,17 +147,17 @@ def size_near(geometries: GeometriesLike, size_min: float, size_max: float,
     size_min = _positive(size_min, "size_min")
     size_max = _positive(size_max, "size_max")
     if size_max < size_min:
-        raise CDTError(f"size_near: size_max must be >= size_min, got size_max={size_max!r} "
+        raise SizeFieldError(f"size_near: size_max must be >= size_min, got size_max={size_max!r} "
                        f"< size_min={size_min!r}")
     if distance is None and growth is None:
-        raise CDTError("size_near needs distance= (where the size reaches size_max) or "
+        raise SizeFieldError("size_near needs distance= (where the size reaches size_max) or "
                        "growth= (how fast it grows), or both")
     if distance is not None:
         distance = _positive(distance, "distance")
     if growth is not None:
         growth = _real(growth, "growth")
         if not (np.isfinite(growth) and growth > 1.0):
-            raise CDTError(f"size_near: growth must be a finite number > 1, got {growth!r}")
+            raise SizeFieldError(f"size_near: growth must be a finite number > 1, got {growth!r}")
     sources, points = read_sources(geometries)
     return SizeNear(sources, points, size_min, size_max, distance, growth)
 
@@ -188,7 +188,7 @@ def read_sources(geometries: GeometriesLike) -> tuple[tuple[NDArray[np.float64],
     pts = np.concatenate(point_parts) if point_parts else np.empty((0, 2))
     segs = np.concatenate(segment_parts) if segment_parts else np.empty((0, 4))
     if len(pts) + len(segs) == 0:
-        raise CDTError("size_near: the geometries hold no point and no segment")
+        raise SizeFieldError("size_near: the geometries hold no point and no segment")
     a = np.concatenate([pts, segs[:, :2]])
     b = np.concatenate([pts, segs[:, 2:]])
     return tuple(np.ascontiguousarray(c) for c in (a[:, 0], a[:, 1], b[:, 0], b[:, 1])), len(pts)
@@ -222,12 +222,12 @@ def _geometry_mapping(item: Any) -> Any:
 
 def _real(value: object, name: str) -> float:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise CDTError(f"size_near: {name} must be a number, got {value!r} ({type(value).__name__})")
+        raise SizeFieldError(f"size_near: {name} must be a number, got {value!r} ({type(value).__name__})")
     return float(value)
 
 
 def _positive(value: object, name: str) -> float:
     number = _real(value, name)
     if not (np.isfinite(number) and number > 0):
-        raise CDTError(f"size_near: {name} must be a finite number > 0, got {value!r}")
+        raise SizeFieldError(f"size_near: {name} must be a finite number > 0, got {value!r}")
     return number
