@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._core.distance import bucket_grid, nearest_distances
 from .errors import SizeFieldError
+from .fields import as_size_field
 from .plc import PLC, geojson_features
 from .validate import as_xy
 
@@ -144,22 +145,66 @@ def size_near(geometries: GeometriesLike, size_min: float, size_max: float,
     >>> field
     size_near(0 point(s), 1 segment(s), size_min=0.5, size_max=4, growth=1.2)
     """
-    size_min = _positive(size_min, "size_min")
-    size_max = _positive(size_max, "size_max")
-    if size_max < size_min:
-        raise SizeFieldError(f"size_near: size_max must be >= size_min, got size_max={size_max!r} "
-                       f"< size_min={size_min!r}")
-    if distance is None and growth is None:
-        raise SizeFieldError("size_near needs distance= (where the size reaches size_max) or "
-                       "growth= (how fast it grows), or both")
-    if distance is not None:
-        distance = _positive(distance, "distance")
-    if growth is not None:
-        growth = _real(growth, "growth")
-        if not (np.isfinite(growth) and growth > 1.0):
-            raise SizeFieldError(f"size_near: growth must be a finite number > 1, got {growth!r}")
+    size_min, size_max, distance, growth = check_near(size_min, size_max, distance, growth)
     sources, points = read_sources(geometries)
     return SizeNear(sources, points, size_min, size_max, distance, growth)
+
+
+def check_near(size_min: object, size_max: object, distance: object = None,
+               growth: object = None) -> tuple[float, float, float | None, float | None]:
+    """:func:`size_near`'s numbers, checked (as floats), or the
+    :class:`~cdt_plugin.errors.SizeFieldError` naming the first that is wrong
+    (the command line checks them with this before it reads any file).
+
+    >>> check_near(1, 10, distance=100)
+    (1.0, 10.0, 100.0, None)
+    >>> check_near(1, 10)
+    Traceback (most recent call last):
+    ...
+    cdt_plugin.errors.SizeFieldError: size_near needs distance= (where the size reaches size_max) or growth= (how fast it grows), or both
+    """
+    low = _positive(size_min, "size_min")
+    high = _positive(size_max, "size_max")
+    if high < low:
+        raise SizeFieldError(f"size_near: size_max must be >= size_min, got size_max={high!r} "
+                             f"< size_min={low!r}")
+    if distance is None and growth is None:
+        raise SizeFieldError("size_near needs distance= (where the size reaches size_max) or "
+                             "growth= (how fast it grows), or both")
+    reach = None if distance is None else _positive(distance, "distance")
+    rate = None if growth is None else _real(growth, "growth")
+    if rate is not None and not (np.isfinite(rate) and rate > 1.0):
+        raise SizeFieldError(f"size_near: growth must be a finite number > 1, got {growth!r}")
+    return low, high, reach, rate
+
+
+class SmallestSize:
+    """The smallest of several size fields at every point (each a number or a
+    callable ``f(x, y)``): how fields combine, e.g. a coarse size everywhere
+    and sizes near rivers and wells.
+
+    >>> import numpy as np
+    >>> both = SmallestSize([4.0, size_near([[0.0, 0.0]], 1.0, 10.0, distance=9.0)])
+    >>> both(np.array([0.0, 2.0, 50.0]), np.zeros(3)).tolist()
+    [1.0, 3.0, 4.0]
+    >>> SmallestSize([0.5, 2])
+    SmallestSize([ConstantSize(0.5), ConstantSize(2.0)])
+    """
+
+    def __init__(self, fields: Iterable[object]) -> None:
+        self.fields = [as_size_field(f) for f in fields]     # (each checked)
+        if not self.fields:
+            raise SizeFieldError("SmallestSize needs at least one size field")
+
+    def __call__(self, x: ArrayLike, y: ArrayLike) -> NDArray[np.float64]:
+        shape = np.broadcast_shapes(np.shape(x), np.shape(y))
+        out = np.full(shape, np.inf)
+        for f in self.fields:
+            np.minimum(out, f(x, y), out=out)
+        return out
+
+    def __repr__(self) -> str:
+        return f"SmallestSize({self.fields!r})"
 
 
 def read_sources(geometries: GeometriesLike) -> tuple[tuple[NDArray[np.float64], ...], int]:
