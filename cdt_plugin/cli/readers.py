@@ -130,6 +130,26 @@ def _require_polygons(path: Path, features: list[Feature]) -> list[Feature]:
                           f"({len(features)} feature(s): {held}); a point set goes in a .node file")
 
 
+def read_geometries(path: Path, layer: str | None, option: str) -> Any:
+    """The geometries of a file given to ``option`` (``--size-near``), for
+    :func:`cdt_plugin.size_near`: a GIS layer as a GeoDataFrame, a Triangle ``.poly``
+    as its PLC (segments and points), a ``.node`` file's points, a ``.wkt`` geometry,
+    GeoJSON geometries; any geometry type."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in INPUT_FORMATS:
+        raise CLIError(f"{option} {path}: unknown format {suffix_name(path)!r}; expected one of "
+                       f"{', '.join(INPUT_FORMATS)}")
+    if not path.exists():
+        raise CLIError(f"{option} {path}: no such file")
+    if is_layer(path):
+        return read_layer(path, layer)
+    if layer is not None:
+        raise CLIError(f"{option} {path}: a layer ({layer!r}) applies to GIS layers (.gpkg, .shp)")
+    return [f.geometry if f.geometry is not None else f.arrays["vertices"]
+            for f in _READERS[suffix](path)]
+
+
 def is_layer(path: Path) -> bool:
     """Whether ``path`` is a GIS layer: .shp, .gpkg, .geojson, or a .json Feature or
     FeatureCollection (not a bare geometry or earcut's ring arrays)."""
