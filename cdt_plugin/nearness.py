@@ -197,10 +197,10 @@ class SmallestSize:
             raise SizeFieldError("SmallestSize needs at least one size field")
 
     def __call__(self, x: ArrayLike, y: ArrayLike) -> NDArray[np.float64]:
-        shape = np.broadcast_shapes(np.shape(x), np.shape(y))
-        out = np.full(shape, np.inf)
+        px, py = np.broadcast_arrays(np.asarray(x, np.float64), np.asarray(y, np.float64))
+        out = np.full(px.shape, np.inf)
         for f in self.fields:
-            np.minimum(out, f(x, y), out=out)
+            np.minimum(out, f(px, py), out=out)
         return out
 
     def __repr__(self) -> str:
