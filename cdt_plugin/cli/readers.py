@@ -36,12 +36,7 @@ def read_input(path: Path, layer: str | None = None) -> list[Feature]:
     """The features of an input file (see :mod:`cdt_plugin.cli` for formats);
     ``layer``: the layer of a multi-layer GIS file."""
     path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in INPUT_FORMATS:
-        raise CLIError(f"{path}: unknown input format {suffix_name(path)!r}; "
-                       f"expected one of {', '.join(INPUT_FORMATS)}")
-    if not path.exists():
-        raise CLIError(f"{path}: no such file")
+    suffix = _input_suffix(path)
     if suffix in GIS_FORMATS:
         return _require_polygons(path, _layer_features(path, read_layer(path, layer)))
     if layer is not None:
@@ -50,6 +45,18 @@ def read_input(path: Path, layer: str | None = None) -> list[Feature]:
     if suffix in (".poly", ".node"):          # PLC arrays: no geometry type to check
         return features
     return _require_polygons(path, features)
+
+
+def _input_suffix(path: Path, what: str = "") -> str:
+    """The suffix of an input file that exists and has a format we read, or the
+    error naming it (``what``: the option it was given to, if any)."""
+    suffix = path.suffix.lower()
+    if suffix not in INPUT_FORMATS:
+        raise CLIError(f"{what}{path}: unknown input format {suffix_name(path)!r}; "
+                       f"expected one of {', '.join(INPUT_FORMATS)}")
+    if not path.exists():
+        raise CLIError(f"{what}{path}: no such file")
+    return suffix
 
 
 def _read_poly(path: Path) -> list[Feature]:
@@ -136,12 +143,7 @@ def read_geometries(path: Path, layer: str | None, option: str) -> Any:
     as its PLC (segments and points), a ``.node`` file's points, a ``.wkt`` geometry,
     GeoJSON geometries; any geometry type."""
     path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in INPUT_FORMATS:
-        raise CLIError(f"{option} {path}: unknown format {suffix_name(path)!r}; expected one of "
-                       f"{', '.join(INPUT_FORMATS)}")
-    if not path.exists():
-        raise CLIError(f"{option} {path}: no such file")
+    suffix = _input_suffix(path, f"{option} ")
     if is_layer(path):
         return read_layer(path, layer)
     if layer is not None:

@@ -16,6 +16,7 @@ from cdt_plugin.adapters import geo  # noqa: E402
 from cdt_plugin.errors import SizeFieldError  # noqa: E402
 
 from checker import assert_valid  # noqa: E402
+from helpers import longest_over_field  # noqa: E402
 
 X0, Y0 = 500_000.0, 5_000_000.0        # UTM zone 33N metres
 
@@ -35,14 +36,6 @@ def checked(mesh, i):
     uniq, count = np.unique(e, axis=0, return_counts=True)
     assert_valid(V[:, :2], T, segments=uniq[count == 1], domain="segments")
     return V[:, :2], T
-
-
-def longest_over_field(V, T, field):
-    P = V[T]
-    longest = np.linalg.norm(P - np.roll(P, -1, axis=1), axis=2).max(axis=1)
-    c = P.mean(axis=1)
-    target = np.full(len(T), float(field)) if not callable(field) else field(c[:, 0], c[:, 1])
-    return longest / target
 
 
 def test_one_size_for_the_layer():

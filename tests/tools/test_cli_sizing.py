@@ -18,19 +18,12 @@ import cdt_plugin.cli as cli
 from cdt_plugin import io as tio
 from cdt_plugin.nearness import SmallestSize
 from checker import assert_valid
+from helpers import longest_over_field
 from corpus import corpus_dir
 
 ROOT = Path(__file__).resolve().parents[2]
 A_POLY = corpus_dir() / "triangle" / "A.poly"
 needs_corpus = pytest.mark.skipif(not A_POLY.exists(), reason="corpus not found")
-
-
-def longest_over_field(V, T, field):
-    P = V[T]
-    longest = np.linalg.norm(P - np.roll(P, -1, axis=1), axis=2).max(axis=1)
-    c = P.mean(axis=1)
-    target = np.full(len(T), float(field)) if not callable(field) else field(c[:, 0], c[:, 1])
-    return longest / target
 
 
 def read_triangle_files(base: Path):
@@ -101,25 +94,19 @@ def run(*args):
 
 
 @needs_corpus
-@pytest.mark.parametrize("args, words", [
-    (["--size-near", "r.gpkg:1:2"], "expected PATH[:LAYER]:MIN:MAX:DIST, got 'r.gpkg:1:2'"),
-    (["--size-near", "r.gpkg:x:2:3"], "MIN must be a number"),
-    (["--size-near", "r.gpkg:5:1:3"], "size_max must be >= size_min"),
-    (["--size-near", "r.gpkg:1:2:0"], "distance must be a finite number > 0"),
-    (["--size", "big"], "invalid float value: 'big'"),
+@pytest.mark.parametrize("args, status, words", [
+    (["--size-near", "r.gpkg:1:2"], 2, "expected PATH[:LAYER]:MIN:MAX:DIST, got 'r.gpkg:1:2'"),
+    (["--size-near", "r.gpkg:x:2:3"], 2, "MIN must be a number"),
+    (["--size-near", "r.gpkg:5:1:3"], 2, "size_max must be >= size_min"),
+    (["--size-near", "r.gpkg:1:2:0"], 2, "distance must be a finite number > 0"),
+    (["--size", "big"], 2, "invalid float value: 'big'"),
+    (["--size", "-1"], 1, "size must be a positive finite length, got -1.0"),
+    (["--size-near", "no_such.gpkg:1:2:3"], 1, "--size-near no_such.gpkg: no such file"),
+    (["--size-near", "A.txt:1:2:3"], 1, "--size-near A.txt: unknown input format '.txt'"),
 ])
-def test_bad_specs_are_usage_errors(tmp_path, args, words):
+def test_bad_sizes_are_named(tmp_path, args, status, words):
+    """Bad numbers are usage errors (status 2); bad values and files one line (status 1)."""
     proc = run("mesh", A_POLY, "-o", tmp_path / "A.ele", *args)
-    assert proc.returncode == 2 and words in proc.stderr and "Traceback" not in proc.stderr
-
-
-@needs_corpus
-@pytest.mark.parametrize("args, words", [
-    (["--size", "-1"], "size must be a positive finite length, got -1.0"),
-    (["--size-near", "no_such.gpkg:1:2:3"], "--size-near no_such.gpkg: no such file"),
-    (["--size-near", "A.txt:1:2:3"], "--size-near A.txt: unknown format '.txt'"),
-])
-def test_bad_sizes_are_one_line(tmp_path, args, words):
-    proc = run("mesh", A_POLY, "-o", tmp_path / "A.ele", *args)
-    assert proc.returncode == 1 and words in proc.stderr and "Traceback" not in proc.stderr
-    assert len(proc.stderr.strip().splitlines()) == 1
+    assert proc.returncode == status and words in proc.stderr and "Traceback" not in proc.stderr
+    if status == 1:
+        assert len(proc.stderr.strip().splitlines()) == 1
