@@ -221,35 +221,23 @@ EQUILATERAL = np.sqrt(3.0) / 4.0
 
 
 def graded_sizes(vertices: NDArray[np.float64], triangles: NDArray[np.int64],
-                 edges: NDArray[np.int64], at_vertices: NDArray[np.float64] | None,
-                 at_centroids: NDArray[np.float64], growth: float) -> NDArray[np.float64]:
+                 at_vertices: NDArray[np.float64] | None, at_centroids: NDArray[np.float64],
+                 growth: float) -> NDArray[np.float64]:
     """The sizes ``at_centroids`` of the triangles (and ``at_vertices``, when
     given) limited so that they grow by at most ``growth - 1`` per unit of
-    distance along the mesh (its ``edges``, and from each centroid to its
+    distance along the mesh (its edges, and from each centroid to its
     triangle's corners): each becomes the smallest, over the mesh's points, of
     that point's size plus ``(growth - 1)`` times the path length between them.
     Returns the limited sizes at the centroids.
 
     >>> V = np.array([[0.0, 0], [1, 0], [0, 1], [1, 1]])
     >>> T = np.array([[0, 1, 2], [1, 3, 2]])
-    >>> E = np.array([[0, 1], [1, 2], [2, 0], [1, 3], [3, 2]])
-    >>> graded_sizes(V, T, E, np.array([0.01, 1, 1, 1]), np.array([1.0, 1.0]), 1.5).round(3).tolist()
+    >>> graded_sizes(V, T, np.array([0.01, 1, 1, 1]), np.array([1.0, 1.0]), 1.5).round(3).tolist()
     [0.246, 0.883]
     """
-    n, m = len(vertices), len(triangles)
-    centroids = vertices[triangles].mean(axis=1)
-    links = np.column_stack([np.repeat(np.arange(n, n + m), 3), triangles.ravel()])
-    pairs = np.concatenate([edges, links])
-    points = np.concatenate([vertices, centroids])
-    lengths = np.hypot(*(points[pairs[:, 0]] - points[pairs[:, 1]]).T)
-    src = np.concatenate([pairs[:, 0], pairs[:, 1]])
-    dst = np.concatenate([pairs[:, 1], pairs[:, 0]])
-    order = np.argsort(src, kind="stable")
-    start = np.zeros(n + m + 1, np.int64)
-    np.cumsum(np.bincount(src, minlength=n + m), out=start[1:])
-    values = np.concatenate([np.full(n, np.inf) if at_vertices is None else at_vertices,
-                             at_centroids])
-    limited = limit_growth(start, np.ascontiguousarray(dst[order]),
-                           np.ascontiguousarray(np.concatenate([lengths, lengths])[order]),
-                           values, float(growth) - 1.0)
-    return limited[n:]
+    if at_vertices is None:
+        at_vertices = np.full(len(vertices), np.inf)
+    return limit_growth(np.ascontiguousarray(vertices, np.float64),
+                        np.ascontiguousarray(triangles, np.int64),
+                        np.ascontiguousarray(at_vertices, np.float64),
+                        np.ascontiguousarray(at_centroids, np.float64), float(growth) - 1.0)

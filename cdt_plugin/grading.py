@@ -34,9 +34,9 @@ from numpy.typing import NDArray
 
 from ._core.pipeline import AREA_STEINER_CAP
 from .errors import CDTError, RefinementLimitError
-from .fields import EQUILATERAL, Sizing, check_sizing, graded_sizes, size_values
+from ._core.gradation import triangle_measures
+from .fields import EQUILATERAL, ConstantSize, Sizing, check_sizing, graded_sizes, size_values
 from .options import MeshOptions
-from .refining import triangle_areas
 
 #: Area bound per squared size (measured: the median of longest edge / size near 1).
 SIZE_AREA = EQUILATERAL
@@ -71,8 +71,8 @@ def refine_to_size(tri: Any, sizing: Sizing, *, max_area: float | None = None,
     rounds = 0
     while True:
         V, T = tri.vertices, tri.triangles
-        areas = triangle_areas(V, T)
-        bound, too_long = round_bounds(tri, sizing)
+        cx, cy, areas, longest = triangle_measures(V, T)
+        bound, too_long = round_bounds(tri, sizing, cx, cy, longest)
         bound = np.fmin(bound, base)
         too_large = areas > bound
         bad = too_large | too_long
@@ -122,48 +122,38 @@ def refine_sized(tri: Any, *, max_area: Any, max_steiner: int | None, size: Any,
     return refine_to_size(tri, sizing, max_area=area, max_steiner=max_steiner, first=True, **options)
 
 
-def round_bounds(tri: Any, sizing: Sizing) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """The area bound of each triangle of ``tri`` (inf: none) and whether its
-    longest edge is too long for the size at its centroid."""
-    V, T = tri.vertices, tri.triangles
-    h = triangle_sizes(tri, sizing)
+def round_bounds(tri: Any, sizing: Sizing, cx: NDArray[np.float64], cy: NDArray[np.float64],
+                 longest: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """The area bound of each triangle of ``tri`` (centroids ``cx, cy``,
+    longest edges ``longest``; inf: no bound) and whether its longest edge is
+    too long for the size at its centroid."""
+    h = triangle_sizes(tri, sizing, cx, cy)
     bound = SIZE_AREA * h * h
-    too_long = np.zeros(len(T), np.bool_)
-    if sizing.size is not None:
-        too_long = longest_edges(V, T) > EDGE_RATIO * h
+    too_long = longest > EDGE_RATIO * h
     if sizing.area is not None:
-        c = V[T].mean(axis=1)
-        area = size_values(sizing.area, c[:, 0], c[:, 1], name="max_area")
+        area = size_values(sizing.area, cx, cy, name="max_area")
         if sizing.growth is not None:     # graded as the size of an equilateral triangle
-            area = EQUILATERAL * _graded(tri, np.sqrt(area / EQUILATERAL), sizing) ** 2
+            h_area = np.sqrt(area / EQUILATERAL)
+            area = EQUILATERAL * graded_sizes(tri.vertices, tri.triangles, None, h_area, sizing.growth) ** 2
         bound = np.fmin(bound, area)
     return bound, too_long
 
 
-def triangle_sizes(tri: Any, sizing: Sizing) -> NDArray[np.float64]:
-    """The size field of ``sizing`` at each triangle's centroid, floored at
-    its ``min_size`` and limited by its ``growth`` (inf without a size field)."""
+def triangle_sizes(tri: Any, sizing: Sizing, cx: NDArray[np.float64] | None = None,
+                   cy: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+    """The size field of ``sizing`` at each triangle's centroid (``cx, cy``
+    when known), floored at its ``min_size`` and limited by its ``growth``
+    (inf without a size field)."""
     V, T = tri.vertices, tri.triangles
     if sizing.size is None:
         return np.full(len(T), np.inf)
-    c = V[T].mean(axis=1)
-    h = size_values(sizing.size, c[:, 0], c[:, 1], sizing.min_size)
-    if sizing.growth is None:
+    if cx is None or cy is None:
+        cx, cy = triangle_measures(V, T)[:2]
+    h = size_values(sizing.size, cx, cy, sizing.min_size)
+    if sizing.growth is None or isinstance(sizing.size, ConstantSize):
         return h
     at_vertices = size_values(sizing.size, V[:, 0], V[:, 1], sizing.min_size)
-    return graded_sizes(V, T, tri.edges, at_vertices, h, sizing.growth)
-
-
-def _graded(tri: Any, h: NDArray[np.float64], sizing: Sizing) -> NDArray[np.float64]:
-    assert sizing.growth is not None
-    return graded_sizes(tri.vertices, tri.triangles, tri.edges, None, h, sizing.growth)
-
-
-def longest_edges(V: NDArray[np.float64], T: NDArray[np.int64]) -> NDArray[np.float64]:
-    """The length of each triangle's longest edge."""
-    P = V[T]
-    d = P - P[:, [1, 2, 0]]
-    return np.sqrt((d * d).sum(axis=2).max(axis=1))
+    return graded_sizes(V, T, at_vertices, h, sizing.growth)
 
 
 def check_splittable(tri: Any, bad: NDArray[np.int64], areas: NDArray[np.float64], what: str,

@@ -14,32 +14,84 @@ from .jit import entry, kernel
 
 
 @entry
-def limit_growth(start, targets, lengths, values, slope):
-    """``values`` (n,) limited so that along no edge of the graph does a value
-    exceed its neighbour's by more than ``slope`` times the edge's length. The
-    graph is in compressed rows: the neighbours of node ``i`` are
-    ``targets[start[i]:start[i + 1]]`` at ``lengths`` of the same rows."""
-    n = values.shape[0]
-    out = values.copy()
-    done = np.zeros(n, np.bool_)
-    keys = np.empty(n + targets.shape[0] + 1)
-    nodes = np.empty(n + targets.shape[0] + 1, np.int64)
+def limit_growth(vertices, triangles, at_vertices, at_centroids, slope):
+    """The sizes ``at_centroids`` of the triangles limited so that along no
+    edge of the mesh, nor from a centroid to its triangle's corners, does a
+    size exceed its neighbour's by more than ``slope`` times the distance
+    (with the sizes ``at_vertices``; inf: none). Nodes ``0..n-1`` are the
+    vertices, ``n + t`` the centroid of triangle ``t``."""
+    n, m = vertices.shape[0], triangles.shape[0]
+    first = np.zeros(n + 1, np.int64)      # the triangles at each vertex, in compressed rows
+    for t in range(m):
+        for k in range(3):
+            first[triangles[t, k] + 1] += 1
+    for v in range(n):
+        first[v + 1] += first[v]
+    fill = first[:n].copy()
+    at = np.empty(3 * m, np.int64)
+    for t in range(m):
+        for k in range(3):
+            v = triangles[t, k]
+            at[fill[v]] = t
+            fill[v] += 1
+    px = np.empty(n + m)
+    py = np.empty(n + m)
+    out = np.empty(n + m)
+    for v in range(n):
+        px[v], py[v], out[v] = vertices[v, 0], vertices[v, 1], at_vertices[v]
+    for t in range(m):
+        a, b, c = triangles[t, 0], triangles[t, 1], triangles[t, 2]
+        px[n + t] = (vertices[a, 0] + vertices[b, 0] + vertices[c, 0]) / 3.0
+        py[n + t] = (vertices[a, 1] + vertices[b, 1] + vertices[c, 1]) / 3.0
+        out[n + t] = at_centroids[t]
+    # Dijkstra's order: the nodes by their own value (a sorted array), merged with a
+    # heap of the nodes whose value a neighbour lowered (few when the field is graded)
+    order = np.argsort(out)
+    own = out.copy()
+    done = np.zeros(n + m, np.bool_)
+    keys = np.empty(12 * m + 1)      # (at most one push per settled node and neighbour)
+    nodes = np.empty(12 * m + 1, np.int64)
     size = 0
-    for i in range(n):
-        size = _push(keys, nodes, size, out[i], i)
-    while size > 0:
-        key, v = keys[0], nodes[0]
-        size = _pop(keys, nodes, size)
-        if done[v] or key > out[v]:
-            continue        # an older, larger entry of a node already settled
+    p = 0
+    while True:
+        while p < n + m and done[order[p]]:
+            p += 1
+        if size > 0 and (p == n + m or keys[0] < own[order[p]]):
+            key, v = keys[0], nodes[0]
+            size = _pop(keys, nodes, size)
+            if done[v] or key > out[v]:
+                continue        # an older, larger entry of a node already settled
+        elif p < n + m:
+            v = order[p]
+            key = out[v]
+            if key < own[v]:
+                continue        # lowered: its heap entry comes first
+        else:
+            break
         done[v] = True
-        for k in range(start[v], start[v + 1]):
-            u = targets[k]
-            reach = key + slope * lengths[k]
-            if reach < out[u]:
-                out[u] = reach
-                size = _push(keys, nodes, size, reach, u)
-    return out
+        if v >= n:          # a centroid: to its corners
+            for k in range(3):
+                size = _relax(keys, nodes, size, px, py, out, key, slope, v, triangles[v - n, k])
+            continue
+        for i in range(first[v], first[v + 1]):      # a vertex: its neighbours, its centroids
+            t = at[i]
+            for k in range(3):
+                u = triangles[t, k]
+                if u != v:
+                    size = _relax(keys, nodes, size, px, py, out, key, slope, v, u)
+            size = _relax(keys, nodes, size, px, py, out, key, slope, v, n + t)
+    return out[n:].copy()
+
+
+@kernel
+def _relax(keys, nodes, size, px, py, out, key, slope, v, u):
+    """Lower node ``u``'s value to ``key`` plus ``slope`` times its distance
+    from node ``v``, if that is lower (queued again); the heap's new size."""
+    reach = key + slope * np.sqrt((px[u] - px[v]) ** 2 + (py[u] - py[v]) ** 2)
+    if reach < out[u]:
+        out[u] = reach
+        size = _push(keys, nodes, size, reach, u)
+    return size
 
 
 @kernel
@@ -78,3 +130,26 @@ def _pop(keys, nodes, size):
     keys[i] = key
     nodes[i] = node
     return size
+
+
+@entry
+def triangle_measures(vertices, triangles):
+    """The centroid ``(cx, cy)``, area and longest edge of every triangle
+    (floating point; the area inf where it overflows), in one pass."""
+    m = triangles.shape[0]
+    cx = np.empty(m)
+    cy = np.empty(m)
+    area = np.empty(m)
+    longest = np.empty(m)
+    for t in range(m):
+        a, b, c = triangles[t, 0], triangles[t, 1], triangles[t, 2]
+        ax, ay = vertices[a, 0], vertices[a, 1]
+        bx, by = vertices[b, 0], vertices[b, 1]
+        qx, qy = vertices[c, 0], vertices[c, 1]
+        cx[t] = (ax + bx + qx) / 3.0
+        cy[t] = (ay + by + qy) / 3.0
+        d = (bx - ax) * (qy - ay) - (by - ay) * (qx - ax)
+        area[t] = np.inf if np.isnan(d) else 0.5 * abs(d)
+        longest[t] = np.sqrt(max((bx - ax) ** 2 + (by - ay) ** 2, (qx - bx) ** 2 + (qy - by) ** 2,
+                                 (ax - qx) ** 2 + (ay - qy) ** 2))
+    return cx, cy, area, longest
