@@ -18,7 +18,9 @@ its Distance field samples each curve densely enough that the distances are thos
 the curves. Only ``gmsh.model.mesh.generate(2)`` is timed (the model is built and
 the field set before; ``mesh.clear()`` between rounds). Ours is one
 ``cdt_plugin.triangulate(vertices, segments, holes=..., size=field, min_angle=MIN_ANGLE)``
-call, field evaluation included. The three run in this one process, interleaved
+call, field evaluation included; where ``Triangulation.smooth`` exists, also that mesh
+after ``smooth("odt", size=field)`` (10 sweeps; its time includes the meshing). All run
+in this one process, interleaved
 round-robin after a warm-up (numba compiled and cached before timing); each time is
 the minimum over the rounds.
 
@@ -58,6 +60,7 @@ sys.path.insert(0, str(HERE))
 MIN_ANGLE = 30.0           # ours and Triangle's angle bound (gmsh has none to set)
 ANGLE_BINS = (0, 20, 30, 40, 50, 60)
 ALGORITHMS = {"gmsh Frontal-Delaunay": 6, "gmsh Delaunay": 5}
+SMOOTHED = "cdt_plugin + ODT smoothing"
 
 
 # ----------------------------------------------------------------------------- domains
@@ -213,6 +216,20 @@ def ours_run(dom, size):
     return run
 
 
+def has_smooth() -> bool:
+    import cdt_plugin
+    return hasattr(cdt_plugin.Triangulation, "smooth")
+
+
+def smoothed_run(dom, size):
+    """Ours, then ODT smoothing (10 sweeps) weighted by the same field."""
+    mesh = ours_run(dom, size)
+
+    def run():
+        return mesh().smooth("odt", size=size)
+    return run
+
+
 def triangle_run(dom, area):
     import triangle
     inp = {"vertices": dom.vertices, "segments": dom.segments}
@@ -278,6 +295,10 @@ def measure_graded(doms, rounds: int) -> list[dict]:
                 runs["cdt_plugin"] = ours_run(dom, field)
                 tri = runs["cdt_plugin"]()                   # warm-up (and compile)
                 results["cdt_plugin"] = quality(tri.vertices, tri.triangles, field)
+            if has_size() and has_smooth():
+                runs[SMOOTHED] = smoothed_run(dom, field)
+                tri = runs[SMOOTHED]()
+                results[SMOOTHED] = quality(tri.vertices, tri.triangles, field)
             seconds = interleaved(runs, rounds)
             for name, figures in results.items():
                 rows.append({"domain": dom.name, "mesher": name, "seconds": seconds[name], **figures})
@@ -335,6 +356,8 @@ def render(graded, constant, rounds: int) -> str:
                      f"{100 * r['over_1_5']:.2f}% |")
     if not any(r["mesher"] == "cdt_plugin" for r in graded):
         lines += ["", "cdt_plugin: n/a (this `triangulate` has no `size=` keyword)."]
+    elif not any(r["mesher"] == SMOOTHED for r in graded):
+        lines += ["", f"{SMOOTHED}: n/a (this `Triangulation` has no `smooth`)."]
     bins = [f"{a}-{b}°" for a, b in zip(ANGLE_BINS[:-1], ANGLE_BINS[1:])]
     lines += ["", "Smallest angle of each triangle, share of the triangles per bin:", "",
               "| domain | mesher | " + " | ".join(bins) + " |",
