@@ -26,7 +26,7 @@ from .jit import entry, kernel
 FAR_CELLS = 2.0 ** 40
 
 
-@kernel
+@kernel(forceinline=True)
 def segment_distance2(px, py, ax, ay, bx, by):
     """The squared distance from ``(px, py)`` to the segment ``a b`` (a point
     when ``a == b``)."""
@@ -116,23 +116,29 @@ def bucket_grid(ax, ay, bx, by):
     return x0, y0, h, nx, ny, start, items
 
 
-@kernel
+@kernel(forceinline=True)
 def cell_of(p, p0, h):
     """The (unclipped) cell number of coordinate ``p`` along one axis."""
     f = (p - p0) / h
     return int(math.floor(min(max(f, -FAR_CELLS), FAR_CELLS)))
 
 
-@kernel
-def nearest_in_cell(px, py, c, best, start, items, ax, ay, bx, by):
-    """``best`` lowered to the squared distance of the nearest source of cell ``c``."""
+@kernel(forceinline=True)
+def nearest_in_cell(px, py, i, j, best, bound, x0, y0, h, nx, start, items, ax, ay, bx, by):
+    """``best`` lowered to the squared distance of the nearest source of cell
+    ``(i, j)``; the cell is skipped when its box is ``bound`` (squared) or farther."""
+    gx = max(x0 + i * h - px, 0.0, px - (x0 + (i + 1) * h))
+    gy = max(y0 + j * h - py, 0.0, py - (y0 + (j + 1) * h))
+    if gx * gx + gy * gy >= min(best, bound):
+        return best
+    c = j * nx + i
     for k in range(start[c], start[c + 1]):
         s = items[k]
         best = min(best, segment_distance2(px, py, ax[s], ay[s], bx[s], by[s]))
     return best
 
 
-@kernel
+@kernel(forceinline=True)
 def nearest_distance(px, py, limit, x0, y0, h, nx, ny, start, items, ax, ay, bx, by):
     """The distance from ``(px, py)`` to the nearest source, or ``limit`` when
     that is nearer: the rings of cells around the point's cell, nearest first."""
@@ -141,6 +147,7 @@ def nearest_distance(px, py, limit, x0, y0, h, nx, ny, start, items, ax, ay, bx,
     r0 = max(0, -ci, ci - (nx - 1), -cj, cj - (ny - 1))     # the first ring that meets the grid
     r1 = max(abs(ci), abs(ci - (nx - 1)), abs(cj), abs(cj - (ny - 1)))
     best = math.inf
+    bound = limit * limit
     for r in range(r0, r1 + 1):
         # every source not seen yet lies in a ring >= r: at least (r - 1) h away
         reach = (r - 1) * h
@@ -149,15 +156,25 @@ def nearest_distance(px, py, limit, x0, y0, h, nx, ny, start, items, ax, ay, bx,
         for j in range(max(cj - r, 0), min(cj + r, ny - 1) + 1):
             if j == cj - r or j == cj + r:                 # a whole row of the ring
                 for i in range(max(ci - r, 0), min(ci + r, nx - 1) + 1):
-                    best = nearest_in_cell(px, py, j * nx + i, best, start, items, ax, ay, bx, by)
+                    best = nearest_in_cell(px, py, i, j, best, bound, x0, y0, h, nx, start,
+                                           items, ax, ay, bx, by)
             else:                                          # its two side cells
                 if ci - r >= 0:
-                    best = nearest_in_cell(px, py, j * nx + ci - r, best, start, items,
-                                           ax, ay, bx, by)
+                    best = nearest_in_cell(px, py, ci - r, j, best, bound, x0, y0, h, nx,
+                                           start, items, ax, ay, bx, by)
                 if ci + r <= nx - 1:
-                    best = nearest_in_cell(px, py, j * nx + ci + r, best, start, items,
-                                           ax, ay, bx, by)
+                    best = nearest_in_cell(px, py, ci + r, j, best, bound, x0, y0, h, nx,
+                                           start, items, ax, ay, bx, by)
     return min(math.sqrt(best), limit)
+
+
+@kernel(_nrt=False)
+def fill_distances(out, qx, qy, limit, x0, y0, h, nx, ny, start, items, ax, ay, bx, by):
+    """``out[k]``: :func:`nearest_distance` of query point ``k`` (allocates
+    nothing: no reference counting in the loop)."""
+    for k in range(qx.shape[0]):
+        out[k] = nearest_distance(qx[k], qy[k], limit, x0, y0, h, nx, ny, start, items,
+                                  ax, ay, bx, by)
 
 
 @entry
@@ -166,7 +183,5 @@ def nearest_distances(qx, qy, limit, x0, y0, h, nx, ny, start, items, ax, ay, bx
     (:func:`bucket_grid`'s grid), or ``limit`` where that is nearer (``limit``
     may be ``inf``)."""
     out = np.empty(qx.shape[0])
-    for k in range(qx.shape[0]):
-        out[k] = nearest_distance(qx[k], qy[k], limit, x0, y0, h, nx, ny, start, items,
-                                  ax, ay, bx, by)
+    fill_distances(out, qx, qy, limit, x0, y0, h, nx, ny, start, items, ax, ay, bx, by)
     return out
