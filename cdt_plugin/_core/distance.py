@@ -6,9 +6,11 @@ zero. :func:`bucket_grid` lays a grid of square cells over the sources' bounding
 box (about one cell per source) and lists in each cell the sources that pass
 through it, in compressed rows (``start``, ``items``). :func:`nearest_distances`
 searches, for each query point, the rings of cells around the cell it falls in
-(Chebyshev distance ``r = 0, 1, 2...`` from it, clipped to the grid), and stops
-when the nearest source found so far is closer than anything in the rings not
-yet searched can be: ``(r - 1) h`` for cell side ``h``.
+(Chebyshev distance ``r = 0, 1, 2...`` from it, clipped to the grid), skips a
+cell whose box is farther than the nearest source found so far, and stops when
+that source is closer than anything in the rings not yet searched can be:
+``(r - 1) h`` for cell side ``h``. Beyond ``limit`` nothing is searched (the
+size field is constant there).
 
 Floating point, not exact predicates: these distances set mesh sizes, they
 decide no topology.
