@@ -11,7 +11,7 @@ asked go through a uniform grid of buckets over the sources
 from __future__ import annotations
 
 import numbers
-from typing import Any, Callable, Iterable
+from typing import Any, Iterable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -24,8 +24,6 @@ from .validate import as_xy
 
 #: What :func:`size_near` takes as ``geometries`` (one of these, or a list of them).
 GeometriesLike = Any
-
-SizeCallable = Callable[[NDArray[np.float64], NDArray[np.float64]], NDArray[np.float64]]
 
 
 class SizeNear:
@@ -236,6 +234,11 @@ def read_sources(geometries: GeometriesLike) -> tuple[tuple[NDArray[np.float64],
         raise SizeFieldError("size_near: the geometries hold no point and no segment")
     a = np.concatenate([pts, segs[:, :2]])
     b = np.concatenate([pts, segs[:, 2:]])
+    with np.errstate(over="ignore"):
+        span = np.maximum(a.max(axis=0), b.max(axis=0)) - np.minimum(a.min(axis=0), b.min(axis=0))
+    if not np.isfinite(span).all():
+        raise SizeFieldError(f"size_near: the geometries span {span.tolist()}, beyond the "
+                             "range of double precision")
     return tuple(np.ascontiguousarray(c) for c in (a[:, 0], a[:, 1], b[:, 0], b[:, 1])), len(pts)
 
 

@@ -143,7 +143,10 @@ def nearest_in_cell(px, py, i, j, best, bound, x0, y0, h, nx, start, items, ax, 
 @kernel(forceinline=True)
 def nearest_distance(px, py, limit, x0, y0, h, nx, ny, start, items, ax, ay, bx, by):
     """The distance from ``(px, py)`` to the nearest source, or ``limit`` when
-    that is nearer: the rings of cells around the point's cell, nearest first."""
+    that is nearer: the rings of cells around the point's cell, nearest first.
+    NaN for a point with a NaN or infinite coordinate."""
+    if not (math.isfinite(px) and math.isfinite(py)):
+        return math.nan
     ci = cell_of(px, x0, h)
     cj = cell_of(py, y0, h)
     r0 = max(0, -ci, ci - (nx - 1), -cj, cj - (ny - 1))     # the first ring that meets the grid

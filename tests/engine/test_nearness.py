@@ -10,7 +10,7 @@ import pytest
 import shapely
 
 import cdt_plugin
-from cdt_plugin.errors import CDTError, InputShapeError, NonFiniteCoordinateError
+from cdt_plugin.errors import CDTError, InputShapeError, NonFiniteCoordinateError, SizeFieldError
 from cdt_plugin.nearness import SizeNear, read_sources
 
 
@@ -189,6 +189,17 @@ def test_bad_geometries_are_named(geometries, error, words):
     with pytest.raises(error) as info:
         cdt_plugin.size_near(geometries, 1.0, 2.0, distance=1.0)
     assert words in str(info.value)
+
+
+def test_non_finite_queries_give_nan():
+    field = cdt_plugin.size_near([[0.0, 0.0], [1.0, 1.0]], 1.0, 10.0, distance=9.0)
+    out = field(np.array([np.nan, np.inf, 0.0]), np.array([0.0, 0.0, -np.inf]))
+    assert np.isnan(out).all()
+
+
+def test_a_span_beyond_double_precision_is_named():
+    with pytest.raises(SizeFieldError, match="beyond the range of double precision"):
+        cdt_plugin.size_near([[-1e308, 0.0], [1e308, 0.0]], 1.0, 2.0, distance=1.0)
 
 
 def test_repr_says_what_it_holds():
