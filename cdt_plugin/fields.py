@@ -32,7 +32,7 @@ from typing import Any, Callable, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ._core.gradation import limit_growth
+from ._core.gradation import limit_growth, triangle_measures
 from .errors import SizeFieldError
 
 #: A size field as :func:`as_size_field` returns it: ``f(x, y) -> sizes``.
@@ -73,7 +73,7 @@ class BackgroundSize:
             v = int(bad[0])
             px, py = (float(c) for c in mesh.vertices[v])
             raise SizeFieldError(f"the background mesh's size at vertex {v} ({px!r}, {py!r}) is "
-                                 f"{sizes[v]!r}: sizes must be positive and finite",
+                                 f"{float(sizes[v])!r}: sizes must be positive and finite",
                                  point=(px, py), value=float(sizes[v]))
         self.mesh, self.sizes = mesh, sizes
 
@@ -241,3 +241,27 @@ def graded_sizes(vertices: NDArray[np.float64], triangles: NDArray[np.int64],
                         np.ascontiguousarray(triangles, np.int64),
                         np.ascontiguousarray(at_vertices, np.float64),
                         np.ascontiguousarray(at_centroids, np.float64), float(growth) - 1.0)
+
+
+def triangle_sizes(vertices: NDArray[np.float64], triangles: NDArray[np.int64], field: SizeField,
+                   growth: float | None = None, min_size: float | None = None,
+                   centroids: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+                   ) -> NDArray[np.float64]:
+    """The size ``field`` at each triangle's centroid (``centroids``: their
+    ``(x, y)`` when known), floored at ``min_size`` and limited by ``growth``
+    (:func:`graded_sizes`, the field evaluated at the vertices too).
+
+    >>> V = np.array([[0.0, 0], [3, 0], [0, 3]])
+    >>> triangle_sizes(V, np.array([[0, 1, 2]]), lambda x, y: x + y).tolist()
+    [2.0]
+    """
+    vertices = np.ascontiguousarray(vertices, np.float64)
+    triangles = np.ascontiguousarray(triangles, np.int64)
+    if centroids is None:
+        centroids = triangle_measures(vertices, triangles)[:2]
+    cx, cy = centroids
+    h = size_values(field, cx, cy, min_size)
+    if growth is None or isinstance(field, ConstantSize):
+        return h
+    at_vertices = size_values(field, vertices[:, 0], vertices[:, 1], min_size)
+    return graded_sizes(vertices, triangles, at_vertices, h, growth)

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .errors import CDTError, RefinementLimitError
-from .grading import check_splittable, corners
+from .grading import check_progress, check_splittable, corners
 from .refining import triangle_areas
 from .triangulation import Triangulation
 
@@ -88,12 +88,15 @@ def refine_until_suitable(tri: Triangulation, suitable: SizeTest, *,
         bounds = np.full(len(T), base)
         bounds[bad] = np.fmin(areas[bad] / 2.0, base)
         try:
-            tri = tri.refine(max_area=bounds, max_steiner=cap - added, **refine_options)
+            refined = tri.refine(max_area=bounds, max_steiner=cap - added, **refine_options)
         except RefinementLimitError as exc:
             raise RefinementLimitError(
                 f"the size test still rejects triangles after max_steiner={cap} Steiner points "
                 f"({rounds + 1} rounds); raise max_steiner or relax the test (the mesh so far is "
                 "in this error's .triangulation)", triangulation=exc.triangulation) from exc
+        check_progress(refined, V, T, bad, areas, "the size test", "the test must accept every "
+                       "triangle of some size, as Triangle's triunsuitable must")
+        tri = refined
         rounds += 1
 
 
