@@ -248,20 +248,16 @@ def triangle_run(dom, area):
 def quality(V, T, field):
     """Untimed figures of a mesh against the field it was asked for (a callable,
     or a number for a constant field)."""
-    from cdt_plugin.report import triangle_quality
+    from types import SimpleNamespace
+    from cdt_plugin.report import size_ratios, triangle_quality
     q = triangle_quality(V, T)
     smallest = q["angles"].min(axis=1)
-    P = V[T]
-    edges = np.linalg.norm(P - np.roll(P, -1, axis=1), axis=2)
-    centroid = P.mean(axis=1)
-    target = (np.full(len(T), float(field)) if not callable(field)
-              else field(centroid[:, 0], centroid[:, 1]))
-    ratio = edges.max(axis=1) / target
+    ratio = size_ratios(SimpleNamespace(vertices=V, triangles=T), field)
     hist = np.histogram(smallest, bins=ANGLE_BINS)[0] / len(T)
     return {"triangles": len(T), "min_angle": float(smallest.min()),
             "radius_ratio": float(np.mean(2 * q["inradius"] / q["circumradius"])),
-            "ratio_q": np.quantile(ratio, [0.05, 0.5, 0.95]).tolist(),
-            "over_1_5": float(np.mean(ratio > 1.5)), "angle_hist": hist.tolist()}
+            "ratio_q": [ratio["q05"], ratio["median"], ratio["q95"]],
+            "over_1_5": ratio["over_1_5"] / len(T), "angle_hist": hist.tolist()}
 
 
 def interleaved(runs: dict, rounds: int) -> dict:
