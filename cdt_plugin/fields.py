@@ -32,7 +32,7 @@ from typing import Any, Callable, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ._core.gradation import limit_growth, triangle_measures
+from ._core.gradation import limit_growth, triangle_measures, within_limit
 from .errors import SizeFieldError
 
 #: A size field as :func:`as_size_field` returns it: ``f(x, y) -> sizes``.
@@ -237,10 +237,12 @@ def graded_sizes(vertices: NDArray[np.float64], triangles: NDArray[np.int64],
     """
     if at_vertices is None:
         at_vertices = np.full(len(vertices), np.inf)
-    return limit_growth(np.ascontiguousarray(vertices, np.float64),
-                        np.ascontiguousarray(triangles, np.int64),
-                        np.ascontiguousarray(at_vertices, np.float64),
-                        np.ascontiguousarray(at_centroids, np.float64), float(growth) - 1.0)
+    values = np.concatenate([at_vertices, at_centroids]).astype(np.float64, copy=False)
+    V = np.ascontiguousarray(vertices, np.float64)
+    T = np.ascontiguousarray(triangles, np.int64)
+    if within_limit(V, T, values, float(growth) - 1.0):
+        return values[len(V):]
+    return limit_growth(V, T, values, np.argsort(values, kind="stable"), float(growth) - 1.0)
 
 
 def triangle_sizes(vertices: NDArray[np.float64], triangles: NDArray[np.int64], field: SizeField,

@@ -14,12 +14,13 @@ from .jit import entry, kernel
 
 
 @entry
-def limit_growth(vertices, triangles, at_vertices, at_centroids, slope):
-    """The sizes ``at_centroids`` of the triangles limited so that along no
-    edge of the mesh, nor from a centroid to its triangle's corners, does a
-    size exceed its neighbour's by more than ``slope`` times the distance
-    (with the sizes ``at_vertices``; inf: none). Nodes ``0..n-1`` are the
-    vertices, ``n + t`` the centroid of triangle ``t``."""
+def limit_growth(vertices, triangles, values, order, slope):
+    """The sizes of the nodes of a mesh, ``values`` (nodes ``0..n-1`` its
+    vertices, ``n + t`` the centroid of triangle ``t``; inf: none), limited so
+    that along no edge of the mesh, nor from a centroid to its triangle's
+    corners, does a size exceed its neighbour's by more than ``slope`` times
+    the distance; ``order`` sorts ``values`` (numpy's sort beats the compiled
+    one). Returns the limited sizes of the centroids."""
     n, m = vertices.shape[0], triangles.shape[0]
     first = np.zeros(n + 1, np.int64)      # the triangles at each vertex, in compressed rows
     for t in range(m):
@@ -38,15 +39,14 @@ def limit_growth(vertices, triangles, at_vertices, at_centroids, slope):
     py = np.empty(n + m)
     out = np.empty(n + m)
     for v in range(n):
-        px[v], py[v], out[v] = vertices[v, 0], vertices[v, 1], at_vertices[v]
+        px[v], py[v], out[v] = vertices[v, 0], vertices[v, 1], values[v]
     for t in range(m):
         a, b, c = triangles[t, 0], triangles[t, 1], triangles[t, 2]
         px[n + t] = (vertices[a, 0] + vertices[b, 0] + vertices[c, 0]) / 3.0
         py[n + t] = (vertices[a, 1] + vertices[b, 1] + vertices[c, 1]) / 3.0
-        out[n + t] = at_centroids[t]
+        out[n + t] = values[n + t]
     # Dijkstra's order: the nodes by their own value (a sorted array), merged with a
     # heap of the nodes whose value a neighbour lowered (few when the field is graded)
-    order = np.argsort(out)
     own = out.copy()
     done = np.zeros(n + m, np.bool_)
     keys = np.empty(12 * m + 1)      # (at most one push per settled node and neighbour)
@@ -83,7 +83,29 @@ def limit_growth(vertices, triangles, at_vertices, at_centroids, slope):
     return out[n:].copy()
 
 
-@kernel
+@entry
+def within_limit(vertices, triangles, values, slope):
+    """Whether no edge of the mesh, nor any centroid link, has values (nodes as
+    :func:`limit_growth` numbers them) farther apart than ``slope`` times its
+    length: the limit would change nothing (most smooth fields), and
+    :func:`limit_growth`'s search can be spared."""
+    n = vertices.shape[0]
+    for t in range(triangles.shape[0]):
+        cx = (vertices[triangles[t, 0], 0] + vertices[triangles[t, 1], 0] + vertices[triangles[t, 2], 0]) / 3.0
+        cy = (vertices[triangles[t, 0], 1] + vertices[triangles[t, 1], 1] + vertices[triangles[t, 2], 1]) / 3.0
+        hc = values[n + t]
+        for k in range(3):
+            a, b = triangles[t, k], triangles[t, (k + 1) % 3]
+            d = np.sqrt((vertices[a, 0] - vertices[b, 0]) ** 2 + (vertices[a, 1] - vertices[b, 1]) ** 2)
+            if abs(values[a] - values[b]) > slope * d:
+                return False
+            d = np.sqrt((vertices[a, 0] - cx) ** 2 + (vertices[a, 1] - cy) ** 2)
+            if abs(values[a] - hc) > slope * d:
+                return False
+    return True
+
+
+@kernel(inline="always")
 def _relax(keys, nodes, size, px, py, out, key, slope, v, u):
     """Lower node ``u``'s value to ``key`` plus ``slope`` times its distance
     from node ``v``, if that is lower (queued again); the heap's new size."""
@@ -94,7 +116,7 @@ def _relax(keys, nodes, size, px, py, out, key, slope, v, u):
     return size
 
 
-@kernel
+@kernel(inline="always")
 def _push(keys, nodes, size, key, node):
     """Add ``(key, node)`` to the binary heap of ``size`` entries; its new size."""
     i = size
@@ -110,7 +132,7 @@ def _push(keys, nodes, size, key, node):
     return size + 1
 
 
-@kernel
+@kernel(inline="always")
 def _pop(keys, nodes, size):
     """Remove the heap's smallest entry (its root); the heap's new size."""
     size -= 1
