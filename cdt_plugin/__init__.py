@@ -30,10 +30,12 @@ from .errors import (
     RefinementLimitError,
     SegmentIndexError,
     SegmentIntersectionError,
+    SizeFieldError,
     TooFewPointsError,
     UnknownIdError,
     UnresolvedCrossingError,
 )
+from .nearness import size_near
 from .plc import PLC
 
 from .triangulation import Triangulation
@@ -52,6 +54,7 @@ __all__ = [
     "Triangulation",
     "delaunay",
     "triangulate",
+    "size_near",
     "InvalidGeometryError",
     "InvalidMeshError",
     "OverlappingSegmentsError",
@@ -60,6 +63,7 @@ __all__ = [
     "RefinementLimitError",
     "SegmentIndexError",
     "SegmentIntersectionError",
+    "SizeFieldError",
     "FileFormatError",
     "InputShapeError",
     "InvertedTriangleError",

@@ -19,8 +19,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core.pipeline import mesh_geometries
-from .cdt import triangulate_plc
+from .cdt import checked_sizing, triangulate_plc
 from .errors import CDTError
+from .grading import refine_to_size
 from .interrupts import deferred_interrupt
 from .lift import lift_z
 from .options import MeshOptions
@@ -32,7 +33,10 @@ CHUNK = 4096               # geometries per compiled call (progress granularity)
 MIN_CHUNK = 64             # geometries worth a thread of their own
 # options of cdt_plugin.triangulate that go geometry by geometry (the others make a MeshOptions)
 _SEED_OPTIONS = ("holes", "regions")
-_OPTIONS = frozenset(MeshOptions._fields + _SEED_OPTIONS)
+# a size field: every geometry meshed one by one, then refined to it (size= may also be
+# a sequence, one field or None per geometry)
+_SIZE_OPTIONS = ("size", "growth", "min_size")
+_OPTIONS = frozenset(MeshOptions._fields + _SEED_OPTIONS + _SIZE_OPTIONS)
 
 
 @dataclass
@@ -114,9 +118,28 @@ def check_batch_options(*, errors: str = "raise", workers: SupportsIndex | None 
     unknown = options.keys() - _OPTIONS
     if unknown:
         raise CDTError(f"unknown option {sorted(unknown)[0]!r}")
-    mesh_options = MeshOptions.check(**{k: v for k, v in options.items() if k not in _SEED_OPTIONS})
+    mesh_options = MeshOptions.check(**{k: v for k, v in options.items()
+                                        if k not in _SEED_OPTIONS + _SIZE_OPTIONS})
     seeds = {k: v for k, v in options.items() if k in _SEED_OPTIONS}
+    sizes = {k: options.get(k) for k in _SIZE_OPTIONS}
+    if any(v is not None for v in sizes.values()):
+        seeds["sizing"] = _checked_sizes(mesh_options, **sizes)
     return mesh_options, seeds, check_workers(workers)
+
+
+#: The checked size field of a geometry and the options of its first pass.
+SizedOptions = tuple[Any, MeshOptions]
+
+
+def _checked_sizes(options: MeshOptions, size: Any, growth: Any,
+                   min_size: Any) -> SizedOptions | list[SizedOptions | None]:
+    """The sizing of every geometry (:func:`cdt_plugin.cdt.checked_sizing`): one
+    for all, or a list with one (or None: not refined to a size) per geometry
+    when ``size`` is a list, tuple or array."""
+    if not isinstance(size, (list, tuple, np.ndarray)):
+        return checked_sizing(options, size, options.max_area, growth, min_size)
+    return [None if s is None else checked_sizing(options, s, options.max_area, growth, min_size)
+            for s in size]
 
 
 def triangulate_rings(xy: ArrayLike, ring_start: ArrayLike, geom_ring_start: ArrayLike,
@@ -154,7 +177,9 @@ def triangulate_rings(xy: ArrayLike, ring_start: ArrayLike, geom_ring_start: Arr
         result: chunks of geometries are meshed apart and joined in order.
     **options
         Passed to :func:`cdt_plugin.triangulate` (``intersections``,
-        ``min_angle``, ``max_area``, ...).
+        ``min_angle``, ``max_area``, ``size``, ``growth``, ``min_size``, ...).
+        ``size`` may also be a sequence with one size field (or None) per
+        geometry; with a size field the geometries are meshed one by one.
 
     Examples
     --------
@@ -173,6 +198,10 @@ def triangulate_rings(xy: ArrayLike, ring_start: ArrayLike, geom_ring_start: Arr
     ring_polygon = np.asarray(ring_polygon, np.int64)
     ring_is_hole = np.asarray(ring_is_hole, np.bool_)
     z = None if z is None else np.asarray(z, np.float64)
+    sizing = seeds.get("sizing")
+    if isinstance(sizing, list) and len(sizing) != ng:
+        raise CDTError(f"size has {len(sizing)} size fields for {ng} geometries: give one "
+                       "field for all, or one (or None) per geometry")
     parts = []          # (geometry, triangles (batch ids), region)
     steiner_xy, steiner_z = [], []
     nsteiner = 0
@@ -217,7 +246,10 @@ def triangulate_rings(xy: ArrayLike, ring_start: ArrayLike, geom_ring_start: Arr
         v0 = ring_start[geom_ring_start[g]]
         try:
             plc = as_plc(plc, holes=seeds.get("holes"), regions=seeds.get("regions"))
-            tri = triangulate_plc(plc, mesh_options)
+            sized = sizing[g] if isinstance(sizing, list) else sizing
+            tri = triangulate_plc(plc, mesh_options if sized is None else sized[1])
+            if sized is not None:
+                tri = _refined_to_size(tri, sized[0], mesh_options)
         except CDTError as e:
             e.args = (f"geometry {g}: {e.args[0] if e.args else ''}",) + tuple(e.args[1:])
             e.index = g
@@ -240,6 +272,16 @@ def triangulate_rings(xy: ArrayLike, ring_start: ArrayLike, geom_ring_start: Arr
     out = _assemble(xy, z, parts, steiner_xy, steiner_z, ng, failed, t0)
     out.stats["fallback"] = len(todo)
     return out
+
+
+def _refined_to_size(tri: Any, sizing: Any, options: MeshOptions) -> Any:
+    """``tri`` refined to its size field with the batch's other bounds (as
+    :func:`cdt_plugin.triangulate` does with ``size=``)."""
+    return refine_to_size(tri, sizing, max_area=options.max_area, max_steiner=options.max_steiner,
+                          min_angle=options.min_angle,
+                          conforming_delaunay=options.conforming_delaunay,
+                          split_boundary=options.split_boundary,
+                          split_segments=options.split_segments)
 
 
 def geometry_chunks(ng: int, threads: int) -> list[tuple[int, int]]:

@@ -38,6 +38,8 @@ from .markers import vertex_attributes as attributes_of
 from .options import MeshOptions, checked_options, route_plan
 from .parallel import check_workers, resolve_workers
 from .plc import PLC, GeometryLike, as_plc
+from .fields import ConstantSize, SizeField, Sizing, check_sizing
+from .grading import SIZE_AREA, refine_to_size
 from .sizing import SizeTest, check_size_test, refine_until_suitable
 from .triangulation import Triangulation
 from .validate import range_error
@@ -63,12 +65,14 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 holes: ArrayLike | None = None, regions: ArrayLike | None = None,
                 intersections: str = "raise",
                 keep_hull: bool = False, algorithm: str = "auto",
-                min_angle: float | None = None, max_area: float | None = None,
+                min_angle: float | None = None, max_area: float | SizeField | None = None,
                 conforming_delaunay: bool = False, split_boundary: bool = True,
                 max_steiner: int | None = None, workers: int | None = None,
                 vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
                 vertex_attributes: ArrayLike | None = None,
-                split_segments: bool = True, suitable: SizeTest | None = None) -> Triangulation:
+                split_segments: bool = True, suitable: SizeTest | None = None,
+                size: float | SizeField | Triangulation | None = None, growth: float | None = None,
+                min_size: float | None = None) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
     Parameters
@@ -119,9 +123,31 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         practice). Triangles at an input angle smaller than the bound cannot
         meet it: they are left as they are and counted in
         ``stats["below_min_angle"]``.
-    max_area : float, optional
+    max_area : float or callable, optional
         Refine until no triangle is larger (Triangle's ``-a``). A region seed's
         fourth column, when positive, bounds its region instead (``-a -A``).
+        A callable ``f(x, y) -> areas`` over arrays bounds every triangle by
+        its value at the triangle's centroid (strictly, as Triangle's ``-a``),
+        evaluated vectorised in rounds (:mod:`cdt_plugin.grading`).
+    size : float, callable or Triangulation, optional
+        A target edge length, as in gmsh (:mod:`cdt_plugin.fields`): a
+        number, a callable ``f(x, y) -> lengths`` over arrays, or a background
+        mesh with the sizes in its ``vertex_attributes[:, 0]``. Every
+        triangle's longest edge ends at most 1.5 times the size at its
+        centroid, the median of that ratio near 1
+        (:func:`cdt_plugin.report.size_ratios` measures it);
+        ``stats["size_rounds"]`` counts the rounds of refinement it took.
+    growth : float, optional
+        A gradation limit (> 1) on ``size`` or a callable ``max_area``: the
+        field is lowered where needed so that it grows by at most
+        ``growth - 1`` per unit of distance (neighbouring edges differ at most
+        by about that factor): a small size somewhere grades the mesh around it.
+    min_size : float, optional
+        A floor on ``size``: a field that goes to zero (or below) is raised to
+        it. Without a floor such a field raises
+        :class:`~cdt_plugin.errors.SizeFieldError` naming the point, or ends
+        at the Steiner cap or the double-precision limit with
+        :class:`RefinementLimitError`.
     conforming_delaunay : bool
         Split segments until each is a union of Delaunay edges: every triangle
         is then Delaunay, not merely constrained Delaunay (Triangle's ``-D``).
@@ -191,18 +217,24 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     (8, True)
     """
     t0 = time.perf_counter()
+    area = max_area        # (a number; a callable max_area is an area field)
+    if max_area is not None and callable(max_area):
+        area = None
     try:     # (cached: a small call pays for every Python call the checks make)
-        options = checked_options(intersections, algorithm, keep_hull, min_angle, max_area,
+        options = checked_options(intersections, algorithm, keep_hull, min_angle, area,
                                   conforming_delaunay, split_boundary, max_steiner, split_segments)
     except TypeError:      # an unhashable value: checked anew, and named
         options = MeshOptions.check(intersections=intersections, algorithm=algorithm,
-                                    keep_hull=keep_hull, min_angle=min_angle, max_area=max_area,
+                                    keep_hull=keep_hull, min_angle=min_angle, max_area=area,
                                     conforming_delaunay=conforming_delaunay,
                                     split_boundary=split_boundary, max_steiner=max_steiner,
                                     split_segments=split_segments)
     workers = check_workers(workers)
     if suitable is not None:
         check_size_test(suitable)
+    sizing = None
+    if size is not None or growth is not None or min_size is not None or area is not max_area:
+        sizing, options = checked_sizing(options, size, max_area, growth, min_size)
     plc = as_plc(vertices, segments, holes, regions)
     tags = None
     if (vertex_markers is not None or segment_markers is not None or vertex_attributes is not None
@@ -210,11 +242,32 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
             or plc.vertex_attributes is not None):
         tags = plc_tags(plc, vertex_markers, segment_markers, vertex_attributes)
     tri = triangulate_plc(plc, options, t0=t0, workers=workers, tags=tags)
+    if sizing is not None:
+        tri = refine_to_size(tri, sizing, max_area=area,
+                             max_steiner=max_steiner, min_angle=min_angle,
+                             conforming_delaunay=conforming_delaunay, split_boundary=split_boundary,
+                             split_segments=split_segments)
     if suitable is None:
         return tri
-    return refine_until_suitable(tri, suitable, max_area=max_area, max_steiner=max_steiner,
+    return refine_until_suitable(tri, suitable, max_area=area,
+                                 max_steiner=max_steiner,
                                  min_angle=min_angle, conforming_delaunay=conforming_delaunay,
                                  split_boundary=split_boundary, split_segments=split_segments)
+
+
+def checked_sizing(options: MeshOptions, size: object, max_area: object, growth: object,
+                   min_size: object) -> tuple[Sizing, MeshOptions]:
+    """The checked sizing keywords, and the options of the first pass: a
+    constant size (with no area field) bounds it as a number does, so that
+    such a mesh is made in one pass, as with ``max_area``."""
+    sizing = check_sizing(size, max_area, growth, min_size)
+    assert sizing is not None
+    if isinstance(sizing.size, ConstantSize) and sizing.area is None:
+        h = max(sizing.size.value, sizing.min_size or 0.0)
+        area = SIZE_AREA * h * h
+        options = options._replace(max_area=area if options.max_area is None
+                                   else min(options.max_area, area))
+    return sizing, options
 
 
 def plc_tags(plc: PLC, vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,

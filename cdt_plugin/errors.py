@@ -168,6 +168,20 @@ class RefinementLimitError(CDTError):
         self.triangulation = triangulation
 
 
+class SizeFieldError(CDTError):
+    """A size field (``size=``, a callable ``max_area=``, ``min_size=``,
+    ``growth=``) is malformed, or gave a value that is not a positive finite
+    length (or area) where it was evaluated: the message names the point
+    ``(x, y)`` and the value (also as the attributes ``point`` and ``value``,
+    None when the error is not about one point)."""
+
+    def __init__(self, message: str, point: tuple[float, float] | None = None,
+                 value: object = None) -> None:
+        super().__init__(message)
+        self.point = point
+        self.value = value
+
+
 class SwitchError(CDTError):
     """A Triangle switch string cannot be read: an unknown switch, a number where
     Triangle would read something else than what was written (``a1e-3``), or a switch

@@ -35,14 +35,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core.certify import edge_lifted_values, orientation_signs
-from .errors import CDTError, InputShapeError
+from ._core.gradation import triangle_measures
+from .errors import CDTError, InputShapeError, SizeFieldError
+from .fields import check_sizing, triangle_sizes
 from .optional import require
 from .plc import geojson_parts
 from .types import GeometryLike, MeshLike, TriangulationLike
 from .validate import as_index, as_mesh, exact_range, near_unit
 
 __all__ = ["Report", "report", "compare", "mesh_report", "triangle_quality", "mesh_neighbors",
-           "earcut", "ANGLE_BINS"]
+           "earcut", "size_ratios", "ANGLE_BINS"]
 
 #: Default angle histogram bins: 10 degrees wide, 0 to 180.
 ANGLE_BINS = np.arange(0.0, 181.0, 10.0)
@@ -174,6 +176,45 @@ def triangle_quality(vertices: ArrayLike, triangles: ArrayLike) -> dict[str, NDA
             np.ldexp(v, e) for v in (circumradius, containment, inradius, shortest))
     return {"angles": angles, "circumradius": circumradius, "min_containment_radius": containment,
             "inradius": inradius, "shortest_edge": shortest, "radius_edge_ratio": ratio}
+
+
+#: The quantiles of longest edge / size that :func:`size_ratios` reports.
+SIZE_QUANTILES = {"min": 0.0, "q01": 0.01, "q05": 0.05, "q25": 0.25, "median": 0.5, "q75": 0.75,
+                  "q95": 0.95, "q99": 0.99}
+
+
+def size_ratios(tri: TriangulationLike, size: Any, *, growth: float | None = None,
+                min_size: float | None = None) -> dict[str, Any]:
+    """How a mesh meets a size field: the distribution of each triangle's
+    longest edge over the field at its centroid (``size``, ``growth`` and
+    ``min_size`` as :func:`cdt_plugin.triangulate` takes them, the field
+    graded on this mesh as there). Keys: ``triangles``, the quantiles
+    ``min``, ``q01``, ``q05``, ``q25``, ``median``, ``q75``, ``q95``,
+    ``q99``, then ``max`` and ``mean``, and the counts ``over_1_5`` (longer
+    than 1.5 times the size: ``triangulate(size=...)`` leaves none) and
+    ``under_0_5`` (shorter than half of it).
+
+    >>> import cdt_plugin
+    >>> tri = cdt_plugin.triangulate([[0, 0], [1, 0], [1, 1], [0, 1]], size=0.1, min_angle=30)
+    >>> r = size_ratios(tri, 0.1)
+    >>> r["over_1_5"], 0.9 < r["median"] < 1.1
+    (0, True)
+    """
+    sizing = check_sizing(size, None, growth, min_size)
+    if sizing is None or sizing.size is None:
+        raise SizeFieldError("size_ratios needs the size field the mesh is compared with (size=)")
+    V = np.ascontiguousarray(tri.vertices, np.float64)
+    T = np.ascontiguousarray(tri.triangles, np.int64)
+    cx, cy, _, longest = triangle_measures(V, T)
+    ratio = longest / triangle_sizes(V, T, sizing.size, sizing.growth, sizing.min_size, (cx, cy))
+    out: dict[str, Any] = {"triangles": len(T)}
+    if len(T) == 0:
+        return out
+    for name, q in SIZE_QUANTILES.items():
+        out[name] = float(np.quantile(ratio, q))
+    out.update(max=float(ratio.max()), mean=float(ratio.mean()), over_1_5=int((ratio > 1.5).sum()),
+               under_0_5=int((ratio < 0.5).sum()))
+    return out
 
 
 def mesh_neighbors(triangles: ArrayLike) -> tuple[NDArray[np.int64], int]:

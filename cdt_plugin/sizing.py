@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .errors import CDTError, RefinementLimitError
+from .grading import check_progress, check_splittable, corners
 from .refining import triangle_areas
 from .triangulation import Triangulation
 
@@ -76,22 +77,26 @@ def refine_until_suitable(tri: Triangulation, suitable: SizeTest, *,
             tri.stats["size_test_rounds"] = rounds
             return tri
         bad = np.flatnonzero(~ok)
-        _check_splittable(tri, bad, areas)
+        check_splittable(tri, bad, areas, "the size test", "the test must accept every "
+                         "triangle of some size, as Triangle's triunsuitable must")
         added = len(tri.vertices) - n0
         if added >= cap:
             raise RefinementLimitError(
                 f"the size test still rejects {len(bad)} triangles after {added} Steiner points "
                 f"(max_steiner={cap}); raise max_steiner or relax the test (triangle {int(bad[0])} "
-                f"{_corners(V, T, int(bad[0]))})", triangulation=tri)
+                f"{corners(V, T, int(bad[0]))})", triangulation=tri)
         bounds = np.full(len(T), base)
         bounds[bad] = np.fmin(areas[bad] / 2.0, base)
         try:
-            tri = tri.refine(max_area=bounds, max_steiner=cap - added, **refine_options)
+            refined = tri.refine(max_area=bounds, max_steiner=cap - added, **refine_options)
         except RefinementLimitError as exc:
             raise RefinementLimitError(
                 f"the size test still rejects triangles after max_steiner={cap} Steiner points "
                 f"({rounds + 1} rounds); raise max_steiner or relax the test (the mesh so far is "
                 "in this error's .triangulation)", triangulation=exc.triangulation) from exc
+        check_progress(refined, V, T, bad, areas, "the size test", "the test must accept every "
+                       "triangle of some size, as Triangle's triunsuitable must")
+        tri = refined
         rounds += 1
 
 
@@ -104,22 +109,3 @@ def _verdict(answer: Any, k: int) -> NDArray[np.bool_]:
         raise CDTError(f"suitable must return one boolean per triangle, ({k},), got "
                        f"{ok.dtype} {ok.shape}")
     return ok.astype(bool)
-
-
-def _check_splittable(tri: Triangulation, bad: NDArray[np.int64], areas: NDArray[np.float64]) -> None:
-    """Raise if a rejected triangle is too small to split in double precision:
-    its area is within a few rounding units of its corners' magnitude squared."""
-    V, T = tri.vertices, tri.triangles
-    scale = np.abs(V[T[bad]]).max(axis=(1, 2))
-    floor = (64 * np.finfo(np.float64).eps * np.maximum(scale, np.finfo(np.float64).tiny)) ** 2
-    tiny = bad[areas[bad] <= floor]
-    if len(tiny):
-        t = int(tiny[0])
-        raise RefinementLimitError(
-            f"the size test rejects triangle {t} {_corners(V, T, t)} of area {areas[t]!r}, too "
-            "small to split in double precision (the test must accept every triangle of some "
-            "size, as Triangle's triunsuitable must)", triangulation=tri)
-
-
-def _corners(V: NDArray[np.float64], T: NDArray[np.int64], t: int) -> str:
-    return "(" + ", ".join(f"({float(V[i, 0])!r}, {float(V[i, 1])!r})" for i in T[t]) + ")"

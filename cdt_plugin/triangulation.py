@@ -304,9 +304,11 @@ class Triangulation:
             out.tags = markers.make_tags(n, segs, vertex_markers, segment_markers, vertex_attributes)
         return out
 
-    def refine(self, *, min_angle: float | None = None, max_area: float | ArrayLike | None = None,
+    def refine(self, *, min_angle: float | None = None, max_area: float | ArrayLike | Callable | None = None,
                conforming_delaunay: bool = False, split_boundary: bool = True,
-               split_segments: bool = True, max_steiner: int | None = None) -> Triangulation:
+               split_segments: bool = True, max_steiner: int | None = None,
+               size: Any = None, growth: float | None = None,
+               min_size: float | None = None) -> Triangulation:
         """This mesh refined (Triangle's ``-r``): Steiner points added until the
         bounds hold, every vertex and segment kept.
 
@@ -337,6 +339,10 @@ class Triangulation:
         overlaps others, :class:`RefinementLimitError` (with the partial
         mesh) at ``max_steiner``.
 
+        ``size``, ``growth``, ``min_size`` and a callable ``max_area`` are
+        the size fields of :func:`cdt_plugin.triangulate` (refined in rounds,
+        :mod:`cdt_plugin.grading`); ``max_area`` is then a number or a callable.
+
         >>> import cdt_plugin
         >>> tri = cdt_plugin.Triangulation.from_triangles([[0, 0], [2, 0], [2, 1], [0, 1]],
         ...                                               [[0, 1, 2], [0, 2, 3]])
@@ -344,6 +350,12 @@ class Triangulation:
         >>> fine.vertices[:4].tolist() == tri.vertices.tolist(), len(fine.triangles) > 2
         (True, True)
         """
+        if size is not None or growth is not None or min_size is not None or callable(max_area):
+            from .grading import refine_sized    # (loaded on first use: import cdt_plugin stays fast)
+            return refine_sized(self, min_angle=min_angle, max_area=max_area,
+                                conforming_delaunay=conforming_delaunay, split_boundary=split_boundary,
+                                split_segments=split_segments, max_steiner=max_steiner, size=size,
+                                growth=growth, min_size=min_size)
         per_triangle = max_area is not None and np.ndim(max_area) > 0
         options = MeshOptions.check(min_angle=min_angle,
                                     max_area=None if per_triangle else cast(Optional[float], max_area),

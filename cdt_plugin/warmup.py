@@ -23,6 +23,7 @@ from .compiling import ROUTES
 from .delaunay import PARALLEL_POINTS, delaunay
 from .dynamic import DynamicCDT
 from .errors import CDTError, SegmentIntersectionError
+from .nearness import size_near
 
 
 def _square():
@@ -56,6 +57,7 @@ def _triangulate():
 def _refine():
     tri = triangulate(*_square(), min_angle=30, max_area=0.1)
     tri.refine(max_area=np.full(len(tri.triangles), 0.05))      # an existing mesh (-r)
+    triangulate(*_square(), size=size_near([[0.5, 0.5]], 0.2, 0.5, distance=1.0))   # sizes near
 
 
 def _split():

@@ -17,6 +17,7 @@ from cdt_plugin.adapters.geo.projection import (ProjectLike, centred, counter_cl
                                                 layer_extent, project_geometries, restore,
                                                 target_crs)
 from cdt_plugin.adapters.geo.results import GeoMesh
+from cdt_plugin.adapters.geo.sizing import LayerSizing, check_layer_sizing, layer_size
 from cdt_plugin.adapters.layers import LayerLike, read
 from cdt_plugin.adapters.shapely import Repair, triangulate_batch
 from cdt_plugin.adapters.shapely.reading import COLLECTION, MULTIPOLYGON, POLYGON
@@ -34,7 +35,7 @@ AUTO_PROGRESS_FEATURES = 5000       # progress=None: a bar above this many featu
 
 def triangulate(data: LayerLike, *, output: str = "geodataframe", project: ProjectLike = None,
                 repair: Repair = False, errors: str = "raise", progress: bool | None = None,
-                layer: str | int | None = None,
+                layer: str | int | None = None, size: Any = None, size_near: Any = None,
                 **options: Any) -> GeoDataFrame | pyarrow.Table | list[trimesh.Trimesh | None] | GeoMesh:
     """Constrained Delaunay triangulation of every polygonal feature of a layer.
 
@@ -76,6 +77,18 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
         ``AUTO_PROGRESS_FEATURES`` features and stderr is a terminal.
     layer : str or int, optional
         The layer of a multi-layer file (GeoPackage).
+    size : number, callable, Triangulation or str, optional
+        A size field (target edge length, in the meshing CRS's units: see
+        :func:`cdt_plugin.triangulate`) for every feature, or the name of a
+        numeric column: one size per feature (NaN: none for that feature).
+        With a size the features are meshed one by one.
+    size_near : tuple, mapping, field, or a list of them, optional
+        Sizes near other layers (:func:`cdt_plugin.size_near`): each a tuple
+        ``(geometries, size_min, size_max, distance[, growth])``, a mapping of
+        ``size_near``'s keywords, or a field made by ``size_near``. The
+        geometries may be a GeoDataFrame, GeoSeries or a path (reprojected to
+        the meshing CRS when both have a CRS), or anything ``size_near`` takes
+        (in the meshing CRS). With ``size``, the smallest of all at every point.
     **options
         ``workers``: threads to mesh on (default: every core for a large layer;
         any number gives the same triangles), and the options of
@@ -120,6 +133,14 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
     True
     >>> round(float(triangulate(layer, output="trimesh")[0].area), 9)      # 2 x 2 sqrt(2)
     5.656854249
+
+    Finer along a river (a line layer), coarser away from it:
+
+    >>> river = geopandas.GeoSeries([shapely.LineString([(0, 1), (2, 1)])])
+    >>> graded = triangulate(layer, size=0.5, size_near=(river, 0.1, 0.5, 0.5))
+    >>> near = graded.geometry.centroid.y.sub(1).abs() < 0.1
+    >>> bool(graded[near].area.mean() < graded[~near].area.mean() / 4)
+    True
     """
     if output not in OUTPUTS:
         raise CDTError(f"output must be one of {OUTPUTS}, got {output!r}")
@@ -127,9 +148,10 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
         require("trimesh", "output='trimesh'")     # before any work
     if output == "geoarrow":
         require("pyarrow", "output='geoarrow'", extra="gis")
+    sizing = check_layer_sizing(size, size_near)
     frame = read(data, layer=layer)
     mesh = mesh_layer(frame, project=project, repair=repair, errors=errors, progress=progress,
-                 options=options, require_polygons=True, warn=True)
+                      options=options, require_polygons=True, warn=True, sizing=sizing)
     if output == "mesh":
         return mesh
     if output == "trimesh":
@@ -141,8 +163,9 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
 
 def mesh_layer(frame: GeoDataFrame, *, project: ProjectLike, repair: Repair, errors: str,
                progress: Any, options: dict[str, Any], require_polygons: bool,
-               warn: bool) -> GeoMesh:
-    """Mesh the features of ``frame`` (one batch call) into a :class:`GeoMesh`."""
+               warn: bool, sizing: LayerSizing | None = None) -> GeoMesh:
+    """Mesh the features of ``frame`` (one batch call) into a :class:`GeoMesh`,
+    refined to ``sizing`` (in the meshing CRS) when given."""
     check_batch_options(errors=errors, **options)
     geoms = np.asarray(frame.geometry.array, dtype=object)
     if require_polygons:
@@ -151,6 +174,8 @@ def mesh_layer(frame: GeoDataFrame, *, project: ProjectLike, repair: Repair, err
     target = target_crs(project, frame.crs, extent)
     if warn and target is None and is_geographic(frame.crs):
         warn_geographic(frame.crs)
+    if sizing is not None:
+        options = {**options, "size": layer_size(frame, sizing, target or frame.crs)}
     unprojected: dict[int, CDTError] = {}
     meshed = geoms
     if target is not None:

@@ -18,7 +18,7 @@ from ..triangulation import Triangulation
 from .formats import GEOJSON_FORMATS, GIS_FORMATS, GRID_OUTPUTS, LAYER_OUTPUTS, check_packages, \
     import_for, suffix_name
 from .layers import is_layer_job, mesh_layer, voronoi_layer
-from .meshing import concatenate, triangulate_features, triangulate_options
+from .meshing import concatenate, triangulate_features, triangulate_options, with_sizes_near
 from .readers import Feature, read_input, read_layer, read_node_layer
 from .terminal import CLIError, progress_bar, warn
 from .writers import check_directory, check_output, check_plot, save_plot, write_frame, \
@@ -63,7 +63,7 @@ def _mesh_all(args: argparse.Namespace) -> tuple[list[Feature], list[Triangulati
         raise CLIError("--project applies to layer output (.gpkg or .geojson from a .shp, .gpkg "
                        "or .geojson layer)")
     features = read_input(Path(args.input), args.layer)
-    options = triangulate_options(args)
+    options = with_sizes_near(triangulate_options(args), args)
     if args.plot is not None:
         check_plot(args.plot)
     tris = triangulate_features(features, options, repair=args.repair, progress=args.progress,

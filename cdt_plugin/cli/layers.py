@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 from ..errors import CDTError
 from ..report import Report, mesh_report
 from .formats import LAYER_OUTPUTS
-from .meshing import triangulate_options
+from .meshing import near_layers, triangulate_options
 from .readers import feature_label, is_layer, read_layer
 from .terminal import CLIError, progress_bar, warn
 from .writers import check_plot, save_layer_plot, write_layer
@@ -39,7 +39,11 @@ def mesh_layer(args: argparse.Namespace, output: Path) -> int:
         frame = read_layer(Path(args.input), args.layer)
         if step is not None:
             step(1)
-    mesh = _triangulate_layer(frame, args, triangulate_options(args))
+    options = triangulate_options(args)
+    near = near_layers(args)     # (reprojected to the meshing CRS by the adapter)
+    if near:
+        options["size_near"] = near
+    mesh = _triangulate_layer(frame, args, options)
     # GeoParquet is written from the GeoArrow table: no shapely Polygon per triangle
     triangles = mesh.to_arrow() if output.suffix.lower() == ".parquet" else mesh.to_geodataframe()
     with progress_bar(args.progress, "writing", "triangle", len(triangles)) as step:

@@ -8,13 +8,15 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .. import triangulate
+from .. import size_near, triangulate
 from ..errors import CDTError
+from ..fields import as_size_field
+from ..nearness import SmallestSize
 from ..options import MeshOptions
 from ..parallel import map_ordered, resolve_workers
 from ..triangulation import Triangulation
 from .formats import import_for
-from .readers import Feature
+from .readers import Feature, read_geometries
 from .terminal import CLIError, progress_bar
 
 MANY_FEATURES = 16        # features per thread worth starting one for
@@ -34,7 +36,27 @@ def triangulate_options(args: argparse.Namespace) -> dict[str, Any]:
                            f"{', '.join(missing)} (quality refinement is not in this version)")
         options.update(asked)
     MeshOptions.check(**options)      # every option checked before any input is read
+    if getattr(args, "size", None) is not None:
+        options["size"] = as_size_field(args.size)
     return options
+
+
+def near_layers(args: argparse.Namespace) -> list[tuple[Any, float, float, float]]:
+    """``(geometries, min, max, distance)`` of every ``--size-near``, its file read
+    (:func:`~cdt_plugin.cli.readers.read_geometries`)."""
+    return [(read_geometries(spec.path, spec.layer, "--size-near"), spec.size_min,
+             spec.size_max, spec.distance) for spec in getattr(args, "size_near", None) or ()]
+
+
+def with_sizes_near(options: dict[str, Any], args: argparse.Namespace) -> dict[str, Any]:
+    """``options`` whose ``size`` also holds the ``--size-near`` fields (the smallest
+    of all at every point), in the files' coordinates as they are."""
+    fields: list[Any] = [size_near(*near[:3], distance=near[3]) for near in near_layers(args)]
+    if not fields:
+        return options
+    if "size" in options:
+        fields.insert(0, options["size"])
+    return {**options, "size": fields[0] if len(fields) == 1 else SmallestSize(fields)}
 
 
 def triangulate_features(features: Sequence[Feature], options: dict[str, Any], *,

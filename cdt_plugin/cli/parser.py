@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import NamedTuple
 
 from .. import __version__
 from ..compiling import ROUTES
+from ..errors import CDTError
+from ..nearness import check_near
 from .commands import compile_command, mesh_command, report_command, tin_command, voronoi_command
 from .triangle import add_triangle_command
 
@@ -20,6 +23,7 @@ examples:
   cdt-plugin mesh shape.wkt -o shape.stl --extrude 2 --plot shape.png
   cdt-plugin mesh A.poly -o A.ele --min-angle 30 --max-area 0.01
   cdt-plugin mesh A.poly -o A.msh --min-angle 30 --max-area 0.01   (gmsh, tagged by the markers)
+  cdt-plugin mesh lake.gpkg -o lake_mesh.gpkg --size 200 --size-near rivers.gpkg:20:200:1000
   cdt-plugin voronoi shops.gpkg --boundary city.gpkg -o cells.gpkg
   cdt-plugin voronoi stations.shp --boundary country.geojson --weights power -o cells.geojson
   cdt-plugin tin points.gpkg --breaklines lines.gpkg -o dem.tif --resolution 10
@@ -50,6 +54,15 @@ def build_parser() -> argparse.ArgumentParser:
                         help="quality refinement: smallest angle in degrees (Steiner points added)")
     common.add_argument("--max-area", type=float, metavar="S",
                         help="quality refinement: largest triangle area")
+    common.add_argument("--size", type=float, metavar="H",
+                        help="size field: target edge length H everywhere (every triangle's "
+                             "longest edge at most 1.5 H; in the meshing CRS's units)")
+    common.add_argument("--size-near", type=size_near_arg, action="append",
+                        metavar="PATH[:LAYER]:MIN:MAX:DIST",
+                        help="size MIN on the geometries of PATH (points, lines, polygon "
+                             "boundaries; LAYER: of a multi-layer file), growing linearly to MAX "
+                             "at distance DIST from them; repeatable, and with --size the "
+                             "smallest of all at every point")
     common.add_argument("--intersections", choices=("raise", "split"), default="raise",
                         help="crossing segments: report them (default), or split them at the "
                              "crossing (polygons are then not validated: even-odd inside)")
@@ -162,6 +175,48 @@ def _points_command(sub: argparse._SubParsersAction[argparse.ArgumentParser], na
     command.add_argument("input", metavar="POINTS", help=points)
     command.add_argument("-o", "--output", required=True, type=Path, metavar="OUTPUT", help=output)
     return command
+
+
+class NearSpec(NamedTuple):
+    """One ``--size-near PATH[:LAYER]:MIN:MAX:DIST``, its numbers checked."""
+    path: Path
+    layer: str | None
+    size_min: float
+    size_max: float
+    distance: float
+
+
+def size_near_arg(text: str) -> NearSpec:
+    """``--size-near PATH[:LAYER]:MIN:MAX:DIST`` (the last three are numbers; PATH may
+    hold colons when it names a file that exists, as a drive letter does).
+
+    >>> size_near_arg("rivers.gpkg:5:100:1000")
+    NearSpec(path=PosixPath('rivers.gpkg'), layer=None, size_min=5.0, size_max=100.0, distance=1000.0)
+    >>> size_near_arg("water.gpkg:rivers:5:100:1000").layer
+    'rivers'
+    >>> size_near_arg("rivers.gpkg:5:1:1000")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: size_near: size_max must be >= size_min, got size_max=1.0 < size_min=5.0
+    """
+    parts = text.rsplit(":", 3)
+    if len(parts) != 4 or not parts[0]:
+        raise argparse.ArgumentTypeError(f"expected PATH[:LAYER]:MIN:MAX:DIST, got {text!r}")
+    numbers = []
+    for name, value in zip(("MIN", "MAX", "DIST"), parts[1:]):
+        try:
+            numbers.append(float(value))
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a number in PATH[:LAYER]:MIN:MAX:DIST, "
+                                             f"got {value!r} in {text!r}") from None
+    try:
+        low, high, distance, _ = check_near(*numbers)
+    except CDTError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    path, layer = parts[0], None
+    if ":" in path and not Path(path).exists():
+        path, layer = path.rsplit(":", 1)
+    return NearSpec(Path(path), layer or None, low, high, float(distance))     # type: ignore[arg-type]
 
 
 def _workers_arg(text: str) -> int:

@@ -36,12 +36,7 @@ def read_input(path: Path, layer: str | None = None) -> list[Feature]:
     """The features of an input file (see :mod:`cdt_plugin.cli` for formats);
     ``layer``: the layer of a multi-layer GIS file."""
     path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in INPUT_FORMATS:
-        raise CLIError(f"{path}: unknown input format {suffix_name(path)!r}; "
-                       f"expected one of {', '.join(INPUT_FORMATS)}")
-    if not path.exists():
-        raise CLIError(f"{path}: no such file")
+    suffix = _input_suffix(path)
     if suffix in GIS_FORMATS:
         return _require_polygons(path, _layer_features(path, read_layer(path, layer)))
     if layer is not None:
@@ -50,6 +45,18 @@ def read_input(path: Path, layer: str | None = None) -> list[Feature]:
     if suffix in (".poly", ".node"):          # PLC arrays: no geometry type to check
         return features
     return _require_polygons(path, features)
+
+
+def _input_suffix(path: Path, what: str = "") -> str:
+    """The suffix of an input file that exists and has a format we read, or the
+    error naming it (``what``: the option it was given to, if any)."""
+    suffix = path.suffix.lower()
+    if suffix not in INPUT_FORMATS:
+        raise CLIError(f"{what}{path}: unknown input format {suffix_name(path)!r}; "
+                       f"expected one of {', '.join(INPUT_FORMATS)}")
+    if not path.exists():
+        raise CLIError(f"{what}{path}: no such file")
+    return suffix
 
 
 def _read_poly(path: Path) -> list[Feature]:
@@ -130,6 +137,21 @@ def _require_polygons(path: Path, features: list[Feature]) -> list[Feature]:
     held = ", ".join(f"{n} {kind}" for kind, n in sorted(kinds.items()))
     raise NoPolygonsError(f"{path}: no Polygon or MultiPolygon feature to triangulate "
                           f"({len(features)} feature(s): {held}); a point set goes in a .node file")
+
+
+def read_geometries(path: Path, layer: str | None, option: str) -> Any:
+    """The geometries of a file given to ``option`` (``--size-near``), for
+    :func:`cdt_plugin.size_near`: a GIS layer as a GeoDataFrame, a Triangle ``.poly``
+    as its PLC (segments and points), a ``.node`` file's points, a ``.wkt`` geometry,
+    GeoJSON geometries; any geometry type."""
+    path = Path(path)
+    suffix = _input_suffix(path, f"{option} ")
+    if is_layer(path):
+        return read_layer(path, layer)
+    if layer is not None:
+        raise CLIError(f"{option} {path}: a layer ({layer!r}) applies to GIS layers (.gpkg, .shp)")
+    return [f.geometry if f.geometry is not None else f.arrays["vertices"]
+            for f in _READERS[suffix](path)]
 
 
 def is_layer(path: Path) -> bool:

@@ -81,3 +81,13 @@ def domain_segments(tri):
     T = tri.triangles
     edges = {frozenset(e) for t in T.tolist() for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
     return np.array([p for p in tri.segments.tolist() if frozenset(p) in edges], np.int64).reshape(-1, 2)
+
+
+def longest_over_field(V, T, field):
+    """Each triangle's longest edge over the size field at its centroid (``field``
+    a number or a callable ``f(x, y)``): at most 1.5 where a mesh meets ``size=``."""
+    P = np.asarray(V)[np.asarray(T)]
+    longest = np.linalg.norm(P - np.roll(P, -1, axis=1), axis=2).max(axis=1)
+    c = P.mean(axis=1)
+    target = np.full(len(P), float(field)) if not callable(field) else field(c[:, 0], c[:, 1])
+    return longest / target

@@ -37,15 +37,18 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
         "cdt_plugin.hooks",       # the conversion hooks: imports the adapters inside its functions
         "cdt_plugin.options",     # the options record, checked once
         "cdt_plugin.compiling",   # the cache guard, imported first by __init__
+        "cdt_plugin.fields",      # the size field type: checked and evaluated
     )),
     ("plc", ("cdt_plugin.plc",)),
     ("route drivers", ("cdt_plugin._routes",)),
     ("services of the results", ("cdt_plugin.queries", "cdt_plugin.report", "cdt_plugin.plot",
                                  "cdt_plugin.voronoi", "cdt_plugin.markers",
-                                 "cdt_plugin.quadratic", "cdt_plugin.refining", "cdt_plugin.fem")),
+                                 "cdt_plugin.quadratic", "cdt_plugin.refining", "cdt_plugin.fem",
+                                 "cdt_plugin.grading")),
     ("results", ("cdt_plugin.triangulation",)),
     ("public functions", ("cdt_plugin", "cdt_plugin.delaunay", "cdt_plugin.cdt", "cdt_plugin.dynamic",
-                          "cdt_plugin.batch", "cdt_plugin.lift", "cdt_plugin.sizing")),
+                          "cdt_plugin.batch", "cdt_plugin.lift", "cdt_plugin.sizing",
+                          "cdt_plugin.nearness")),
     ("tools and adapters", ("cdt_plugin.io*", "cdt_plugin.warmup", "cdt_plugin.adapters*",
                             "cdt_plugin.triangle*")),
     ("command line", ("cdt_plugin.cli*", "cdt_plugin.__main__")),
