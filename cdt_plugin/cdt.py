@@ -68,7 +68,8 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 max_steiner: int | None = None, workers: int | None = None,
                 vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
                 vertex_attributes: ArrayLike | None = None,
-                split_segments: bool = True, suitable: SizeTest | None = None) -> Triangulation:
+                split_segments: bool = True, suitable: SizeTest | None = None,
+                smooth: str | int | None = None) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
     Parameters
@@ -173,6 +174,12 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         (``tri.vertex_attributes``): Steiner points get the linear
         interpolation along the segment they lie on, or on the triangle of the
         unrefined triangulation that holds them.
+    smooth : {"odt", "lloyd"} or int, optional
+        Smooth the mesh after refinement (:meth:`Triangulation.smooth`): that
+        method for 10 iterations, or a number of ODT iterations. Only Steiner
+        points move, so it changes nothing without refinement; the smallest
+        angle never falls and the result is constrained Delaunay
+        (``stats["smoothing"]`` compares before and after).
 
     Notes
     -----
@@ -203,6 +210,10 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     workers = check_workers(workers)
     if suitable is not None:
         check_size_test(suitable)
+    smoothing = None
+    if smooth is not None:
+        from .smoothing import smooth_keyword    # (loaded when asked for)
+        smoothing = smooth_keyword(smooth)
     plc = as_plc(vertices, segments, holes, regions)
     tags = None
     if (vertex_markers is not None or segment_markers is not None or vertex_attributes is not None
@@ -210,11 +221,13 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
             or plc.vertex_attributes is not None):
         tags = plc_tags(plc, vertex_markers, segment_markers, vertex_attributes)
     tri = triangulate_plc(plc, options, t0=t0, workers=workers, tags=tags)
-    if suitable is None:
+    if suitable is not None:
+        tri = refine_until_suitable(tri, suitable, max_area=max_area, max_steiner=max_steiner,
+                                    min_angle=min_angle, conforming_delaunay=conforming_delaunay,
+                                    split_boundary=split_boundary, split_segments=split_segments)
+    if smoothing is None:
         return tri
-    return refine_until_suitable(tri, suitable, max_area=max_area, max_steiner=max_steiner,
-                                 min_angle=min_angle, conforming_delaunay=conforming_delaunay,
-                                 split_boundary=split_boundary, split_segments=split_segments)
+    return tri.smooth(smoothing.method, smoothing.iterations)
 
 
 def plc_tags(plc: PLC, vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,

@@ -243,7 +243,7 @@ def _size_values(field: Callable[..., Any], x: NDArray[np.float64], y: NDArray[n
     bad = np.flatnonzero(~(np.isfinite(h) & (h > 0)))
     if len(bad):
         i = int(bad[0])
-        raise CDTError(f"size(x, y) must be positive and finite, got {h[i]!r} at "
+        raise CDTError(f"size(x, y) must be positive and finite, got {float(h[i])!r} at "
                        f"({float(x[i])!r}, {float(y[i])!r})")
     return np.ascontiguousarray(h)
 
