@@ -145,29 +145,37 @@ def smooth(tri: TriangulationLike, method: str = "odt", iterations: int = DEFAUL
         raise CDTError("smooth takes unweighted triangulations (a weighted vertex's place is "
                        "part of its power diagram)")
     from ._core import smooth as kernels     # (loaded on first use: import cdt_plugin stays fast)
-    from ._core.flips import flip_to_delaunay
     V0 = np.asarray(tri.vertices, np.float64)
     T0 = np.ascontiguousarray(tri.triangles, np.int64)
     N0 = np.ascontiguousarray(tri.neighbors, np.int64)
     n = len(V0)
     sx, sy, _, shift = exact_range(V0[:, 0].copy(), V0[:, 1].copy(), None, "vertices")
     x, y = np.array(sx, np.float64), np.array(sy, np.float64)   # (the sweeps move them in place)
-    tri_store, twin, cons = kernels.smoothing_store(T0, N0, _edge_codes(tri, T0, N0))
+    store, twin, cons = kernels.smoothing_store(T0, N0, _edge_codes(tri, T0, N0), n)
+    tri_store = store[:3 * len(T0)]       # (the triangles; the ghosts after them)
     steiner = np.zeros(n, np.bool_)
     steiner[np.asarray(tri.steiner, np.int64)] = True
     role, chain, ends = kernels.vertex_roles(tri_store, twin, cons, n, steiner, options.on_segments)
     method_code = kernels.ODT if options.method == "odt" else kernels.LLOYD
     floor2 = math.inf if options.min_angle is None else math.sin(math.radians(options.min_angle)) ** 2
     field = options.size
-    h = (_own_sizes(V0, T0, N0) if field is None else np.empty(0))
+    h = kernels.mean_edge_lengths(tri_store, twin, x, y) if field is None else np.empty(0)
     moved, flips = [], 0
-    movable = bool((role != kernels.FIXED).any())
-    for _ in range(options.iterations if movable and len(T0) else 0):
+    active = role != kernels.FIXED        # (then: the vertices whose stars changed)
+    went = np.zeros(n, np.bool_)          # the vertices that moved in a sweep
+    for _ in range(options.iterations if active.any() and len(T0) else 0):
         if callable(field):
             h = _size_values(field, x * 2.0 ** -shift, y * 2.0 ** -shift)
-        count = int(kernels.smooth_sweep(tri_store, x, y, h, role, chain, ends, method_code, floor2))
+        count = int(kernels.smooth_sweep(tri_store, x, y, h, role, chain, ends, method_code, floor2,
+                                         active, went))
+        if not moved:     # the first flips test every edge: the mesh may not be constrained Delaunay
+            went[:] = True
         moved.append(count)
-        flips += int(flip_to_delaunay(tri_store, twin, cons, x, y, x, False, n, len(T0)))
+        done_flips = int(kernels.restore_delaunay(store, twin, cons, x, y, n, len(T0), went, active))
+        if done_flips < 0:
+            raise CDTError("internal error: the flips after a smoothing sweep did not end; "
+                           "please report this mesh")
+        flips += done_flips
         if count == 0:
             break
     T, N, C = kernels.smoothed_arrays(tri_store, twin, cons)
@@ -217,19 +225,6 @@ def _per_slot(values: NDArray[Any] | None) -> NDArray[Any] | None:
     """A per-triangle array of the result: flips keep each triangle's slot and
     never cross between regions, so the same values (a copy)."""
     return None if values is None else np.array(values)
-
-
-def _own_sizes(V: NDArray[np.float64], T: NDArray[np.int64], N: NDArray[np.int64]) -> NDArray[np.float64]:
-    """Each vertex's size before smoothing: the mean length of its edges."""
-    k = np.repeat(np.arange(len(T)), 3)
-    j = np.tile(np.arange(3), len(T))
-    keep = (N[k, j] < 0) | (k < N[k, j])
-    a, b = T[k, (j + 1) % 3][keep], T[k, (j + 2) % 3][keep]
-    length = np.hypot(*(V[a] - V[b]).T)
-    total = np.bincount(a, length, len(V)) + np.bincount(b, length, len(V))
-    count = np.bincount(a, minlength=len(V)) + np.bincount(b, minlength=len(V))
-    h = total / np.maximum(count, 1)
-    return np.where(h > 0, h, 1.0)
 
 
 def _size_values(field: Callable[..., Any], x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np.float64]:

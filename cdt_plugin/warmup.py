@@ -56,6 +56,7 @@ def _triangulate():
 def _refine():
     tri = triangulate(*_square(), min_angle=30, max_area=0.1)
     tri.refine(max_area=np.full(len(tri.triangles), 0.05))      # an existing mesh (-r)
+    tri.smooth(iterations=1)                                     # smoothing its Steiner points
 
 
 def _split():

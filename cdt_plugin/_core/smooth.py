@@ -41,6 +41,7 @@ import math
 
 import numpy as np
 
+from .flips import flip_from_stack
 from .jit import entry, kernel
 from .kernel import orient
 from .output import min_first
@@ -61,29 +62,46 @@ _STEPS = (1.0, 0.5, 0.25)   # the fractions of a move that are tried
 
 
 @entry
-def smoothing_store(T, N, code):
+def smoothing_store(T, N, code, inf):
     """``(tri, twin, cons)``: the half-edge store of counter-clockwise triangles
     ``T`` with neighbours ``N`` (``N[t, j]`` across the edge opposite corner
     ``j``, -1: none) and ``code[t, j]`` the label of that edge. Half-edge
-    ``3t + i`` runs from ``T[t, i]`` to ``T[t, i + 1]`` (opposite corner ``i + 2``)."""
+    ``3t + i`` runs from ``T[t, i]`` to ``T[t, i + 1]`` (opposite corner
+    ``i + 2``). After the ``k`` triangles, a ghost triangle ``(b, a, inf)``
+    across each boundary edge ``a -> b`` (:mod:`.mesh`'s flips link the
+    outer edges of a flip to their twins, which must exist); ghosts never
+    flip (a boundary edge is never flippable), and the kernels below take
+    the store's first ``3 k`` entries of ``tri`` as the mesh."""
     k = T.shape[0]
-    tri = np.empty(3 * k, np.int32)
-    twin = np.full(3 * k, -1, np.int32)
-    cons = np.empty(3 * k, np.int32)
+    g = 0
+    for t in range(k):
+        for j in range(3):
+            if N[t, j] < 0:
+                g += 1
+    tri = np.empty(3 * (k + g), np.int32)
+    twin = np.full(3 * (k + g), -1, np.int32)
+    cons = np.zeros(3 * (k + g), np.int32)
+    ghost = k
     for t in range(k):
         for i in range(3):
-            tri[3 * t + i] = T[t, i]
-            cons[3 * t + i] = code[t, (i + 2) % 3]
-    for t in range(k):
-        for i in range(3):
+            e = 3 * t + i
+            tri[e] = T[t, i]
+            cons[e] = code[t, (i + 2) % 3]
             u = N[t, (i + 2) % 3]
-            if u < 0:
-                continue
             a = T[t, i]
             b = T[t, (i + 1) % 3]
+            if u < 0:
+                tri[3 * ghost] = b
+                tri[3 * ghost + 1] = a
+                tri[3 * ghost + 2] = inf
+                cons[3 * ghost] = cons[e]
+                twin[e] = 3 * ghost
+                twin[3 * ghost] = e
+                ghost += 1
+                continue
             for m in range(3):
                 if T[u, m] == b and T[u, (m + 1) % 3] == a:
-                    twin[3 * t + i] = 3 * u + m
+                    twin[e] = 3 * u + m
     return tri, twin, cons
 
 
@@ -354,11 +372,14 @@ def try_move(x, y, tri, first, star, v, tx, ty, floor2, slide, P, Q):
 
 
 @entry
-def smooth_sweep(tri, x, y, h, role, chain, ends, method, floor2):
-    """One Gauss-Seidel sweep over the movable vertices (module notes), in
-    place on ``x, y``; ``h`` the size at each vertex (empty: uniform),
-    ``floor2`` sin^2 of the angle bound that a star may fall to (``inf``: none,
-    a star's smallest angle never falls). Returns the number of vertices moved."""
+def smooth_sweep(tri, x, y, h, role, chain, ends, method, floor2, active, moved):
+    """One Gauss-Seidel sweep over the movable vertices that are ``active``
+    (module notes), in place on ``x, y``; ``h`` the size at each vertex (empty:
+    uniform), ``floor2`` sin^2 of the angle bound that a star may fall to
+    (``inf``: none, a star's smallest angle never falls). Sets ``moved`` for
+    the vertices that moved and returns their number. (A vertex whose star has
+    not changed since it last stayed put would stay put again: its target and
+    its tests are the same, so :func:`restore_delaunay` leaves it inactive.)"""
     n = x.shape[0]
     first = np.zeros(n + 1, np.int64)
     for e in range(tri.shape[0]):
@@ -375,23 +396,84 @@ def smooth_sweep(tri, x, y, h, role, chain, ends, method, floor2):
     py = np.empty(8)
     qx = np.empty(8)
     qy = np.empty(8)
-    moved = 0
+    count = 0
     for v in range(n):
+        moved[v] = False
+        if not active[v]:
+            continue
         if role[v] == FREE:
             dx, dy, ok = free_target(x, y, h, tri, first, star, v, method, px, py, qx, qy)
-            if ok and try_move(x, y, tri, first, star, v, x[v] + dx, y[v] + dy, floor2, False,
-                               np.int64(0), np.int64(0)):
-                moved += 1
+            moved[v] = ok and try_move(x, y, tri, first, star, v, x[v] + dx, y[v] + dy, floor2,
+                                       False, np.int64(0), np.int64(0))
         elif role[v] == SLIDES:
             tx, ty = slide_target(x, y, h, chain, v, method)
-            if try_move(x, y, tri, first, star, v, tx, ty, floor2, True, ends[v, 0], ends[v, 1]):
-                moved += 1
-    return moved
+            moved[v] = try_move(x, y, tri, first, star, v, tx, ty, floor2, True, ends[v, 0], ends[v, 1])
+        if moved[v]:
+            count += 1
+    return count
+
+
+@entry
+def restore_delaunay(tri, twin, cons, x, y, inf, k, moved, active):
+    """The flip algorithm (:func:`.flips.flip_from_stack`) from the edges of the
+    triangles with a ``moved`` corner, the others being locally Delaunay
+    already (or from every edge, when every vertex counts as moved: a mesh
+    not yet known to be constrained Delaunay). Sets ``active`` for the corners
+    of every triangle that has a moved corner or that a flip changed: the
+    vertices whose stars changed (``k`` triangles, then the ghosts). Returns
+    the number of flips, -1 past the bound of :func:`.flips.flip_from_stack`
+    (never met: the mesh is a valid triangulation, and each flip lowers the
+    lifted surface, Prop. 2.5)."""
+    before = tri[:3 * k].copy()
+    near = np.zeros(k, np.bool_)              # the triangles with a moved corner
+    for t in range(k):
+        near[t] = moved[tri[3 * t]] or moved[tri[3 * t + 1]] or moved[tri[3 * t + 2]]
+    stack = np.empty(3 * k + 16, np.int64)
+    sp = np.int64(0)
+    for e in range(3 * k):         # each edge of those once (from its smaller half-edge, or its only near one)
+        if near[e // 3] and cons[e] == FLIPPABLE and (e < twin[e] or not near[twin[e] // 3]):
+            stack[sp] = e
+            sp += 1
+    flips = flip_from_stack((tri, twin, cons, x, y, inf), (x, False), stack, sp, np.int64(20 * k + 1000))
+    for v in range(active.shape[0]):
+        active[v] = False
+    for t in range(k):
+        a = tri[3 * t]
+        b = tri[3 * t + 1]
+        c = tri[3 * t + 2]
+        if (moved[a] or moved[b] or moved[c] or a != before[3 * t] or b != before[3 * t + 1]
+                or c != before[3 * t + 2]):
+            active[a] = True
+            active[b] = True
+            active[c] = True
+    return flips
+
+
+@entry
+def mean_edge_lengths(tri, twin, x, y):
+    """Each vertex's mean edge length (1 for a vertex on no edge)."""
+    n = x.shape[0]
+    total = np.zeros(n)
+    count = np.zeros(n)
+    for e in range(tri.shape[0]):
+        if twin[e] >= 0 and twin[e] < e:
+            continue                     # (listed from the smaller half-edge)
+        a = tri[e]
+        b = tri[e + 1] if e % 3 != 2 else tri[e - 2]
+        d = math.hypot(x[a] - x[b], y[a] - y[b])
+        total[a] += d
+        total[b] += d
+        count[a] += 1.0
+        count[b] += 1.0
+    for v in range(n):
+        total[v] = total[v] / count[v] if count[v] > 0 and total[v] > 0 else 1.0
+    return total
 
 
 @entry
 def smoothed_arrays(tri, twin, cons):
-    """``(triangles, neighbors, constrained)`` of the store, each triangle
+    """``(triangles, neighbors, constrained)`` of the store's triangles ``tri``
+    (its first ``3 k`` entries, without the ghosts), each triangle
     listed from its smallest vertex id; ``constrained``: the segment pieces."""
     k = tri.shape[0] // 3
     T = np.empty((k, 3), np.int64)
@@ -403,6 +485,6 @@ def smoothed_arrays(tri, twin, cons):
             i = (j + r) % 3              # corner j of the output is corner i of the store
             T[t, j] = tri[3 * t + i]
             e = 3 * t + (i + 1) % 3      # the half-edge opposite corner i
-            N[t, j] = twin[e] // 3 if twin[e] >= 0 else -1
+            N[t, j] = twin[e] // 3 if 0 <= twin[e] < tri.shape[0] else -1   # (a ghost: none)
             C[t, j] = cons[e] >= SEGMENT_BASE
     return T, N, C
