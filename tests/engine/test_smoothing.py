@@ -13,6 +13,7 @@ import triangle
 
 import cdt_plugin
 from cdt_plugin import CDTError
+from cdt_plugin.report import triangle_quality
 from checker import check_steiner_segments, check_triangulation, orient2d_exact
 
 SQUARE = [[0, 0], [4, 0], [4, 4], [0, 4]]
@@ -29,16 +30,8 @@ SEGS = ring(4) + ring(4, 4) + [[8, 9]]
 
 
 def min_angles(V, T):
-    """Each triangle's smallest angle (degrees), by the arccos-free formula of
-    the law of sines' neighbour: atan2(|cross|, dot) at each corner."""
-    P = V[T]
-    out = []
-    for j in range(3):
-        u = P[:, (j + 1) % 3] - P[:, j]
-        w = P[:, (j + 2) % 3] - P[:, j]
-        cross = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0])
-        out.append(np.degrees(np.arctan2(cross, (u * w).sum(axis=1))))
-    return np.min(out, axis=0)
+    """Each triangle's smallest angle (degrees), as the quality report measures it."""
+    return triangle_quality(V, T)["angles"].min(axis=1)
 
 
 def radius_ratios(V, T):
