@@ -148,37 +148,16 @@ def smooth(tri: TriangulationLike, method: str = "odt", iterations: int = DEFAUL
     V0 = np.asarray(tri.vertices, np.float64)
     T0 = np.ascontiguousarray(tri.triangles, np.int64)
     N0 = np.ascontiguousarray(tri.neighbors, np.int64)
-    n = len(V0)
+    n, k = len(V0), len(T0)
     sx, sy, _, shift = exact_range(V0[:, 0].copy(), V0[:, 1].copy(), None, "vertices")
     x, y = np.array(sx, np.float64), np.array(sy, np.float64)   # (the sweeps move them in place)
     store, twin, cons = kernels.smoothing_store(T0, N0, _edge_codes(tri, T0, N0), n)
-    tri_store = store[:3 * len(T0)]       # (the triangles; the ghosts after them)
+    mesh = (store, twin, cons, k)
     steiner = np.zeros(n, np.bool_)
     steiner[np.asarray(tri.steiner, np.int64)] = True
-    role, chain, ends = kernels.vertex_roles(tri_store, twin, cons, n, steiner, options.on_segments)
-    method_code = kernels.ODT if options.method == "odt" else kernels.LLOYD
-    floor2 = math.inf if options.min_angle is None else math.sin(math.radians(options.min_angle)) ** 2
-    field = options.size
-    h = kernels.mean_edge_lengths(tri_store, twin, x, y) if field is None else np.empty(0)
-    moved, flips = [], 0
-    active = role != kernels.FIXED        # (then: the vertices whose stars changed)
-    went = np.zeros(n, np.bool_)          # the vertices that moved in a sweep
-    for _ in range(options.iterations if active.any() and len(T0) else 0):
-        if callable(field):
-            h = _size_values(field, x * 2.0 ** -shift, y * 2.0 ** -shift)
-        count = int(kernels.smooth_sweep(tri_store, x, y, h, role, chain, ends, method_code, floor2,
-                                         active, went))
-        if not moved:     # the first flips test every edge: the mesh may not be constrained Delaunay
-            went[:] = True
-        moved.append(count)
-        done_flips = int(kernels.restore_delaunay(store, twin, cons, x, y, n, len(T0), went, active))
-        if done_flips < 0:
-            raise CDTError("internal error: the flips after a smoothing sweep did not end; "
-                           "please report this mesh")
-        flips += done_flips
-        if count == 0:
-            break
-    T, N, C = kernels.smoothed_arrays(tri_store, twin, cons)
+    role, chain, ends = kernels.vertex_roles(store[:3 * k], twin, cons, n, steiner, options.on_segments)
+    moved, flips = _sweeps(kernels, mesh, x, y, shift, (role, chain, ends), options)
+    T, N, C = kernels.smoothed_arrays(store[:3 * k], twin, cons)
     V = np.column_stack([x, y]) * 2.0 ** -shift if shift else np.column_stack([x, y])
     done = {"method": options.method, "iterations": options.iterations, "sweeps": len(moved),
             "moved": moved, "flips": flips, "free_vertices": int((role == kernels.FREE).sum()),
@@ -188,12 +167,49 @@ def smooth(tri: TriangulationLike, method: str = "odt", iterations: int = DEFAUL
     if options.min_angle is not None:
         below = np.flatnonzero(triangle_quality(V, T)["angles"].min(axis=1) < options.min_angle)
     out = type(tri)(V, T, N, tri.vertex_map, functools.partial(
-                        _stats, dict(tri.stats), done, V0, T0, field), constrained=C,
+                        _stats, dict(tri.stats), done, V0, T0, options.size), constrained=C,
                     regions=_per_slot(tri.regions), segments=tri.segments,
                     segment_ids=tri.segment_ids, steiner=tri.steiner, below_min_angle=below,
                     region_attributes=_per_slot(tri.region_attributes))
     out.tags = tri.tags
     return out
+
+
+def _sweeps(kernels: Any, mesh: tuple, x: NDArray[np.float64], y: NDArray[np.float64], shift: int,
+            roles: tuple, options: SmoothOptions) -> tuple[list[int], int]:
+    """The iterations: a sweep, then the flips, until ``options.iterations`` or
+    a sweep that moves nothing. ``mesh``: the store ``(tri, twin, cons, k)``
+    (``k`` triangles, then the ghosts), ``x, y`` the coordinates times
+    ``2**shift`` (moved in place), ``roles`` what
+    :func:`cdt_plugin._core.smooth.vertex_roles` says. Returns the vertices
+    moved in each sweep and the number of flips."""
+    store, twin, cons, k = mesh
+    role, chain, ends = roles
+    n = len(x)
+    method = kernels.ODT if options.method == "odt" else kernels.LLOYD
+    floor2 = math.inf if options.min_angle is None else math.sin(math.radians(options.min_angle)) ** 2
+    field = options.size
+    h = kernels.mean_edge_lengths(store[:3 * k], twin, x, y) if field is None else np.empty(0)
+    moved: list[int] = []
+    flips = 0
+    active = role != kernels.FIXED        # (then: the vertices whose stars changed)
+    went = np.zeros(n, np.bool_)          # the vertices that moved in a sweep
+    for _ in range(options.iterations if active.any() and k else 0):
+        if callable(field):
+            h = _size_values(field, x * 2.0 ** -shift, y * 2.0 ** -shift)
+        count = int(kernels.smooth_sweep(store[:3 * k], x, y, h, role, chain, ends, method, floor2,
+                                         active, went))
+        if not moved:     # the first flips test every edge: the mesh may not be constrained Delaunay
+            went[:] = True
+        moved.append(count)
+        done = int(kernels.restore_delaunay(store, twin, cons, x, y, n, k, went, active))
+        if done < 0:
+            raise CDTError("internal error: the flips after a smoothing sweep did not end; "
+                           "please report this mesh")
+        flips += done
+        if count == 0:
+            break
+    return moved, flips
 
 
 def _edge_codes(tri: TriangulationLike, T: NDArray[np.int64], N: NDArray[np.int64]) -> NDArray[np.int32]:
@@ -215,9 +231,8 @@ def _edge_codes(tri: TriangulationLike, T: NDArray[np.int64], N: NDArray[np.int6
         t, j = np.nonzero(C)
         a, b = T[t, (j + 1) % 3], T[t, (j + 2) % 3]
         at = np.minimum(np.searchsorted(keys[order], np.minimum(a, b) * n + np.maximum(a, b)),
-                        len(keys) - 1) if len(keys) else np.zeros(len(t), np.int64)
-        ids = np.asarray(tri.segment_ids, np.int64)[order[at]] if len(keys) else np.full(len(t), -1)
-        code[t, j] = SEGMENT_BASE + ids + 1
+                        len(keys) - 1)
+        code[t, j] = SEGMENT_BASE + np.asarray(tri.segment_ids, np.int64)[order[at]] + 1
     return code
 
 
