@@ -1,13 +1,15 @@
 """Mesh smoothing: sweeps that move the free vertices of a triangulation (ODT, Lloyd).
 
-The mesh is a half-edge store without ghosts (:mod:`.mesh`'s layout; ``twin``
--1 on the boundary), made from a result's arrays by :func:`smoothing_store`.
-``cons`` labels the edges that never flip (:data:`FLIPPABLE` the others):
-:data:`REGION_EDGE` (between triangles of different regions),
-:data:`BOUNDARY_EDGE` (the domain's boundary where it is no segment) and
-``SEGMENT_BASE + id + 1`` for a piece of segment ``id`` (-1: a piece of the
-boundary): the flip algorithm of :mod:`.flips` skips them all, so after each
-sweep :func:`.flips.flip_to_delaunay` makes the mesh constrained Delaunay
+The mesh is a half-edge store in :mod:`.mesh`'s layout, made from a result's
+arrays by :func:`smoothing_store`: its ``k`` triangles, then a ghost triangle
+across each boundary edge, so that every half-edge of the mesh has a twin (a
+flip links the outer edges of its quadrilateral to theirs); the ghosts are not
+linked to each other and never flip. ``cons`` labels the edges that never flip
+(:data:`FLIPPABLE` the others): :data:`REGION_EDGE` (between triangles of
+different regions), :data:`BOUNDARY_EDGE` (the domain's boundary where it is
+no segment) and ``SEGMENT_BASE + id + 1`` for a piece of segment ``id`` (-1: a
+piece of the boundary): the flip algorithm of :mod:`.flips` skips them all, so
+after each sweep :func:`restore_delaunay` makes the mesh constrained Delaunay
 again (Sec. 2.5, 2.10.3) with every segment and the boundary kept.
 
 :func:`vertex_roles` says which vertex may move: a Steiner vertex on no such
