@@ -53,7 +53,6 @@ from numpy.typing import NDArray
 
 from .errors import CDTError
 from .report import ANGLE_BINS, triangle_quality
-from .types import TriangulationLike
 from .validate import exact_range
 
 __all__ = ["METHODS", "SmoothOptions", "check_smooth", "smooth", "smooth_keyword",
@@ -125,15 +124,15 @@ def smooth_keyword(value: Any) -> SmoothOptions | None:
     if isinstance(value, str):
         return check_smooth(value)
     if isinstance(value, numbers.Integral) and not isinstance(value, bool):
-        return check_smooth("odt", value)
+        return check_smooth("odt", int(value))
     raise CDTError(f"smooth must be None, 'odt', 'lloyd' or a number of iterations, got {value!r}")
 
 
-def smooth(tri: TriangulationLike, method: str = "odt", iterations: int = DEFAULT_ITERATIONS, *,
+def smooth(tri: Any, method: str = "odt", iterations: int = DEFAULT_ITERATIONS, *,
            size: SizeField = None, on_segments: bool = True,
            min_angle: float | None = None) -> Any:
-    """``tri`` smoothed (see the module's notes): a new triangulation of the
-    same class, its vertices in the same order (input vertices where they
+    """``tri`` (a :class:`~cdt_plugin.Triangulation`) smoothed (see the
+    module's notes): a new triangulation of the same class, its vertices in the same order (input vertices where they
     were), the same segments (as vertex pairs, with their ``segment_ids``),
     regions, markers and attributes (a moved vertex's attributes interpolated
     anew as the result's ``tags`` say), triangles changed by flips;
@@ -212,7 +211,7 @@ def _sweeps(kernels: Any, mesh: tuple, x: NDArray[np.float64], y: NDArray[np.flo
     return moved, flips
 
 
-def _edge_codes(tri: TriangulationLike, T: NDArray[np.int64], N: NDArray[np.int64]) -> NDArray[np.int32]:
+def _edge_codes(tri: Any, T: NDArray[np.int64], N: NDArray[np.int64]) -> NDArray[np.int32]:
     """The label of each edge (row ``t``, opposite corner ``j``) for
     :func:`cdt_plugin._core.smooth.smoothing_store`: a segment piece's, the
     boundary's, between two regions, or none (flippable)."""

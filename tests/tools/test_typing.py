@@ -70,6 +70,7 @@ TYPED_MODULES = [
     "cdt_plugin.quadratic",
     "cdt_plugin.refining",
     "cdt_plugin.sizing",
+    "cdt_plugin.smoothing",
     "cdt_plugin.report",
     "cdt_plugin.switches",
     "cdt_plugin.triangle",
