@@ -72,7 +72,7 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 vertex_attributes: ArrayLike | None = None,
                 split_segments: bool = True, suitable: SizeTest | None = None,
                 size: float | SizeField | Triangulation | None = None, growth: float | None = None,
-                min_size: float | None = None) -> Triangulation:
+                min_size: float | None = None, smooth: str | int | None = None) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
     Parameters
@@ -199,6 +199,12 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         (``tri.vertex_attributes``): Steiner points get the linear
         interpolation along the segment they lie on, or on the triangle of the
         unrefined triangulation that holds them.
+    smooth : {"odt", "lloyd"} or int, optional
+        Smooth the mesh after refinement (:meth:`Triangulation.smooth`): that
+        method for 10 iterations, or a number of ODT iterations. Only Steiner
+        points move, so it changes nothing without refinement; the smallest
+        angle never falls and the result is constrained Delaunay
+        (``stats["smoothing"]`` compares before and after).
 
     Notes
     -----
@@ -235,6 +241,10 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     sizing = None
     if size is not None or growth is not None or min_size is not None or area is not max_area:
         sizing, options = checked_sizing(options, size, max_area, growth, min_size)
+    smoothing = None
+    if smooth is not None:
+        from .smoothing import smooth_keyword    # (loaded when asked for)
+        smoothing = smooth_keyword(smooth)
     plc = as_plc(vertices, segments, holes, regions)
     tags = None
     if (vertex_markers is not None or segment_markers is not None or vertex_attributes is not None
@@ -247,12 +257,14 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                              max_steiner=max_steiner, min_angle=min_angle,
                              conforming_delaunay=conforming_delaunay, split_boundary=split_boundary,
                              split_segments=split_segments)
-    if suitable is None:
+    if suitable is not None:
+        tri = refine_until_suitable(tri, suitable, max_area=area, max_steiner=max_steiner,
+                                    min_angle=min_angle, conforming_delaunay=conforming_delaunay,
+                                    split_boundary=split_boundary, split_segments=split_segments)
+    if smoothing is None:
         return tri
-    return refine_until_suitable(tri, suitable, max_area=area,
-                                 max_steiner=max_steiner,
-                                 min_angle=min_angle, conforming_delaunay=conforming_delaunay,
-                                 split_boundary=split_boundary, split_segments=split_segments)
+    return tri.smooth(smoothing.method, smoothing.iterations,
+                      size=None if sizing is None else sizing.size)
 
 
 def checked_sizing(options: MeshOptions, size: object, max_area: object, growth: object,

@@ -58,6 +58,7 @@ def _refine():
     tri = triangulate(*_square(), min_angle=30, max_area=0.1)
     tri.refine(max_area=np.full(len(tri.triangles), 0.05))      # an existing mesh (-r)
     triangulate(*_square(), size=size_near([[0.5, 0.5]], 0.2, 0.5, distance=1.0))   # sizes near
+    tri.smooth(iterations=1)                                     # smoothing its Steiner points
 
 
 def _split():

@@ -44,7 +44,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("services of the results", ("cdt_plugin.queries", "cdt_plugin.report", "cdt_plugin.plot",
                                  "cdt_plugin.voronoi", "cdt_plugin.markers",
                                  "cdt_plugin.quadratic", "cdt_plugin.refining", "cdt_plugin.fem",
-                                 "cdt_plugin.grading")),
+                                 "cdt_plugin.grading", "cdt_plugin.smoothing")),
     ("results", ("cdt_plugin.triangulation",)),
     ("public functions", ("cdt_plugin", "cdt_plugin.delaunay", "cdt_plugin.cdt", "cdt_plugin.dynamic",
                           "cdt_plugin.batch", "cdt_plugin.lift", "cdt_plugin.sizing",

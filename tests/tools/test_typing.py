@@ -73,6 +73,7 @@ TYPED_MODULES = [
     "cdt_plugin.fem",
     "cdt_plugin.refining",
     "cdt_plugin.sizing",
+    "cdt_plugin.smoothing",
     "cdt_plugin.report",
     "cdt_plugin.switches",
     "cdt_plugin.triangle",
