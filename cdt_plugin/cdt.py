@@ -223,7 +223,7 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     (8, True)
     """
     t0 = time.perf_counter()
-    area = max_area        # (a number; a callable max_area is an area field)
+    area: Any = max_area   # (a number; a callable max_area is an area field)
     if max_area is not None and callable(max_area):
         area = None
     try:     # (cached: a small call pays for every Python call the checks make)

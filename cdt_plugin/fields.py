@@ -108,10 +108,11 @@ def as_size_field(size: object) -> SizeField:
     if isinstance(size, (ConstantSize, BackgroundSize)):
         return size
     if isinstance(size, numbers.Real) and not isinstance(size, (bool, np.bool_)):
-        if not (np.isfinite(size) and size > 0):
+        value = float(size)
+        if not (np.isfinite(value) and value > 0):
             raise SizeFieldError(f"size must be a positive finite length, got {size!r}",
-                                 value=size)
-        return ConstantSize(float(size))
+                                 value=value)
+        return ConstantSize(value)
     if hasattr(size, "vertex_attributes") and hasattr(size, "interpolate"):
         return BackgroundSize(size)
     if callable(size):
@@ -195,18 +196,19 @@ def check_sizing(size: object = None, max_area: object = None, growth: object = 
     if size is None and area is None and growth is None and min_size is None:
         return None
     field = None if size is None else as_size_field(size)
-    if growth is not None and not (_real(growth, "growth") > 1 and np.isfinite(growth)):
+    g = None if growth is None else _real(growth, "growth")
+    if g is not None and not (g > 1 and np.isfinite(g)):
         raise SizeFieldError(f"growth must be a finite number > 1 (neighbouring edges differ at "
                              f"most by that factor), got {growth!r}", value=growth)
-    if min_size is not None and not (_real(min_size, "min_size") > 0 and np.isfinite(min_size)):
+    floor = None if min_size is None else _real(min_size, "min_size")
+    if floor is not None and not (floor > 0 and np.isfinite(floor)):
         raise SizeFieldError(f"min_size must be a positive finite length, got {min_size!r}",
                              value=min_size)
     if field is None and area is None:
         what = "growth" if growth is not None else "min_size"
         raise SizeFieldError(f"{what} applies to a size field: give size= (or a callable "
                              "max_area=) with it")
-    return Sizing(field, area, None if growth is None else float(growth),     # type: ignore[arg-type]
-                  None if min_size is None else float(min_size))              # type: ignore[arg-type]
+    return Sizing(field, area, g, floor)
 
 
 def _real(value: object, name: str) -> float:

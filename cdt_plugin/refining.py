@@ -46,8 +46,7 @@ from ._core.pipeline import AREA_STEINER_CAP
 from ._core.refine import (C_ATTEMPTS, C_DEFERRED, C_FLIPS, C_FROZEN, C_SEG_SPLITS, C_STEINER, OUT,
                            STEINER_ROOM)
 from ._core.remesh import (MESH_CROSSING, MESH_MISSING, MESH_NOT_EDGE, MESH_OK, MESH_OVERLAP,
-                           MESH_RANGE, MESH_REPEATED, existing_mesh_store, filled_home,
-                           refine_existing)
+                           MESH_RANGE, MESH_REPEATED, existing_mesh_store, refine_existing)
 from ._core.status import FINISHED
 from .errors import CDTError, InvalidMeshError
 from .interrupts import deferred_interrupt
@@ -139,8 +138,7 @@ def refine_mesh(tri: Any, options: MeshOptions, bounds: NDArray[np.float64] | No
     area_of_label[1:] = scaled_areas(bounds, state.shift)
     lab = np.where(state.out_slot >= 0, state.out_slot, OUT)
     if np.any(bounds != bounds[0]):     # labels then follow the centroids (home_of)
-        tri_, twin, ntri, inf = state.store[0], state.store[1], state.store[7], state.store[6]
-        home = filled_home(tri_, twin, ntri, inf, state.out_slot, len(T))
+        home = (home_triangles(T, state.order, nv), np.ascontiguousarray(tri.neighbors, np.int64))
     with deferred_interrupt(nv):
         (status, counts, (store, vseg), seg_ends, out_slot, vertices, triangles, neighbors,
          constrained, pieces, piece_ids, parents, below) = refine_existing(
@@ -264,6 +262,14 @@ def _vertices_in(V, corners):
     inside = (side(a, b) >= 0) & (side(b, c) >= 0) & (side(c, a) >= 0)
     inside[corners] = False
     return np.flatnonzero(inside)
+
+
+def home_triangles(T: NDArray[np.int64], order: NDArray[np.int64], nv: int) -> NDArray[np.int64]:
+    """The triangles ``T`` over ``nv`` output vertices in the ids of the store,
+    whose vertex ``i`` is output vertex ``order[i]`` below ``len(order)``, ``i`` after."""
+    store_id = np.arange(nv)
+    store_id[order] = np.arange(len(order))
+    return np.ascontiguousarray(store_id[T], np.int64)
 
 
 def triangle_areas(V: NDArray[np.float64], T: NDArray[np.int64]) -> NDArray[np.float64]:

@@ -322,26 +322,42 @@ def holds(x, y, home, h, px, py):
 
 
 @kernel
-def home_of(x, y, home, home_nb, inside, start, px, py):
+def in_fans(x, y, home, home_nb, h, px, py):
+    """A triangle of ``home`` around a corner of triangle ``h`` (turning both
+    ways round it, up to 64 triangles each) that holds the point; -1 if none."""
+    for i in range(3):
+        v = home[h, i]
+        for side in range(1, 3):     # across the edge opposite corner c + side: one at v
+            g = h
+            for _ in range(64):
+                c = 0
+                while home[g, c] != v:
+                    c += 1
+                g = home_nb[g, (c + side) % 3]
+                if g < 0 or g == h:
+                    break
+                if holds(x, y, home, g, px, py) == 0:
+                    return g
+    return -1
+
+
+@kernel
+def home_of(x, y, home, home_nb, start, px, py):
     """The triangle of the mesh ``home`` (rows of corners, counter-clockwise,
     ``home_nb[h, j]`` the neighbour across the edge opposite corner ``j``, -1
-    none) that holds the point ``(px, py)``, its edges included, among its
-    first ``inside`` rows (the domain's triangles; the rows after them fill its
-    holes and pockets up to the convex hull, so that the walk never meets a
-    boundary but the hull's): a visibility walk from triangle ``start``,
-    leaving by the edges in turn (so it cannot circle for ever in a
-    triangulation that is not Delaunay); should it not arrive, or arrive in a
-    filler (the point on the domain's boundary, or outside: rare, a centroid
-    rounded off a thin triangle), a scan of the domain's triangles. ``start``
-    when none holds the point."""
+    none) that holds the point ``(px, py)``, its edges included: a visibility
+    walk from triangle ``start``, leaving by the edges in turn (so it cannot
+    circle for ever in a triangulation that is not Delaunay); where it meets
+    the boundary (a domain that is not convex), the triangles around the
+    corners of the last one (:func:`in_fans`); then a scan of every triangle.
+    ``start`` when no triangle holds the point (a centroid rounded off a thin
+    triangle at the boundary)."""
     h = start
     turn = start
     for _ in range(64 + home.shape[0] // 16):
         r = holds(x, y, home, h, px, py)
         if r == 0:
-            if h < inside:
-                return h
-            break           # in a filler: on the domain's boundary (a scan decides), or out
+            return h
         j = -1 - r
         turn += 1
         for k in range(3):           # another edge the point is beyond, from a turning start
@@ -352,10 +368,13 @@ def home_of(x, y, home, home_nb, inside, start, px, py):
                 if home_nb[h, i] >= 0 and beyond(x, y, u, v, px, py):
                     j = i
                     break
-        if home_nb[h, j] < 0:        # past the convex hull
-            return start
+        if home_nb[h, j] < 0:
+            g = in_fans(x, y, home, home_nb, h, px, py)
+            if g >= 0:
+                return g
+            break
         h = home_nb[h, j]
-    for g in range(inside):
+    for g in range(home.shape[0]):
         if holds(x, y, home, g, px, py) == 0:
             return g
     return start
@@ -377,7 +396,7 @@ def queue_if_bad(tri, x, y, lab, params, Q, qs, t, located):
     if params.home.shape[0] > 0 and (located[3 * t] != a or located[3 * t + 1] != b
                                      or located[3 * t + 2] != c):
         px, py = centroid(x, y, a, b, c)
-        L = home_of(x, y, params.home, params.home_nb, params.area_of_label.shape[0] - 1, L, px, py)
+        L = home_of(x, y, params.home, params.home_nb, L, px, py)
         lab[t] = L
         located[3 * t] = a
         located[3 * t + 1] = b
@@ -774,8 +793,7 @@ class RefineParameters(NamedTuple):
     conforming: bool                # split pieces that are not locally Delaunay too
     max_new: int                    # Steiner points the loop may insert
     area_of_label: np.ndarray       # area bound per triangle label (:func:`area_bound`)
-    home: np.ndarray                # the mesh the labels name, to relocate them (:func:`home_of`):
-                                    # the labels' triangles, then fillers up to the convex hull
+    home: np.ndarray                # the mesh the labels name, to relocate them (:func:`home_of`)
     home_nb: np.ndarray             # its neighbours (empty ``home``: labels stay with their slots)
 
 

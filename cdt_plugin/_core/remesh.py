@@ -32,7 +32,7 @@ from .flips import flip_to_delaunay
 from .jit import entry, kernel
 from .mesh import nxt, prv
 from .options import RefineOptions, named
-from .output import cdt_arrays, solid_triangles
+from .output import cdt_arrays
 from .pipeline import dedup_tasks, insert_all_segments, route_points, solid_with_flags
 from .refine import C_FLIPS, OUT, count_below, refine_store
 from .scaling import unscale_rows
@@ -311,32 +311,3 @@ def refine_existing(store, lab, seg_ends, m, refinement, area_of_label, max_new,
         unscale_rows(vertices, shift)
     return (status, counts, (store, vseg), seg_ends[:n_base], out_slot, vertices, triangles,
             neighbors, constrained, pieces, piece_ids, parents, below)
-
-
-@entry
-def filled_home(tri, twin, ntri, inf, out_slot, k):
-    """The mesh the labels of a per-triangle refinement name, for
-    :func:`.refine.home_of`: the store's solid triangles (store ids) with their
-    neighbours, row ``i < k`` the output triangle ``i`` (``out_slot``: the
-    output triangle of each store slot, -1 none), then the others (the
-    fillers of holes and pockets, up to the convex hull) in slot order."""
-    T, N, tid = solid_triangles(tri, twin, ntri, inf)
-    row = np.empty(T.shape[0], np.int64)
-    filler = k
-    for t in range(ntri):
-        i = tid[t]
-        if i < 0:
-            continue
-        o = out_slot[t] if t < out_slot.shape[0] else -1
-        if o >= 0:
-            row[i] = o
-        else:
-            row[i] = filler
-            filler += 1
-    home = np.empty_like(T)
-    home_nb = np.empty_like(N)
-    for i in range(T.shape[0]):
-        for j in range(3):
-            home[row[i], j] = T[i, j]
-            home_nb[row[i], j] = row[N[i, j]] if N[i, j] >= 0 else -1
-    return home, home_nb

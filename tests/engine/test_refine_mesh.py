@@ -369,12 +369,9 @@ def test_markers_and_attributes_are_carried():
 
 
 def test_home_of_finds_the_holder_in_a_domain_that_is_not_convex():
-    """The walk that relocates a label (per-triangle bounds) goes through the fillers of a
-    U-shaped mesh's pocket (filled_home: the mesh's triangles first, the fillers after) and
-    finds the holder among the mesh's triangles; a point in the pocket keeps its start."""
-    from cdt_plugin._core.refine import home_of
-    from cdt_plugin._core.remesh import filled_home
-    from cdt_plugin.refining import read_mesh
+    """The walk that relocates a label (per-triangle bounds) meets the boundary of a U-shaped
+    mesh; the triangles around the corners, then a scan, find the holder all the same."""
+    from cdt_plugin._core.refine import home_of, in_fans
 
     V = np.array([[i, j] for j in range(3) for i in range(4)], float)
     squares = [(i, j) for j in range(2) for i in range(3) if (i, j) != (1, 1)]
@@ -383,19 +380,16 @@ def test_home_of_finds_the_holder_in_a_domain_that_is_not_convex():
         a, b, c, d = i + 4 * j, i + 1 + 4 * j, i + 1 + 4 * (j + 1), i + 4 * (j + 1)
         T += [[a, b, c], [a, c, d]]
     base = cdt_plugin.Triangulation.from_triangles(V, T)
-    state = read_mesh(base.vertices, base.triangles, base.neighbors, base.segments, base.segment_ids)
-    tri, twin, cons, x, y, w, inf, ntri, nv = state.store
-    home, nb = filled_home(tri, twin, ntri, inf, state.out_slot, len(T))
-    assert len(home) == len(T) + 2       # the pocket's two fillers
-    k = len(T)
-    P = np.column_stack([x, y])          # (store ids, scaled by 2**shift)
-    scale = 2.0 ** state.shift
-    for start in range(k):
+    home, nb = base.triangles.astype(np.int64), base.neighbors.astype(np.int64)
+    x, y = base.vertices[:, 0].copy(), base.vertices[:, 1].copy()
+    P = base.vertices
+    for start in range(len(home)):
         for p in [(2.6, 1.5), (2.2, 1.8), (0.3, 1.6), (1.5, 0.9), (2.0, 1.0), (0.5, 0.5)]:
-            q = (p[0] * scale, p[1] * scale)
-            got = int(home_of(x, y, home, nb, np.int64(k), np.int64(start), *q))
-            assert got < k and all(orient2d_exact(P[home[got, (j + 1) % 3]], P[home[got, (j + 2) % 3]], q) >= 0
-                                   for j in range(3)), (start, p, got)
-            # the label names the output triangle of that row: the same corners
-            assert sorted(base.vertices[base.triangles[got]].tolist()) == sorted((P[home[got]] / scale).tolist())
-        assert int(home_of(x, y, home, nb, np.int64(k), np.int64(start), 1.5 * scale, 1.5 * scale)) == start
+            got = int(home_of(x, y, home, nb, np.int64(start), *p))
+            assert all(orient2d_exact(P[home[got, (j + 1) % 3]], P[home[got, (j + 2) % 3]], p) >= 0
+                       for j in range(3)), (start, p, got)
+    # around the corners: from a triangle of the upper left square at vertex (1, 1), a point
+    # of the lower middle square, which shares that vertex
+    h = next(t for t in range(len(home)) if 5 in home[t] and P[home[t]][:, 1].max() == 2)
+    got = int(in_fans(x, y, home, nb, np.int64(h), 1.2, 0.8))
+    assert got >= 0 and set(home[got].tolist()) <= {1, 2, 5, 6}

@@ -54,6 +54,8 @@ TYPED_MODULES = [
     "cdt_plugin.delaunay",
     "cdt_plugin.dynamic",
     "cdt_plugin.errors",
+    "cdt_plugin.fields",
+    "cdt_plugin.grading",
     "cdt_plugin.hooks",
     "cdt_plugin.interrupts",
     "cdt_plugin.io",
