@@ -52,6 +52,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .errors import CDTError
+from .fields import ConstantSize, as_size_field, size_values
 from .report import ANGLE_BINS, triangle_quality
 from .validate import exact_range
 
@@ -96,12 +97,9 @@ def check_smooth(method: str = "odt", iterations: int = DEFAULT_ITERATIONS, size
         raise CDTError(f"method must be one of {', '.join(map(repr, METHODS))}, got {method!r}")
     if isinstance(iterations, bool) or not isinstance(iterations, numbers.Integral) or iterations < 0:
         raise CDTError(f"iterations must be a whole number >= 0, got {iterations!r}")
-    if size is not None and not callable(size):
-        if (isinstance(size, bool) or not isinstance(size, numbers.Real)
-                or not (math.isfinite(size) and size > 0)):
-            raise CDTError(f"size must be None, a positive number or a callable size(x, y) -> "
-                           f"sizes, got {size!r}")
-        size = float(size)
+    if size is not None:        # the one size field type (a background mesh too)
+        field = as_size_field(size)
+        size = field.value if isinstance(field, ConstantSize) else field
     if not isinstance(on_segments, (bool, np.bool_)):
         raise CDTError(f"on_segments must be True or False, got {on_segments!r}")
     if min_angle is not None and (isinstance(min_angle, bool) or not isinstance(min_angle, numbers.Real)
@@ -195,7 +193,7 @@ def _sweeps(kernels: Any, mesh: tuple, x: NDArray[np.float64], y: NDArray[np.flo
     went = np.zeros(n, np.bool_)          # the vertices that moved in a sweep
     for _ in range(options.iterations if active.any() and k else 0):
         if callable(field):
-            h = _size_values(field, x * 2.0 ** -shift, y * 2.0 ** -shift)
+            h = np.ascontiguousarray(size_values(field, x * 2.0 ** -shift, y * 2.0 ** -shift))
         count = int(kernels.smooth_sweep(store[:3 * k], x, y, h, role, chain, ends, method, floor2,
                                          active, went))
         if not moved:     # the first flips test every edge: the mesh may not be constrained Delaunay
@@ -241,22 +239,6 @@ def _per_slot(values: NDArray[Any] | None) -> NDArray[Any] | None:
     return None if values is None else np.array(values)
 
 
-def _size_values(field: Callable[..., Any], x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``field(x, y)`` as positive finite float64 sizes, one per point (a number
-    stands for all), or the :class:`CDTError` naming the first bad point."""
-    h = np.asarray(field(x, y), np.float64)
-    if h.shape == ():
-        h = np.full(x.shape, float(h))
-    if h.shape != x.shape:
-        raise CDTError(f"size(x, y) must return one size per point, {x.shape}, got {h.shape}")
-    bad = np.flatnonzero(~(np.isfinite(h) & (h > 0)))
-    if len(bad):
-        i = int(bad[0])
-        raise CDTError(f"size(x, y) must be positive and finite, got {float(h[i])!r} at "
-                       f"({float(x[i])!r}, {float(y[i])!r})")
-    return np.ascontiguousarray(h)
-
-
 def mesh_quality(V: NDArray[np.float64], T: NDArray[np.int64], size: SizeField = None) -> dict[str, Any]:
     """The figures ``stats["smoothing"]`` compares: smallest angle (degrees),
     mean and quantiles of the radius ratio ``2 r / R``, the histograms of
@@ -283,7 +265,7 @@ def mesh_quality(V: NDArray[np.float64], T: NDArray[np.int64], size: SizeField =
         P = V[T]
         c = P.mean(axis=1)
         longest = np.sqrt(((P - P[:, [1, 2, 0]]) ** 2).sum(axis=2).max(axis=1))
-        h = _size_values(size, c[:, 0], c[:, 1]) if callable(size) else np.full(len(T), float(size))
+        h = size_values(size, c[:, 0], c[:, 1]) if callable(size) else np.full(len(T), float(size))
         r = longest / h
         out["size_ratio_quantiles"] = dict(zip(QUANTILES, np.quantile(r, QUANTILES).tolist()))
     return out

@@ -12,7 +12,7 @@ import pytest
 import triangle
 
 import cdt_plugin
-from cdt_plugin import CDTError
+from cdt_plugin import CDTError, SizeFieldError
 from cdt_plugin.report import triangle_quality
 from checker import check_steiner_segments, check_triangulation, orient2d_exact
 
@@ -249,9 +249,9 @@ def test_smoothed_beats_triangles_quality_mesh():
     ({"method": "laplace"}, "method must be one of 'odt', 'lloyd'"),
     ({"iterations": -1}, "iterations must be a whole number"),
     ({"iterations": 2.5}, "iterations must be a whole number"),
-    ({"size": -1.0}, "size must be None, a positive number or a callable"),
-    ({"size": float("nan")}, "size must be None"),
-    ({"size": "big"}, "size must be None"),
+    ({"size": -1.0}, "size must be a positive finite length, got -1.0"),
+    ({"size": float("nan")}, "size must be a positive finite length, got nan"),
+    ({"size": "big"}, "size must be a positive number, a callable f"),
     ({"on_segments": "yes"}, "on_segments must be True or False"),
     ({"min_angle": 70}, "min_angle must be a number of degrees between 0 and 60"),
 ])
@@ -261,10 +261,18 @@ def test_bad_options_are_named(uniform, kwargs, message):
 
 
 def test_bad_size_values_are_named(uniform):
-    with pytest.raises(CDTError, match=r"size\(x, y\) must be positive and finite, got -1.0 at \("):
+    with pytest.raises(SizeFieldError, match=r"size gave -1.0 at \("):
         uniform.smooth(size=lambda x, y: np.where(x > 2, -1.0, 0.1))
-    with pytest.raises(CDTError, match=r"one size per point"):
+    with pytest.raises(SizeFieldError, match=r"size gave an array of shape \(3,\)|shape"):
         uniform.smooth(size=lambda x, y: np.ones(3))
+
+
+def test_a_background_mesh_is_a_size_field_here_too(uniform):
+    # the size field type of triangulate(size=): a Triangulation carrying sizes at its vertices
+    background = cdt_plugin.triangulate([[0, 0], [4, 0], [4, 4], [0, 4]],
+                                        vertex_attributes=[[0.1], [0.4], [0.4], [0.4]])
+    out = uniform.smooth(size=background)
+    assert out.stats["smoothing"]["after"]["size_ratio_quantiles"]
 
 
 def test_bad_smooth_keyword_before_any_work():
