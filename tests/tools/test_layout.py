@@ -38,7 +38,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
         "cdt_plugin.options",     # the options record, checked once
         "cdt_plugin.compiling",   # the cache guard, imported first by __init__
     )),
-    ("plc", ("cdt_plugin.plc",)),
+    ("plc", ("cdt_plugin.plc", "cdt_plugin.merging")),
     ("route drivers", ("cdt_plugin._routes",)),
     ("services of the results", ("cdt_plugin.queries", "cdt_plugin.report", "cdt_plugin.plot",
                                  "cdt_plugin.voronoi", "cdt_plugin.markers",
