@@ -145,7 +145,8 @@ class NoPolygonsError(CDTError):
     """The input (a layer, a GeoJSON file) has no non-empty Polygon or MultiPolygon
     to mesh; the message says what it holds instead. Raised by
     :func:`cdt_plugin.adapters.geo.triangulate` and the command line (a point set
-    goes in a ``.node`` file)."""
+    goes in a ``.node`` file), and by the trimesh adapter for an empty polygon
+    (extruded, or handed over by trimesh with the engine registered)."""
 
 
 class MeshExportError(CDTError):
