@@ -66,6 +66,7 @@ TYPED_MODULES = [
     "cdt_plugin.plc",
     "cdt_plugin.plot",
     "cdt_plugin.markers",
+    "cdt_plugin.merging",
     "cdt_plugin.queries",
     "cdt_plugin.quadratic",
     "cdt_plugin.fem",
