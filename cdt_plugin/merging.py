@@ -40,11 +40,9 @@ def close_point_representatives(xy: NDArray[np.float64], distance: float) -> NDA
         return np.empty(0, np.int64)
     span = max(float(np.ptp(x)), float(np.ptp(y)))
     width = max(2.0 * distance, span * _CELL_FLOOR)
-    cells = np.column_stack([_cell_numbers(x, width), _cell_numbers(y, width)])
-    cells, cell_of = np.unique(cells, axis=0, return_inverse=True)
-    return merge_representatives(x, y, lexicographic_order(x, y), cell_of.astype(np.int64).ravel(),
-                                 np.ascontiguousarray(cells[:, 0]),
-                                 np.ascontiguousarray(cells[:, 1]), float(distance))
+    return merge_representatives(x, y, lexicographic_order(x, y), _cell_numbers(x, width),
+                                 _cell_numbers(y, width), float(distance),
+                                 1 << (2 * len(x)).bit_length())
 
 
 def _cell_numbers(v: NDArray[np.float64], width: float) -> NDArray[np.int64]:

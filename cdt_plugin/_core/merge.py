@@ -6,8 +6,10 @@ distance to a point kept before it is merged into the nearest such point (the
 earliest in that order on a tie), otherwise it is kept. So no two kept points
 are closer than the distance, and every merged point lies within it of its
 representative. Closeness is the floating-point Euclidean distance
-(``hypot``); the search goes through a grid of cells at least twice the
-distance wide, so each point looks at the kept points of nine cells only.
+(``hypot``). The search goes through a grid of cells at least twice the
+distance wide, held in a hash table of the cells that have kept points: each
+point looks at the kept points of nine cells only, and kept points are at
+least the distance apart, so a cell holds a few of them.
 """
 from __future__ import annotations
 
@@ -19,43 +21,37 @@ from .jit import entry, kernel
 
 
 @kernel
-def find_cell(cell_x, cell_y, cx, cy):
-    """Index of the cell ``(cx, cy)`` among the rows ``(cell_x, cell_y)``,
-    sorted lexicographically, or -1 when no point lies in it."""
-    lo, hi = 0, cell_x.shape[0]
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if cell_x[mid] < cx or (cell_x[mid] == cx and cell_y[mid] < cy):
-            lo = mid + 1
-        else:
-            hi = mid
-    if lo < cell_x.shape[0] and cell_x[lo] == cx and cell_y[lo] == cy:
-        return lo
-    return -1
+def cell_slot(table, cx, cy):
+    """The slot of cell ``(cx, cy)`` in the open-addressing table (rows ``cx,
+    cy, first kept point``, linear probing; a row whose point is -1 is free):
+    the cell's own slot, or the free slot where it would go."""
+    mask = table.shape[0] - 1
+    h = ((cx * 73856093) ^ (cy * 19349663)) & mask
+    while table[h, 2] >= 0 and (table[h, 0] != cx or table[h, 1] != cy):
+        h = (h + 1) & mask
+    return h
 
 
 @entry
-def merge_representatives(x, y, order, cell_of, cell_x, cell_y, distance):
+def merge_representatives(x, y, order, cell_x, cell_y, distance, table_size):
     """The representative of every point (itself when kept): the module's rule
-    with the points taken in ``order``, ``cell_of[i]`` the row of point ``i``'s
-    cell in the sorted cells ``(cell_x, cell_y)``, whose width is at least twice
-    ``distance`` (so a point closer than ``distance`` lies in one of the nine
-    cells around)."""
+    with the points taken in ``order``; ``(cell_x[i], cell_y[i])`` is point
+    ``i``'s cell, of a grid at least twice ``distance`` wide (so a point closer
+    than ``distance`` lies in one of the nine cells around); ``table_size``, a
+    power of two above twice the number of points, sizes the table of cells."""
     n = x.shape[0]
     rank = np.empty(n, np.int64)
     for k in range(n):
         rank[order[k]] = k
     rep = np.empty(n, np.int64)
-    head = np.full(cell_x.shape[0], -1, np.int64)     # kept points of each cell, as a list
-    after = np.full(n, -1, np.int64)
+    after = np.full(n, -1, np.int64)                   # the kept points of a cell, as a list
+    table = np.full((table_size, 3), -1, np.int64)    # (one row per slot: one cache line)
     for k in range(n):
         p = order[k]
-        c = cell_of[p]
         best, best_d = -1, distance
         for dx in range(-1, 2):
             for dy in range(-1, 2):
-                d_cell = find_cell(cell_x, cell_y, cell_x[c] + dx, cell_y[c] + dy)
-                q = head[d_cell] if d_cell >= 0 else -1
+                q = table[cell_slot(table, cell_x[p] + dx, cell_y[p] + dy), 2]
                 while q >= 0:
                     d = math.hypot(x[p] - x[q], y[p] - y[q])
                     if d < best_d or (best >= 0 and d == best_d and rank[q] < rank[best]):
@@ -65,6 +61,8 @@ def merge_representatives(x, y, order, cell_of, cell_x, cell_y, distance):
             rep[p] = best
         else:
             rep[p] = p
-            after[p] = head[c]
-            head[c] = p
+            h = cell_slot(table, cell_x[p], cell_y[p])
+            table[h, 0], table[h, 1] = cell_x[p], cell_y[p]
+            after[p] = table[h, 2]
+            table[h, 2] = p
     return rep
