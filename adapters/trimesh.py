@@ -31,6 +31,18 @@ Notes
 Extra keyword arguments of the triangulating functions go to
 :func:`cdt_plugin.triangulate` (``intersections=``, ``holes=``, ...).
 
+Near-duplicate points: trimesh treats vertices closer than ``trimesh.tol.merge``
+(1e-8) as one (its ``Trimesh`` constructor merges vertices whose coordinates
+round to the same multiple of it, and its Triangle wrapper drops ring points
+that do), so the triangulating functions here merge input points closer than
+``trimesh.tol.merge`` by default too (``merge_distance=`` of
+:func:`cdt_plugin.triangulate`, read from ``trimesh.tol.merge`` at each call):
+before meshing, so the solids stay watertight, where trimesh's own merge after
+meshing can fold faces. The same points merge as in trimesh, except pairs
+within rounding of the tolerance (trimesh rounds each coordinate to a grid, the
+engine measures the distance). Pass ``merge_distance=0`` to keep every distinct
+point.
+
 Examples
 --------
 >>> import shapely, cdt_plugin.adapters.trimesh as ct
@@ -45,6 +57,7 @@ Examples
 from __future__ import annotations
 
 import contextlib
+import inspect
 import warnings
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Tuple, TypedDict
 
@@ -180,7 +193,11 @@ def triangulate_polygon(polygon: shapely.Geometry | None, triangle_args: str | N
         Raise ``ValueError`` if the triangulation has a vertex that is not an
         input vertex (intersections with ``"split"``, or quality refinement).
     **kwargs
-        Passed to :func:`cdt_plugin.triangulate` (``intersections=``, ...).
+        Passed to :func:`cdt_plugin.triangulate` (``intersections=``, ...);
+        ``merge_distance`` defaults to ``trimesh.tol.merge`` (see the module's
+        notes). The keywords of the ``Trimesh`` constructor, which trimesh's
+        ``extrude_polygon`` passes on to both, are ignored here; any other
+        keyword raises :class:`cdt_plugin.CDTError` naming it.
 
     Returns
     -------
@@ -193,6 +210,7 @@ def triangulate_polygon(polygon: shapely.Geometry | None, triangle_args: str | N
     """
     if triangle_args is not None:
         kwargs = {**options_from_switches(triangle_args), **kwargs}
+    kwargs = _engine_options(kwargs)
     if polygon is None or polygon.is_empty:
         return np.empty((0, 2), np.float64), np.empty((0, 3), np.int64)
     if getattr(polygon, "has_z", False):
@@ -203,6 +221,27 @@ def triangulate_polygon(polygon: shapely.Geometry | None, triangle_args: str | N
         raise ValueError(f"the triangulation inserted {len(tri.steiner)} vertices "
                          "(segment intersections or refinement) and force_vertices is set")
     return _compact(np.asarray(tri.vertices, np.float64), np.asarray(tri.triangles, np.int64))
+
+
+#: The keywords of cdt_plugin.triangulate after the geometry (what the drop-ins pass on).
+_TRIANGULATE_KEYWORDS = frozenset(list(inspect.signature(cdt_plugin.triangulate).parameters)[1:])
+#: The keywords of the Trimesh constructor, which trimesh's extrude_polygon passes to the
+#: triangulation and to the constructor alike.
+_TRIMESH_KEYWORDS = frozenset(inspect.signature(trimesh.Trimesh.__init__).parameters) - {"self"}
+
+
+def _engine_options(kwargs: dict[str, Any]) -> dict[str, Any]:
+    """The keywords for :func:`cdt_plugin.triangulate`: ``merge_distance``
+    defaulting to ``trimesh.tol.merge``, the ``Trimesh`` constructor's keywords
+    left out; a :class:`cdt_plugin.CDTError` names any other unknown one."""
+    unknown = sorted(kwargs.keys() - _TRIANGULATE_KEYWORDS - _TRIMESH_KEYWORDS)
+    if unknown:
+        raise cdt_plugin.CDTError(
+            f"unknown option{'s' if len(unknown) > 1 else ''} {', '.join(map(repr, unknown))}: "
+            "neither a keyword of cdt_plugin.triangulate nor of trimesh.Trimesh")
+    options = {k: v for k, v in kwargs.items() if k in _TRIANGULATE_KEYWORDS}
+    options.setdefault("merge_distance", trimesh.tol.merge)
+    return options
 
 
 def _boundary_edges(faces: NDArray[np.int64], n: int) -> NDArray[np.int64]:
@@ -330,7 +369,7 @@ def extrude_polygon(polygon: shapely.Geometry, height: float, transform: ArrayLi
     """
     vertices, faces = triangulate_polygon(polygon, **kwargs)
     if len(faces) == 0:
-        raise ValueError("the polygon is empty: nothing to extrude")
+        raise cdt_plugin.NoPolygonsError("the polygon is empty: nothing to extrude")
     if mid_plane:
         translation = np.eye(4)
         translation[2, 3] = abs(float(height)) / -2.0
@@ -374,9 +413,17 @@ def _hook(polygon: shapely.Geometry | None, triangle_args: str | None = None,
           engine: str | None = None, force_vertices: bool = False,
           **kwargs: Any) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """trimesh's ``triangulate_polygon`` while :func:`register` is in force:
-    ``engine="cdt_plugin"`` (or no engine, after ``register(default=True)``) runs
-    :func:`triangulate_polygon`; any other engine runs trimesh's own function."""
+    ``engine="cdt_plugin"`` (any case; or no engine, after
+    ``register(default=True)``) runs :func:`triangulate_polygon`, and an empty
+    polygon raises :class:`cdt_plugin.NoPolygonsError` (trimesh's callers would
+    fail on the empty arrays, or build an empty solid); any other engine runs
+    trimesh's own function, its name lower-cased."""
+    if isinstance(engine, str):
+        engine = engine.lower()
     if engine == ENGINE or (engine is None and _hooked["default"]):
+        if polygon is None or polygon.is_empty:
+            raise cdt_plugin.NoPolygonsError(
+                f"trimesh asked engine {ENGINE!r} to triangulate an empty polygon ({polygon!r})")
         return triangulate_polygon(polygon, triangle_args=triangle_args,
                                    force_vertices=force_vertices, **kwargs)
     return _hooked["original"](polygon, triangle_args=triangle_args, engine=engine,
@@ -400,7 +447,12 @@ def register(default: bool = False) -> None:
     is also the engine when none is named, which reaches the callers that pass
     no engine: ``Path2D.extrude``, the ``Extrusion`` primitive, ``revolve(cap=True)``.
     Other engine names (``"earcut"``, ``"manifold"``, ``"triangle"``) still go to
-    trimesh's own function.
+    trimesh's own function. Engine names are case-insensitive (``"CDT_Plugin"``,
+    ``"Earcut"``). With this engine, an empty polygon raises
+    :class:`cdt_plugin.NoPolygonsError`, and a keyword that is neither
+    :func:`cdt_plugin.triangulate`'s nor the ``Trimesh`` constructor's (which
+    trimesh's ``extrude_polygon`` passes on too) a :class:`cdt_plugin.CDTError`
+    naming it.
 
     Calling it again only updates ``default`` (nothing is wrapped twice);
     :func:`unregister` puts trimesh's function back, and :func:`registered` does

@@ -118,6 +118,9 @@ def check_batch_options(*, errors: str = "raise", workers: SupportsIndex | None 
     unknown = options.keys() - _OPTIONS
     if unknown:
         raise CDTError(f"unknown option {sorted(unknown)[0]!r}")
+    if options.get("merge_distance"):
+        raise CDTError("merge_distance is not supported by the batch path (triangulate_rings, "
+                       "layers): triangulate the geometries one by one with cdt_plugin.triangulate")
     mesh_options = MeshOptions.check(**{k: v for k, v in options.items()
                                         if k not in _SEED_OPTIONS + _SIZE_OPTIONS})
     seeds = {k: v for k, v in options.items() if k in _SEED_OPTIONS}

@@ -35,6 +35,7 @@ from .errors import (CDTError, InvalidGeometryError, OverlappingSegmentsError, R
 from .interrupts import deferred_interrupt
 from .markers import BaseMesh, Tags, make_tags
 from .markers import vertex_attributes as attributes_of
+from .merging import merge_close_points
 from .options import MeshOptions, checked_options, route_plan
 from .parallel import check_workers, resolve_workers
 from .plc import PLC, GeometryLike, as_plc
@@ -72,7 +73,8 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 vertex_attributes: ArrayLike | None = None,
                 split_segments: bool = True, suitable: SizeTest | None = None,
                 size: float | SizeField | Triangulation | None = None, growth: float | None = None,
-                min_size: float | None = None, smooth: str | int | None = None) -> Triangulation:
+                min_size: float | None = None, smooth: str | int | None = None,
+                merge_distance: float | None = None) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
     Parameters
@@ -119,9 +121,13 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     min_angle : float, optional
         Quality meshing (Delaunay refinement, Triangle's ``-q``): add Steiner
         points until every triangle's smallest angle is at least this many
-        degrees (below 60; up to about 34 is guaranteed to finish in
-        practice). Triangles at an input angle smaller than the bound cannot
-        meet it: they are left as they are and counted in
+        degrees. Refinement is proven to finish up to 20.7 degrees and finishes
+        in practice up to about 34 (Triangle's documentation); above 34 a
+        :class:`RefinementRangeWarning` is given before any work (it may run
+        until ``max_steiner`` and raise :class:`RefinementLimitError`), and 60
+        or more raises :class:`RefinementRangeError` (no triangle has a smallest
+        angle above 60). Triangles at an input angle smaller than the bound
+        cannot meet it: they are left as they are and counted in
         ``stats["below_min_angle"]``.
     max_area : float or callable, optional
         Refine until no triangle is larger (Triangle's ``-a``). A region seed's
@@ -194,6 +200,19 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         (``tri.segment_markers``, ``tri.edge_markers``, ``tri.vertex_markers``).
         Markers are derived on first access; without these keywords they are
         Triangle's defaults (1 on the boundary, 0 inside).
+    merge_distance : float, optional
+        Merge input points closer than this before meshing (CAD outlines with
+        points a rounding error apart make needles no refinement removes).
+        The points are taken in lexicographic order (x, then y, then input
+        index); a point closer than ``merge_distance`` (floating-point
+        Euclidean distance) to a point kept before it goes to the nearest such
+        point, so no two kept points are that close. ``tri.vertex_map`` names
+        the output vertex of every input point, ``stats["merged_points"]``
+        counts the points moved; a segment whose ends merge is dropped (named
+        in ``stats["zero_length_segments"]``) and segments made equal are
+        merged. Hole and region seeds do not move. Moving points may make
+        segments cross (raised as without it). Default (None or 0): only exact
+        duplicates are merged.
     vertex_attributes : (n,) or (n, k) float array, optional
         Attributes of the input vertices, carried to every output vertex
         (``tri.vertex_attributes``): Steiner points get the linear
@@ -228,13 +247,14 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         area = None
     try:     # (cached: a small call pays for every Python call the checks make)
         options = checked_options(intersections, algorithm, keep_hull, min_angle, area,
-                                  conforming_delaunay, split_boundary, max_steiner, split_segments)
-    except TypeError:      # an unhashable value: checked anew, and named
+                                  conforming_delaunay, split_boundary, max_steiner, split_segments,
+                                  merge_distance)
+    except TypeError:      # an unhashable value (or a warning to give): checked anew, and named
         options = MeshOptions.check(intersections=intersections, algorithm=algorithm,
                                     keep_hull=keep_hull, min_angle=min_angle, max_area=area,
                                     conforming_delaunay=conforming_delaunay,
                                     split_boundary=split_boundary, max_steiner=max_steiner,
-                                    split_segments=split_segments)
+                                    split_segments=split_segments, merge_distance=merge_distance)
     workers = check_workers(workers)
     if suitable is not None:
         check_size_test(suitable)
@@ -246,6 +266,9 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         from .smoothing import smooth_keyword    # (loaded when asked for)
         smoothing = smooth_keyword(smooth)
     plc = as_plc(vertices, segments, holes, regions)
+    merged = 0
+    if options.merge_distance is not None:
+        plc, merged = merge_close_points(plc, options.merge_distance)
     tags = None
     if (vertex_markers is not None or segment_markers is not None or vertex_attributes is not None
             or plc.vertex_markers is not None or plc.segment_markers is not None
@@ -261,6 +284,8 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         tri = refine_until_suitable(tri, suitable, max_area=area, max_steiner=max_steiner,
                                     min_angle=min_angle, conforming_delaunay=conforming_delaunay,
                                     split_boundary=split_boundary, split_segments=split_segments)
+    if merged:
+        tri.stats["merged_points"] = merged
     if smoothing is None:
         return tri
     return tri.smooth(smoothing.method, smoothing.iterations,
@@ -421,7 +446,8 @@ def _stats(plc, algorithm, counts, kept, refine, seconds, tri) -> dict:
              "vertices_on_segments": int(counts[K_ON_SEGMENTS]),
              "merged_overlaps": int(counts[K_MERGED_OVERLAPS]),
              "intersection_points": int(counts[K_INTERSECTIONS]), "flips": int(counts[K_FLIPS]),
-             "duplicates": int(counts[K_DUPLICATES]), "submerged": 0, "vertices": len(tri.vertices),
+             "duplicates": int(counts[K_DUPLICATES]), "merged_points": 0, "submerged": 0,
+             "vertices": len(tri.vertices),
              "triangles": len(tri.triangles), "steiner": len(tri.vertices) - kept, "seconds": seconds}
     if plc.empty_rings:
         stats["empty_rings"] = list(plc.empty_rings)

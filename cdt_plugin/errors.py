@@ -145,7 +145,8 @@ class NoPolygonsError(CDTError):
     """The input (a layer, a GeoJSON file) has no non-empty Polygon or MultiPolygon
     to mesh; the message says what it holds instead. Raised by
     :func:`cdt_plugin.adapters.geo.triangulate` and the command line (a point set
-    goes in a ``.node`` file)."""
+    goes in a ``.node`` file), and by the trimesh adapter for an empty polygon
+    (extruded, or handed over by trimesh with the engine registered)."""
 
 
 class MeshExportError(CDTError):
@@ -182,6 +183,12 @@ class SizeFieldError(CDTError):
         self.value = value
 
 
+class RefinementRangeError(CDTError):
+    """``min_angle`` is one no triangle can meet: 60 degrees or more (a
+    triangle's smallest angle is at most 60 degrees, and exactly 60 only for an
+    equilateral triangle, which floating point cannot make), or below 0."""
+
+
 class SwitchError(CDTError):
     """A Triangle switch string cannot be read: an unknown switch, a number where
     Triangle would read something else than what was written (``a1e-3``), or a switch
@@ -198,3 +205,10 @@ class PrecisionWarning(UserWarning):
     """Input numbers that float64 cannot hold exactly (integers beyond 2**53) were
     rounded; the message names the rows. Rounded points may coincide, and are then
     merged as duplicates (``vertex_map``)."""
+
+
+class RefinementRangeWarning(UserWarning):
+    """``min_angle`` is above the range where Delaunay refinement is known to
+    finish (:data:`cdt_plugin.options.TERMINATING_MIN_ANGLE`, about 34 degrees):
+    it may add Steiner points until ``max_steiner`` and raise
+    :class:`RefinementLimitError`. Given before any work starts."""

@@ -43,6 +43,7 @@ def _weighted():
 def _triangulate():
     tri = triangulate(*_square())
     tri.is_delaunay()
+    triangulate(*_square(), merge_distance=1e-9)                 # (the merging kernel)
     tri.vertex_markers, tri.segment_markers, tri.edge_markers    # (the boundary kernel)
     xy, bounds = open_rings(np.zeros((4, 2)), np.zeros(0, np.int64))    # the reader of shapely Polygons
     polygon_rings(xy, bounds[:-1], bounds[1:])

@@ -12,6 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 
 import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError
+from cdt_plugin.merging import close_point_representatives
 from cdt_plugin.validate import as_points
 
 _EMPTY_COLLECTION = shapely.GeometryCollection()    # geometries are immutable: one serves all
@@ -295,23 +296,11 @@ def _first_z(tri: cdt_plugin.Triangulation, z: np.ndarray) -> np.ndarray:
 
 
 def _snapped(xy: np.ndarray, tolerance: float) -> np.ndarray:
-    """Positions of the points kept by snapping with ``tolerance``: in
-    lexicographic (x, y) order (input order among equal points), a point is
-    dropped when it is closer than ``tolerance`` to a point kept before it."""
-    n = len(xy)
-    points = shapely.points(xy)
-    a, b = shapely.STRtree(points).query(points, predicate="dwithin", distance=tolerance)
-    rank = np.empty(n, np.int64)
-    rank[np.lexsort((xy[:, 1], xy[:, 0]))] = np.arange(n)
-    close = (rank[b] < rank[a]) & (np.hypot(*(xy[a] - xy[b]).T) < tolerance)
-    a, b = a[close], b[close]                   # b comes before a and is within tolerance
-    order = np.argsort(rank[a], kind="stable")
-    a, b = a[order], b[order]
-    first = np.flatnonzero(np.r_[True, a[1:] != a[:-1]]) if len(a) else np.zeros(0, np.int64)
-    keep = np.ones(n, bool)
-    for s, e in zip(first, np.r_[first[1:], len(a)]):     # points with an earlier close one
-        keep[a[s]] = not keep[b[s:e]].any()
-    return np.flatnonzero(keep)
+    """Positions of the points kept by snapping with ``tolerance``: the
+    engine's ``merge_distance`` rule (in lexicographic (x, y) order, input
+    order among equal points, a point is dropped when it is closer than
+    ``tolerance`` to a point kept before it)."""
+    return np.flatnonzero(close_point_representatives(xy, tolerance) == np.arange(len(xy)))
 
 
 @_positional_deprecated(["extend_to", "only_edges", "ordered"])

@@ -35,6 +35,8 @@ def triangulate_options(args: argparse.Namespace) -> dict[str, Any]:
             raise CLIError("refinement options need a cdt_plugin whose triangulate() accepts "
                            f"{', '.join(missing)} (quality refinement is not in this version)")
         options.update(asked)
+    if getattr(args, "merge_distance", None) is not None:     # (cdt-plugin mesh only)
+        options["merge_distance"] = args.merge_distance
     MeshOptions.check(**options)      # every option checked before any input is read
     if getattr(args, "size", None) is not None:
         options["size"] = as_size_field(args.size)
@@ -80,8 +82,11 @@ def _triangulate_feature(feature: Feature, features: Sequence[Feature], options:
                          repair: bool, errors: str = "raise") -> Triangulation | CLIError:
     # Geometry goes through the shapely adapter (GEOS validity check, optional
     # repair) unless crossings are to be split: the engine then meshes the rings
-    # as they are, by even-odd depth where they cross.
-    validate = repair or options.get("intersections") != "split"
+    # as they are, by even-odd depth where they cross. With merge_distance the
+    # engine checks the rings too, after merging (GEOS would refuse the
+    # near-duplicate points that are to be merged).
+    validate = repair or (options.get("intersections") != "split"
+                          and not options.get("merge_distance"))
     try:      # (a feature that is no geometry fails alone too: skipped and named with "skip")
         geometry = _shapely_geometry(feature) if feature.geometry is not None and validate else None
     except CLIError as exc:

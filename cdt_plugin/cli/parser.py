@@ -91,6 +91,9 @@ def build_parser() -> argparse.ArgumentParser:
                            "from a layer (.shp/.gpkg/.parquet/.geojson) .gpkg, .parquet "
                            "(GeoParquet, the fastest) and .geojson get one feature per "
                            "triangle with the source attributes")
+    mesh.add_argument("--merge-distance", type=float, metavar="D",
+                      help="merge input points closer than D before meshing (lexicographic "
+                           "order: a point goes to the nearest point kept before it)")
     mesh.add_argument("--extrude", type=float, metavar="H",
                       help="extrude the mesh into a watertight solid of height H (mesh formats)")
     mesh.add_argument("--report", action="store_true", help="also print the quality report")

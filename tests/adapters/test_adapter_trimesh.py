@@ -285,12 +285,16 @@ def test_extrude_negative_height_mid_plane_and_transform():
     assert np.allclose(mirrored.bounds[:, 0], -np.asarray(polygon.bounds)[2::-2])
 
 
-def test_extrude_keeps_vertices_closer_than_trimesh_merge_tolerance():
-    # two shell vertices 1e-11 apart: a tolerance merge would collapse them
+def test_extrude_merges_below_trimesh_merge_tolerance_before_meshing():
+    # two shell vertices 1e-11 apart: merged before meshing by default (as trimesh
+    # merges them), kept with merge_distance=0; watertight either way (built by index)
     polygon = shapely.Polygon([(0, 0), (1, 0), (1, 1), (0.5, 1.0 + 1e-11), (0.5 - 1e-11, 1.0), (0, 1)])
-    mesh = ct.extrude_polygon(polygon, 1.0)
-    _check_solid(mesh, polygon, 1.0)
-    assert len(mesh.vertices) == 2 * 6
+    kept = ct.extrude_polygon(polygon, 1.0, merge_distance=0)
+    _check_solid(kept, polygon, 1.0)
+    assert len(kept.vertices) == 2 * 6
+    merged = ct.extrude_polygon(polygon, 1.0)
+    _check_solid(merged, polygon, 1.0)
+    assert len(merged.vertices) == 2 * 5
 
 
 def test_extrude_triangulation_either_winding():

@@ -563,3 +563,20 @@ def test_poly_regions_and_holes_reach_the_engine(tmp_path, capsys):
     assert np.array_equal(V, tri.vertices) and np.array_equal(T, tri.triangles)
     assert len(tri.steiner) > 0                        # la.poly's region areas refine
     assert_valid(V, T, segments=tio.read_poly(tmp_path / "la.poly").segments, domain="segments")
+
+
+def test_mesh_with_merge_distance(tmp_path, capsys):
+    shapely = pytest.importorskip("shapely")
+    # a CAD outline whose hole has a corner given twice, 1e-14 apart: an overlap without merging
+    polygon = shapely.Polygon([(0, 0), (4, 0), (4, 4), (0, 4)],
+                              [[(1, 1), (1, 3), (3, 3), (3, 1), (3 + 1e-14, 1)]])
+    src = tmp_path / "near.wkt"
+    src.write_text(polygon.wkt)
+    out = tmp_path / "near.ele"
+    assert cli.main(["mesh", str(src), "-o", str(out)]) == 1
+    assert "Self-intersection at (3.0, 1.0)" in capsys.readouterr().err
+    assert cli.main(["mesh", str(src), "-o", str(out), "--merge-distance", "1e-9"]) == 0
+    V, T = tio.read_node(tmp_path / "near.node").vertices, tio.read_ele(out).triangles
+    assert len(V) == 8 and len(T) == 8
+    assert cli.main(["mesh", str(src), "-o", str(out), "--merge-distance", "-1"]) == 1
+    assert "merge_distance must be a finite number >= 0" in capsys.readouterr().err

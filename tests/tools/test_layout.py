@@ -39,7 +39,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
         "cdt_plugin.compiling",   # the cache guard, imported first by __init__
         "cdt_plugin.fields",      # the size field type: checked and evaluated
     )),
-    ("plc", ("cdt_plugin.plc",)),
+    ("plc", ("cdt_plugin.plc", "cdt_plugin.merging")),
     ("route drivers", ("cdt_plugin._routes",)),
     ("services of the results", ("cdt_plugin.queries", "cdt_plugin.report", "cdt_plugin.plot",
                                  "cdt_plugin.voronoi", "cdt_plugin.markers",

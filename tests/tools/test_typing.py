@@ -70,6 +70,7 @@ TYPED_MODULES = [
     "cdt_plugin.plot",
     "cdt_plugin.markers",
     "cdt_plugin.nearness",
+    "cdt_plugin.merging",
     "cdt_plugin.queries",
     "cdt_plugin.quadratic",
     "cdt_plugin.fem",

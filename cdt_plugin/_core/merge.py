@@ -1,0 +1,68 @@
+"""Merging input points closer than a distance (``merge_distance``), compiled.
+
+The rule, deterministic and the same for any input order: the points are taken
+in lexicographic order (x, then y, then input index); a point closer than the
+distance to a point kept before it is merged into the nearest such point (the
+earliest in that order on a tie), otherwise it is kept. So no two kept points
+are closer than the distance, and every merged point lies within it of its
+representative. Closeness is the floating-point Euclidean distance
+(``hypot``). The search goes through a grid of cells at least twice the
+distance wide, held in a hash table of the cells that have kept points: each
+point looks at the kept points of nine cells only, and kept points are at
+least the distance apart, so a cell holds a few of them.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .jit import entry, kernel
+
+
+@kernel
+def cell_slot(table, cx, cy):
+    """The slot of cell ``(cx, cy)`` in the open-addressing table (rows ``cx,
+    cy, first kept point``, linear probing; a row whose point is -1 is free):
+    the cell's own slot, or the free slot where it would go."""
+    mask = table.shape[0] - 1
+    h = ((cx * 73856093) ^ (cy * 19349663)) & mask
+    while table[h, 2] >= 0 and (table[h, 0] != cx or table[h, 1] != cy):
+        h = (h + 1) & mask
+    return h
+
+
+@entry
+def merge_representatives(x, y, order, cell_x, cell_y, distance, table_size):
+    """The representative of every point (itself when kept): the module's rule
+    with the points taken in ``order``; ``(cell_x[i], cell_y[i])`` is point
+    ``i``'s cell, of a grid at least twice ``distance`` wide (so a point closer
+    than ``distance`` lies in one of the nine cells around); ``table_size``, a
+    power of two above twice the number of points, sizes the table of cells."""
+    n = x.shape[0]
+    rank = np.empty(n, np.int64)
+    for k in range(n):
+        rank[order[k]] = k
+    rep = np.empty(n, np.int64)
+    after = np.full(n, -1, np.int64)                   # the kept points of a cell, as a list
+    table = np.full((table_size, 3), -1, np.int64)    # (one row per slot: one cache line)
+    for k in range(n):
+        p = order[k]
+        best, best_d = -1, distance
+        for dx in range(-1, 2):
+            for dy in range(-1, 2):
+                q = table[cell_slot(table, cell_x[p] + dx, cell_y[p] + dy), 2]
+                while q >= 0:
+                    d = math.hypot(x[p] - x[q], y[p] - y[q])
+                    if d < best_d or (best >= 0 and d == best_d and rank[q] < rank[best]):
+                        best, best_d = q, d
+                    q = after[q]
+        if best >= 0:
+            rep[p] = best
+        else:
+            rep[p] = p
+            h = cell_slot(table, cell_x[p], cell_y[p])
+            table[h, 0], table[h, 1] = cell_x[p], cell_y[p]
+            after[p] = table[h, 2]
+            table[h, 2] = p
+    return rep
