@@ -127,23 +127,33 @@ def from_path2d(path: trimesh.path.Path2D) -> PLC:
 
 
 # ----------------------------------------------------------- Triangulation -> Trimesh
-def to_trimesh(tri: Triangulation, z: float = 0.0, *, remove_unreferenced: bool = False,
+def to_trimesh(tri: Triangulation, z: float | None = None, *, remove_unreferenced: bool = False,
                **kwargs: Any) -> trimesh.Trimesh:
-    """A Triangulation as a flat ``trimesh.Trimesh`` at height ``z``.
+    """A Triangulation as a flat ``trimesh.Trimesh``: in its own plane
+    (``tri.vertices3d``: the plane of 3D input, z = 0 for 2D input), or at
+    height ``z`` when given (``tri.vertices`` with that z).
 
-    Faces are ``tri.triangles`` (counter-clockwise seen from +z, so every face
-    normal is ``(0, 0, 1)``). The mesh is built with ``process=False``: no
+    Faces are ``tri.triangles`` (counter-clockwise seen from the plane's
+    normal, +z at height ``z``, so every face normal is that normal). The mesh
+    is built with ``process=False``: no
     vertex is merged away, and vertex ``i`` of the mesh is ``tri.vertices[i]``
     — including the unreferenced ones (input vertices outside the domain). Pass
     ``remove_unreferenced=True`` to drop those (vertex indices then change).
     Other keywords go to the ``Trimesh`` constructor.
     """
-    vertices = np.asarray(tri.vertices, dtype=np.float64)
+    plane = getattr(tri, "plane", None)
+    if z is None:
+        vertices = np.asarray(tri.vertices3d, dtype=np.float64)
+        normal = [0.0, 0.0, 1.0] if plane is None else plane.normal
+    else:
+        vertices = np.asarray(tri.vertices, dtype=np.float64)
+        vertices = np.column_stack([vertices, np.full(len(vertices), float(z))])
+        normal = [0.0, 0.0, 1.0]
     faces = np.asarray(tri.triangles, dtype=np.int64)
     if remove_unreferenced:
         vertices, faces = _compact(vertices, faces)
-    vertices3 = np.column_stack([vertices, np.full(len(vertices), float(z))])
-    normals = np.tile([0.0, 0.0, 1.0], (len(faces), 1))
+    vertices3 = vertices
+    normals = np.tile(normal, (len(faces), 1))
     kwargs.setdefault("process", False)
     return trimesh.Trimesh(vertices=vertices3, faces=faces, face_normals=normals, **kwargs)
 
@@ -198,6 +208,8 @@ def triangulate_polygon(polygon: shapely.Geometry | None, triangle_args: str | N
     if getattr(polygon, "has_z", False):
         warnings.warn("the polygon has z coordinates: trimesh's triangulate_polygon returns "
                       "(n, 2) vertices, so z is dropped", DroppedZWarning, stacklevel=2)
+        import shapely                           # (only here: trimesh's polygons are shapely's)
+        polygon = shapely.force_2d(polygon)      # (in x, y whatever its plane)
     tri = cdt_plugin.triangulate(polygon, **kwargs)
     if force_vertices and len(tri.steiner):
         raise ValueError(f"the triangulation inserted {len(tri.steiner)} vertices "

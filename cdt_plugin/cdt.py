@@ -37,6 +37,7 @@ from .markers import BaseMesh, Tags, make_tags
 from .markers import vertex_attributes as attributes_of
 from .options import MeshOptions, checked_options, route_plan
 from .parallel import check_workers, resolve_workers
+from .planar import check_plane_tolerance, planar_plc
 from .plc import PLC, GeometryLike, as_plc
 from .sizing import SizeTest, check_size_test, refine_until_suitable
 from .triangulation import Triangulation
@@ -68,7 +69,8 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 max_steiner: int | None = None, workers: int | None = None,
                 vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,
                 vertex_attributes: ArrayLike | None = None,
-                split_segments: bool = True, suitable: SizeTest | None = None) -> Triangulation:
+                split_segments: bool = True, suitable: SizeTest | None = None,
+                plane_tolerance: float | None = None) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
     Parameters
@@ -168,6 +170,13 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         (``tri.segment_markers``, ``tri.edge_markers``, ``tri.vertex_markers``).
         Markers are derived on first access; without these keywords they are
         Triangle's defaults (1 on the boundary, 0 inside).
+    plane_tolerance : float, optional
+        For 3D input (see below): how far (a distance) a vertex may lie from
+        the fitted plane. Default: 64 roundings of the largest coordinate
+        (``64 * 2**-52 * max|coordinate|``, :data:`cdt_plugin.planar.PLANE_ROUNDINGS`);
+        0: the vertices must be exactly coplanar (decided in exact arithmetic).
+        Farther vertices raise :class:`NonPlanarError` naming the farthest
+        and its distance.
     vertex_attributes : (n,) or (n, k) float array, optional
         Attributes of the input vertices, carried to every output vertex
         (``tri.vertex_attributes``): Steiner points get the linear
@@ -176,6 +185,15 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
 
     Notes
     -----
+    3D input (an (n, 3) array, a geometry with Z, a PLC with ``z``) is a planar
+    polygon in any plane (:mod:`cdt_plugin.planar`): it is meshed in its plane,
+    ``tri.vertices`` are the 2D coordinates it was meshed in (two of each input
+    vertex's coordinates, exactly: x, y for a horizontal plane),
+    ``tri.vertices3d`` every vertex in 3D (input vertices exactly, Steiner
+    points on the plane) and ``tri.plane`` the plane. Hole seeds may then be
+    3D points (projected on the plane); region seeds are in ``tri.vertices``'
+    2D coordinates.
+
     Steiner points are ``tri.steiner``; each segment piece names its input
     segment in ``tri.segment_ids`` (-1 for a piece of the convex hull when the
     hull bounds the domain). A point placed on a segment lies on it up to one
@@ -203,18 +221,27 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     workers = check_workers(workers)
     if suitable is not None:
         check_size_test(suitable)
+    if plane_tolerance is not None:
+        plane_tolerance = check_plane_tolerance(plane_tolerance)
     plc = as_plc(vertices, segments, holes, regions)
+    plane = None
+    if plc.z is not None:     # 3D input: meshed in its plane
+        plc, plane = planar_plc(plc, plane_tolerance)
+        if options.max_area is not None:    # (a bound on the area in the plane, not the projection's)
+            options = options._replace(max_area=options.max_area * plane.area_scale)
     tags = None
     if (vertex_markers is not None or segment_markers is not None or vertex_attributes is not None
             or plc.vertex_markers is not None or plc.segment_markers is not None
             or plc.vertex_attributes is not None):
         tags = plc_tags(plc, vertex_markers, segment_markers, vertex_attributes)
     tri = triangulate_plc(plc, options, t0=t0, workers=workers, tags=tags)
-    if suitable is None:
-        return tri
-    return refine_until_suitable(tri, suitable, max_area=max_area, max_steiner=max_steiner,
-                                 min_angle=min_angle, conforming_delaunay=conforming_delaunay,
-                                 split_boundary=split_boundary, split_segments=split_segments)
+    if suitable is not None:
+        tri = refine_until_suitable(tri, suitable, max_area=max_area, max_steiner=max_steiner,
+                                    min_angle=min_angle, conforming_delaunay=conforming_delaunay,
+                                    split_boundary=split_boundary, split_segments=split_segments)
+    if plane is not None:
+        tri.plane, tri.input_w = plane, plc.z
+    return tri
 
 
 def plc_tags(plc: PLC, vertex_markers: ArrayLike | None = None, segment_markers: ArrayLike | None = None,

@@ -37,6 +37,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
         "cdt_plugin.hooks",       # the conversion hooks: imports the adapters inside its functions
         "cdt_plugin.options",     # the options record, checked once
         "cdt_plugin.compiling",   # the cache guard, imported first by __init__
+        "cdt_plugin.planar",      # planes of 3D input
     )),
     ("plc", ("cdt_plugin.plc",)),
     ("route drivers", ("cdt_plugin._routes",)),
