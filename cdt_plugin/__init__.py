@@ -35,6 +35,7 @@ from .errors import (
     UnknownIdError,
     UnresolvedCrossingError,
 )
+from .faces import FaceMesh, triangulate_faces
 from .plc import PLC
 
 from .triangulation import Triangulation
@@ -53,6 +54,8 @@ __all__ = [
     "Triangulation",
     "delaunay",
     "triangulate",
+    "triangulate_faces",
+    "FaceMesh",
     "InvalidGeometryError",
     "NonPlanarError",
     "InvalidMeshError",

@@ -80,6 +80,7 @@ class Plane:
         n = n / np.linalg.norm(n)
         if n[w] < 0:
             n = -n
+        n = n + 0.0                     # (no negative zeros)
         # (u, v) = the two other axes in cyclic order: the projection keeps the
         # orientation seen from +w, which is the normal's side
         return cls(n, np.asarray(point, np.float64), ((w + 1) % 3, (w + 2) % 3, w))
@@ -152,8 +153,9 @@ def fit_plane(xyz: NDArray[np.float64], ring_segments: NDArray[np.int64] | None 
     (closed rings), or the best-fit normal when there are none or their
     area vanishes (open lines, collinear rings).
 
-    >>> fit_plane(np.array([[0, 0, 1.0], [1, 0, 2], [0, 1, 1]])).normal.round(6).tolist()
-    [-0.707107, 0.0, 0.707107]
+    >>> plane = fit_plane(np.array([[0, 0, 1.0], [2, 0, 2], [0, 1, 1]]))    # z = x / 2 + 1
+    >>> (plane.normal.round(6) + 0.0).tolist(), plane.axes
+    ([-0.447214, 0.0, 0.894427], (0, 1, 2))
     """
     z = xyz[:, 2]
     if (z == z[0]).all():
@@ -182,7 +184,7 @@ def check_plane_tolerance(value: object) -> float | None:
 
 def default_tolerance(xyz: NDArray[np.float64]) -> float:
     """``PLANE_ROUNDINGS`` roundings of the largest coordinate."""
-    return PLANE_ROUNDINGS * np.finfo(np.float64).eps * float(np.abs(xyz).max())
+    return float(PLANE_ROUNDINGS * np.finfo(np.float64).eps * np.abs(xyz).max())
 
 
 def check_planar(xyz: NDArray[np.float64], plane: Plane, tolerance: float | None = None) -> None:
@@ -194,7 +196,7 @@ def check_planar(xyz: NDArray[np.float64], plane: Plane, tolerance: float | None
     if tolerance == 0:
         _check_exactly_planar(xyz, plane)
         return
-    tol = default_tolerance(xyz) if tolerance is None else tolerance
+    tol = default_tolerance(xyz) if tolerance is None else float(tolerance)
     d = np.abs(plane.distances(xyz))
     far = int(np.argmax(d))
     if d[far] > tol:

@@ -395,7 +395,8 @@ class _Builder:
             return 0
         if arr.ndim != 2 or arr.shape[1] < 2:
             raise InputShapeError(f"coordinates must be (x, y[, z]) tuples, got shape {arr.shape}")
-        if closed and len(arr) > 1 and arr[0, 0] == arr[-1, 0] and arr[0, 1] == arr[-1, 1]:
+        # (every coordinate compared: the two ends of a vertical ring's edge share x, y)
+        if closed and len(arr) > 1 and np.array_equal(arr[0], arr[-1], equal_nan=True):
             arr = arr[:-1]
         if arr.shape[1] > 2:
             self.z.append((self.nv, arr[:, 2]))

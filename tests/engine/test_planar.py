@@ -88,6 +88,8 @@ def test_walls_and_roofs_of_a_building():
         tri = cdt_plugin.triangulate(polygon, min_angle=20)
         P = np.array([p for ring in face for p in ring], float)
         _check_in_plane(tri, P)
+        as_geojson = cdt_plugin.triangulate(shapely.geometry.mapping(polygon), min_angle=20)
+        assert np.array_equal(as_geojson.vertices3d, tri.vertices3d)
         a, b, c = (tri.vertices3d[tri.triangles[:, k]] for k in range(3))
         total += np.linalg.norm(np.cross(b - a, c - a), axis=1).sum() / 2
     roof = 2 * 6 * np.hypot(2, 2)
@@ -175,3 +177,47 @@ def test_trimesh_output_keeps_the_plane():
     assert mesh.area == pytest.approx(12 * np.sqrt(5), rel=1e-12)
     flat = tri.to_trimesh(z=1.0)                              # a height given: the 2D mesh at it
     assert (flat.vertices[:, 2] == 1.0).all()
+
+
+FLOOR = [[(0, 0, 0), (0, 4, 0), (6, 4, 0), (6, 0, 0)]]
+
+
+@pytest.mark.parametrize("options", [{}, {"min_angle": 25, "split_boundary": False}])
+def test_faces_of_a_closed_building_make_a_watertight_solid(options):
+    trimesh = pytest.importorskip("trimesh")
+    faces = [[face[0]] for face in _building()] + [FLOOR]      # the window left out: closed
+    mesh = cdt_plugin.triangulate_faces(faces, merge=True, **options)
+    solid = trimesh.Trimesh(mesh.vertices, mesh.triangles, process=False)
+    assert solid.is_watertight and solid.is_winding_consistent
+    assert solid.volume == pytest.approx(6 * 4 * 3 + 6 * 4 * 2 / 2, rel=1e-12)    # box + roof prism
+    assert np.array_equal(np.unique(mesh.face), np.arange(len(faces)))
+    # each face's triangles on its own plane, wound outward as its ring
+    for i, face in enumerate(faces):
+        ring = np.asarray(face[0], float)
+        a, b, c = (mesh.vertices[mesh.triangles[mesh.face == i, k]] for k in range(3))
+        normals = np.cross(b - a, c - a)
+        newell = np.cross(ring, np.roll(ring, -1, axis=0)).sum(axis=0)
+        assert (normals @ newell > 0).all()
+    if not options:       # no Steiner points: the input points, each once
+        corners = np.unique(np.vstack([np.asarray(f[0], float) for f in faces]), axis=0)
+        assert np.array_equal(mesh.vertices, corners)
+
+
+def test_faces_with_holes_and_their_errors():
+    shapely = pytest.importorskip("shapely")
+    faces = _building()
+    mesh = cdt_plugin.triangulate_faces([faces[0], shapely.Polygon(faces[1][0]), {
+        "type": "Polygon", "coordinates": faces[2]}])
+    a, b, c = (mesh.vertices[mesh.triangles[:, k]] for k in range(3))
+    area = np.linalg.norm(np.cross(b - a, c - a), axis=1) / 2
+    assert area[mesh.face == 0].sum() == pytest.approx(18 - 2)        # the wall less its window
+    assert area.sum() == pytest.approx(16 + 18 + 12 + 4)
+    bent = [list(faces[1][0])]
+    bent[0][2] = (0, 4.5, 3)        # off the wall y = 4
+    with pytest.raises(cdt_plugin.NonPlanarError) as e:
+        cdt_plugin.triangulate_faces([faces[0], bent])
+    assert e.value.index == 1 and e.value.vertex == 2
+    with pytest.raises(cdt_plugin.InputShapeError, match="a face must be a Polygon"):
+        cdt_plugin.triangulate_faces([{"type": "LineString", "coordinates": [(0, 0, 0), (1, 0, 0)]}])
+    empty = cdt_plugin.triangulate_faces([])
+    assert empty.vertices.shape == (0, 3) and empty.triangles.shape == (0, 3)
