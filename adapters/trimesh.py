@@ -10,8 +10,12 @@ from_path2d(path)
     A ``trimesh.path.Path2D`` as a PLC: its closed polygons (shells and holes as
     ``Path2D.polygons_full`` sees them) as rings, its open entities as
     constraint segments, curves discretised as trimesh discretises them.
-to_trimesh(tri, z=0.0)
-    A Triangulation as a flat ``Trimesh`` at height ``z`` (normals along +z).
+from_path3d(path)
+    A planar ``trimesh.path.Path3D`` in any plane as a PLC with z, which
+    :func:`cdt_plugin.triangulate` meshes in its plane.
+to_trimesh(tri, z=None)
+    A Triangulation as a ``Trimesh`` in its plane (3D input; z = 0 for 2D
+    input), or flat at height ``z``.
 triangulate_polygon(polygon, **kwargs)
     Drop-in for ``trimesh.creation.triangulate_polygon``: ``(vertices (n, 2),
     faces (m, 3))`` with only the vertices the faces use.
@@ -70,7 +74,7 @@ if TYPE_CHECKING:
 
     from cdt_plugin import Triangulation
 
-__all__ = ["from_path2d", "to_trimesh", "triangulate_polygon", "extrude_polygon",
+__all__ = ["from_path2d", "from_path3d", "to_trimesh", "triangulate_polygon", "extrude_polygon",
            "extrude_triangulation", "extrude_path", "register", "unregister", "registered",
            "is_registered", "ENGINE", "DroppedZWarning"]
 
@@ -123,6 +127,39 @@ def from_path2d(path: trimesh.path.Path2D) -> PLC:
             geometries.append({"type": "LineString", "coordinates": points.tolist()})
     if not geometries:
         raise cdt_plugin.InvalidGeometryError("the Path2D has no polygons and no open entities")
+    return PLC.from_geo_interface({"type": "GeometryCollection", "geometries": geometries})
+
+
+def from_path3d(path: trimesh.path.Path3D) -> PLC:
+    """Read a planar ``trimesh.path.Path3D`` (in any plane) into a
+    :class:`cdt_plugin.PLC` with ``z``, which :func:`cdt_plugin.triangulate`
+    meshes in its plane (:mod:`cdt_plugin.planar`; points off the plane raise
+    :class:`cdt_plugin.NonPlanarError`).
+
+    Every entity becomes a chain of constraint segments through its points
+    (curves discretised as in :func:`from_path2d`), the path's vertices kept
+    exactly; the domain is decided by depth parity (a closed loop inside a
+    closed loop is a hole).
+
+    >>> import trimesh, cdt_plugin
+    >>> from trimesh.path.entities import Line
+    >>> wall = trimesh.path.Path3D([Line([0, 1, 2, 3, 0])], [[0, 0, 0], [4, 0, 0], [4, 0, 3], [0, 0, 3]])
+    >>> tri = cdt_plugin.triangulate(from_path3d(wall))
+    >>> to_trimesh(tri).area, tri.plane.normal.tolist()
+    (12.0, [0.0, 1.0, 0.0])
+    """
+    if not isinstance(path, trimesh.path.Path3D):
+        raise TypeError(f"expected a trimesh.path.Path3D, got {type(path).__name__}")
+    vertices = np.asarray(path.vertices, dtype=np.float64)
+    geometries = []
+    for entity in path.entities:
+        points = np.asarray(entity.discrete(vertices, scale=path.scale), dtype=np.float64)
+        if points.ndim != 2 or len(points) == 0:
+            continue          # e.g. Text entities: nothing to mesh
+        kind = "Point" if len(points) == 1 else "LineString"
+        geometries.append({"type": kind, "coordinates": (points[0] if len(points) == 1 else points).tolist()})
+    if not geometries:
+        raise cdt_plugin.InvalidGeometryError("the Path3D has no entities with points")
     return PLC.from_geo_interface({"type": "GeometryCollection", "geometries": geometries})
 
 

@@ -245,11 +245,13 @@ def ring_projection(xy: NDArray[np.float64], z: NDArray[np.float64], begin: NDAr
     wall (a vertical ring) is no line."""
     if len(z) == 0 or (z == z[0]).all() or not np.isfinite(z).all() or not np.isfinite(xy).all():
         return xy
+    rings = [(b, e) for b, e in zip(begin.tolist(), end.tolist()) if e > b]
+    if not rings:
+        return xy
     xyz = np.column_stack([xy, z])
-    nxt = np.arange(1, len(xy) + 1)
-    nonempty = end > begin
-    nxt[end[nonempty] - 1] = begin[nonempty]           # each ring closes on its first point
-    normal = newell_normal(xyz, np.column_stack([np.arange(len(xy)), nxt]))
+    at = np.concatenate([np.arange(b, e) for b, e in rings])
+    nxt = np.concatenate([np.append(np.arange(b + 1, e), b) for b, e in rings])   # each ring closes
+    normal = newell_normal(xyz, np.column_stack([at, nxt]))
     if not normal.any():
         return xy
     return Plane.from_normal(normal, xyz[0]).project(xyz)

@@ -221,3 +221,23 @@ def test_faces_with_holes_and_their_errors():
         cdt_plugin.triangulate_faces([{"type": "LineString", "coordinates": [(0, 0, 0), (1, 0, 0)]}])
     empty = cdt_plugin.triangulate_faces([])
     assert empty.vertices.shape == (0, 3) and empty.triangles.shape == (0, 3)
+
+
+def test_trimesh_path3d_in_a_tilted_plane():
+    trimesh = pytest.importorskip("trimesh")
+    from trimesh.path.entities import Line
+    from cdt_plugin.adapters.trimesh import from_path3d
+    rng = np.random.default_rng(11)
+    R = _rotation(rng)
+    P = np.column_stack([SQUARE[:8], np.zeros(8)]) @ R.T + [5, -3, 2]
+    path = trimesh.path.Path3D([Line([0, 1, 2, 3, 0]), Line([4, 5, 6, 7, 4])], P)
+    plc = from_path3d(path)
+    read = np.column_stack([plc.vertices, plc.z])         # the path's points (loops closed)
+    assert np.array_equal(np.unique(read, axis=0), np.unique(P, axis=0))
+    tri = cdt_plugin.triangulate(plc, max_area=0.4)
+    _check_in_plane(tri, read)
+    mesh = tri.to_trimesh()
+    assert mesh.area == pytest.approx(12.0, rel=1e-12)
+    assert np.allclose(mesh.face_normals, tri.plane.normal)
+    with pytest.raises(TypeError, match="Path3D"):
+        from_path3d(trimesh.path.Path2D())
