@@ -106,6 +106,11 @@ def test_shapely_and_geojson_polygon_z_on_a_slope():
         _check_in_plane(tri, np.vstack([shell, hole]))
         V = tri.vertices3d
         assert np.allclose(V[:, 2], 0.3 * V[:, 0] - 0.7 * V[:, 1] + 10, rtol=0, atol=1e-13)
+    triangles = tri.to_shapely()                        # 3D triangles on the slope
+    assert shapely.has_z(triangles) and len(triangles.geoms) == len(tri.triangles)
+    xyz = shapely.get_coordinates(triangles, include_z=True)
+    assert np.allclose(xyz[:, 2], 0.3 * xyz[:, 0] - 0.7 * xyz[:, 1] + 10, rtol=0, atol=1e-13)
+    assert shapely.area(shapely.force_2d(triangles)) == pytest.approx(12.0)
 
 
 def test_non_planar_input_names_the_farthest_vertex():
