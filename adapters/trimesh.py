@@ -145,7 +145,7 @@ def from_path3d(path: trimesh.path.Path3D) -> PLC:
     >>> from trimesh.path.entities import Line
     >>> wall = trimesh.path.Path3D([Line([0, 1, 2, 3, 0])], [[0, 0, 0], [4, 0, 0], [4, 0, 3], [0, 0, 3]])
     >>> tri = cdt_plugin.triangulate(from_path3d(wall))
-    >>> to_trimesh(tri).area, tri.plane.normal.tolist()
+    >>> float(to_trimesh(tri).area), tri.plane.normal.tolist()
     (12.0, [0.0, 1.0, 0.0])
     """
     if not isinstance(path, trimesh.path.Path3D):

@@ -2,10 +2,9 @@
 
 :func:`cdt_plugin.triangulate` of 3D input (an (n, 3) array, a geometry with
 Z, a :class:`~cdt_plugin.PLC` with ``z``) finds the input's plane
-(:func:`fit_plane`: Newell's normal for rings, the best-fit plane of the
-points otherwise), checks that every vertex lies on it (:func:`check_planar`:
-within ``plane_tolerance``, or exactly), and triangulates the vertices'
-projection on the axis-aligned coordinate plane where the normal's largest
+(:func:`fit_plane`: the least-squares plane of the vertices), checks that
+every vertex lies on it (:func:`check_planar`: within ``plane_tolerance``, or
+exactly), and triangulates the vertices' projection on the axis-aligned coordinate plane where the normal's largest
 component is (:class:`Plane`).
 
 Why that projection, and not an orthonormal frame of the plane: dropping one
@@ -137,21 +136,29 @@ def newell_normal(xyz: NDArray[np.float64], segments: NDArray[np.int64]) -> NDAr
 
 
 def best_fit_normal(xyz: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The normal of the least-squares plane of the points (the direction of
-    least spread); (0, 0, 1) for a single point."""
+    """The normal of the least-squares plane of the points: the last right
+    singular vector of their centred coordinates (the SVD of the points
+    themselves, not the eigenvectors of their covariance, whose condition is
+    the square); (0, 0, 1) for a single point."""
     c = xyz - xyz.mean(axis=0)
     if not c.any():
         return np.array([0.0, 0.0, 1.0])
-    scale = np.abs(c).max()
-    _, vectors = np.linalg.eigh((c / scale).T @ (c / scale))
-    return vectors[:, 0]
+    return np.linalg.svd(c / np.abs(c).max(), full_matrices=False)[2][-1]
 
 
-def fit_plane(xyz: NDArray[np.float64], ring_segments: NDArray[np.int64] | None = None) -> Plane:
+def fit_plane(xyz: NDArray[np.float64]) -> Plane:
     """The plane of 3D points: z = constant when all z are equal (exactly);
-    else through their centroid with Newell's normal of ``ring_segments``
-    (closed rings), or the best-fit normal when there are none or their
-    area vanishes (open lines, collinear rings).
+    else the least-squares plane (:func:`best_fit_normal`, through the
+    centroid), the plane the points are nearest, which the planarity check
+    measures against.
+
+    Why not Newell's normal of the rings, the usual estimate for polygons: on
+    3,000 random polygons rotated into random planes and rounded to doubles,
+    the farthest vertex lay at most 4 roundings of the largest coordinate from
+    the least-squares plane, but up to 214 from Newell's plane for thin
+    polygons (1000 times longer than wide), whose normal Newell's sum gets
+    from small cross products. (Newell's normal gives the side a ring winds
+    about: :func:`newell_normal`.)
 
     >>> plane = fit_plane(np.array([[0, 0, 1.0], [2, 0, 2], [0, 1, 1]]))    # z = x / 2 + 1
     >>> (plane.normal.round(6) + 0.0).tolist(), plane.axes
@@ -160,15 +167,7 @@ def fit_plane(xyz: NDArray[np.float64], ring_segments: NDArray[np.int64] | None 
     z = xyz[:, 2]
     if (z == z[0]).all():
         return Plane(np.array([0.0, 0.0, 1.0]), np.array([0.0, 0.0, z[0]]), (0, 1, 2))
-    normal = None
-    if ring_segments is not None and len(ring_segments):
-        normal = newell_normal(xyz, ring_segments)
-        spread = np.ptp(xyz, axis=0).max()
-        if not np.linalg.norm(normal) > 1e-12 * spread * spread:
-            normal = None
-    if normal is None:
-        normal = best_fit_normal(xyz)
-    return Plane.from_normal(normal, xyz.mean(axis=0))
+    return Plane.from_normal(best_fit_normal(xyz), xyz.mean(axis=0))
 
 
 def check_plane_tolerance(value: object) -> float | None:
@@ -241,20 +240,13 @@ def ring_projection(xy: NDArray[np.float64], z: NDArray[np.float64], begin: NDAr
                     end: NDArray[np.int64]) -> NDArray[np.float64]:
     """The 2D coordinates rings with z are read in (their degenerate rings
     found, their segments made): ``xy`` for horizontal or partial z, else the
-    projection along the largest component of the rings' Newell normal, so a
-    wall (a vertical ring) is no line."""
-    if len(z) == 0 or (z == z[0]).all() or not np.isfinite(z).all() or not np.isfinite(xy).all():
-        return xy
-    rings = [(b, e) for b, e in zip(begin.tolist(), end.tolist()) if e > b]
-    if not rings:
+    projection :func:`planar_plc` meshes them in, so a wall (a vertical ring)
+    is no line."""
+    if not (end > begin).any() or (z == z[0]).all() or not np.isfinite(z).all() \
+            or not np.isfinite(xy).all():
         return xy
     xyz = np.column_stack([xy, z])
-    at = np.concatenate([np.arange(b, e) for b, e in rings])
-    nxt = np.concatenate([np.append(np.arange(b + 1, e), b) for b, e in rings])   # each ring closes
-    normal = newell_normal(xyz, np.column_stack([at, nxt]))
-    if not normal.any():
-        return xy
-    return Plane.from_normal(normal, xyz[0]).project(xyz)
+    return fit_plane(xyz).project(xyz)
 
 
 def planar_plc(plc: Any, tolerance: float | None = None) -> tuple[Any, Plane]:
@@ -269,8 +261,7 @@ def planar_plc(plc: Any, tolerance: float | None = None) -> tuple[Any, Plane]:
         raise InputShapeError(f"vertex {i} has no z while others have one: 3D input needs z "
                               "on every vertex")
     xyz = np.column_stack([plc.vertices, z])
-    rings = plc.segments[plc.segment_ring >= 0] if plc.has_rings and plc.segment_ring is not None else None
-    plane = fit_plane(xyz, rings)
+    plane = fit_plane(xyz)
     check_planar(xyz, plane, tolerance)
     changes: dict = {}
     if plane.axes != (0, 1, 2):     # (else x, y as they are, z the dropped coordinate)
