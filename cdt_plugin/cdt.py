@@ -236,7 +236,7 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         tags = plc_tags(plc, vertex_markers, segment_markers, vertex_attributes)
     tri = triangulate_plc(plc, options, t0=t0, workers=workers, tags=tags)
     if suitable is not None:
-        tri = refine_until_suitable(tri, suitable, max_area=max_area, max_steiner=max_steiner,
+        tri = refine_until_suitable(tri, suitable, max_area=options.max_area, max_steiner=max_steiner,
                                     min_angle=min_angle, conforming_delaunay=conforming_delaunay,
                                     split_boundary=split_boundary, split_segments=split_segments)
     if plane is not None:

@@ -93,6 +93,7 @@ def triangulate_faces(faces: Iterable[Any], *, merge: bool = False, **options: A
             e.index = i
             raise
         V, T = tri.vertices3d, np.asarray(tri.triangles, np.int64)
+        assert tri.plane is not None           # (3D rings: _outer_normal checked them)
         if outer @ tri.plane.normal < 0:       # (the triangles wind about the plane's normal)
             T = T[:, ::-1]
         vertices.append(V)
