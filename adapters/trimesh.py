@@ -10,8 +10,12 @@ from_path2d(path)
     A ``trimesh.path.Path2D`` as a PLC: its closed polygons (shells and holes as
     ``Path2D.polygons_full`` sees them) as rings, its open entities as
     constraint segments, curves discretised as trimesh discretises them.
-to_trimesh(tri, z=0.0)
-    A Triangulation as a flat ``Trimesh`` at height ``z`` (normals along +z).
+from_path3d(path)
+    A planar ``trimesh.path.Path3D`` in any plane as a PLC with z, which
+    :func:`cdt_plugin.triangulate` meshes in its plane.
+to_trimesh(tri, z=None)
+    A Triangulation as a ``Trimesh`` in its plane (3D input; z = 0 for 2D
+    input), or flat at height ``z``.
 triangulate_polygon(polygon, **kwargs)
     Drop-in for ``trimesh.creation.triangulate_polygon``: ``(vertices (n, 2),
     faces (m, 3))`` with only the vertices the faces use.
@@ -83,7 +87,7 @@ if TYPE_CHECKING:
 
     from cdt_plugin import Triangulation
 
-__all__ = ["from_path2d", "to_trimesh", "triangulate_polygon", "extrude_polygon",
+__all__ = ["from_path2d", "from_path3d", "to_trimesh", "triangulate_polygon", "extrude_polygon",
            "extrude_triangulation", "extrude_path", "register", "unregister", "registered",
            "is_registered", "ENGINE", "DroppedZWarning"]
 
@@ -139,24 +143,67 @@ def from_path2d(path: trimesh.path.Path2D) -> PLC:
     return PLC.from_geo_interface({"type": "GeometryCollection", "geometries": geometries})
 
 
-# ----------------------------------------------------------- Triangulation -> Trimesh
-def to_trimesh(tri: Triangulation, z: float = 0.0, *, remove_unreferenced: bool = False,
-               **kwargs: Any) -> trimesh.Trimesh:
-    """A Triangulation as a flat ``trimesh.Trimesh`` at height ``z``.
+def from_path3d(path: trimesh.path.Path3D) -> PLC:
+    """Read a planar ``trimesh.path.Path3D`` (in any plane) into a
+    :class:`cdt_plugin.PLC` with ``z``, which :func:`cdt_plugin.triangulate`
+    meshes in its plane (:mod:`cdt_plugin.planar`; points off the plane raise
+    :class:`cdt_plugin.NonPlanarError`).
 
-    Faces are ``tri.triangles`` (counter-clockwise seen from +z, so every face
-    normal is ``(0, 0, 1)``). The mesh is built with ``process=False``: no
+    Every entity becomes a chain of constraint segments through its points
+    (curves discretised as in :func:`from_path2d`), the path's vertices kept
+    exactly; the domain is decided by depth parity (a closed loop inside a
+    closed loop is a hole).
+
+    >>> import trimesh, cdt_plugin
+    >>> from trimesh.path.entities import Line
+    >>> wall = trimesh.path.Path3D([Line([0, 1, 2, 3, 0])], [[0, 0, 0], [4, 0, 0], [4, 0, 3], [0, 0, 3]])
+    >>> tri = cdt_plugin.triangulate(from_path3d(wall))
+    >>> float(to_trimesh(tri).area), tri.plane.normal.tolist()
+    (12.0, [0.0, 1.0, 0.0])
+    """
+    if not isinstance(path, trimesh.path.Path3D):
+        raise TypeError(f"expected a trimesh.path.Path3D, got {type(path).__name__}")
+    vertices = np.asarray(path.vertices, dtype=np.float64)
+    geometries = []
+    for entity in path.entities:
+        points = np.asarray(entity.discrete(vertices, scale=path.scale), dtype=np.float64)
+        if points.ndim != 2 or len(points) == 0:
+            continue          # e.g. Text entities: nothing to mesh
+        kind = "Point" if len(points) == 1 else "LineString"
+        geometries.append({"type": kind, "coordinates": (points[0] if len(points) == 1 else points).tolist()})
+    if not geometries:
+        raise cdt_plugin.InvalidGeometryError("the Path3D has no entities with points")
+    return PLC.from_geo_interface({"type": "GeometryCollection", "geometries": geometries})
+
+
+# ----------------------------------------------------------- Triangulation -> Trimesh
+def to_trimesh(tri: Triangulation, z: float | None = None, *, remove_unreferenced: bool = False,
+               **kwargs: Any) -> trimesh.Trimesh:
+    """A Triangulation as a flat ``trimesh.Trimesh``: in its own plane
+    (``tri.vertices3d``: the plane of 3D input, z = 0 for 2D input), or at
+    height ``z`` when given (``tri.vertices`` with that z).
+
+    Faces are ``tri.triangles`` (counter-clockwise seen from the plane's
+    normal, +z at height ``z``, so every face normal is that normal). The mesh
+    is built with ``process=False``: no
     vertex is merged away, and vertex ``i`` of the mesh is ``tri.vertices[i]``
     — including the unreferenced ones (input vertices outside the domain). Pass
     ``remove_unreferenced=True`` to drop those (vertex indices then change).
     Other keywords go to the ``Trimesh`` constructor.
     """
-    vertices = np.asarray(tri.vertices, dtype=np.float64)
+    plane = getattr(tri, "plane", None)
+    if z is None:
+        vertices = np.asarray(tri.vertices3d, dtype=np.float64)
+        normal = [0.0, 0.0, 1.0] if plane is None else plane.normal
+    else:
+        vertices = np.asarray(tri.vertices, dtype=np.float64)
+        vertices = np.column_stack([vertices, np.full(len(vertices), float(z))])
+        normal = [0.0, 0.0, 1.0]
     faces = np.asarray(tri.triangles, dtype=np.int64)
     if remove_unreferenced:
         vertices, faces = _compact(vertices, faces)
-    vertices3 = np.column_stack([vertices, np.full(len(vertices), float(z))])
-    normals = np.tile([0.0, 0.0, 1.0], (len(faces), 1))
+    vertices3 = vertices
+    normals = np.tile(normal, (len(faces), 1))
     kwargs.setdefault("process", False)
     return trimesh.Trimesh(vertices=vertices3, faces=faces, face_normals=normals, **kwargs)
 
@@ -216,6 +263,8 @@ def triangulate_polygon(polygon: shapely.Geometry | None, triangle_args: str | N
     if getattr(polygon, "has_z", False):
         warnings.warn("the polygon has z coordinates: trimesh's triangulate_polygon returns "
                       "(n, 2) vertices, so z is dropped", DroppedZWarning, stacklevel=2)
+        import shapely                           # (only here: trimesh's polygons are shapely's)
+        polygon = shapely.force_2d(polygon)      # (in x, y whatever its plane)
     tri = cdt_plugin.triangulate(polygon, **kwargs)
     if force_vertices and len(tri.steiner):
         raise ValueError(f"the triangulation inserted {len(tri.steiner)} vertices "

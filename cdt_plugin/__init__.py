@@ -24,6 +24,7 @@ from .errors import (
     MeshExportError,
     NoPolygonsError,
     NonFiniteCoordinateError,
+    NonPlanarError,
     NotDelaunayError,
     OverlappingSegmentsError,
     PrecisionWarning,
@@ -38,6 +39,7 @@ from .errors import (
     UnresolvedCrossingError,
 )
 from .nearness import size_near
+from .faces import FaceMesh, triangulate_faces
 from .plc import PLC
 
 from .triangulation import Triangulation
@@ -57,7 +59,10 @@ __all__ = [
     "delaunay",
     "triangulate",
     "size_near",
+    "triangulate_faces",
+    "FaceMesh",
     "InvalidGeometryError",
+    "NonPlanarError",
     "InvalidMeshError",
     "OverlappingSegmentsError",
     "PrecisionWarning",

@@ -38,6 +38,7 @@ from .markers import vertex_attributes as attributes_of
 from .merging import merge_close_points
 from .options import MeshOptions, checked_options, route_plan
 from .parallel import check_workers, resolve_workers
+from .planar import check_plane_tolerance, planar_plc
 from .plc import PLC, GeometryLike, as_plc
 from .fields import ConstantSize, SizeField, Sizing, check_sizing
 from .grading import SIZE_AREA, refine_to_size
@@ -74,7 +75,8 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                 split_segments: bool = True, suitable: SizeTest | None = None,
                 size: float | SizeField | Triangulation | None = None, growth: float | None = None,
                 min_size: float | None = None, smooth: str | int | None = None,
-                merge_distance: float | None = None) -> Triangulation:
+                merge_distance: float | None = None,
+                plane_tolerance: float | None = None) -> Triangulation:
     """Constrained Delaunay triangulation of a planar straight-line complex.
 
     Parameters
@@ -213,6 +215,13 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         merged. Hole and region seeds do not move. Moving points may make
         segments cross (raised as without it). Default (None or 0): only exact
         duplicates are merged.
+    plane_tolerance : float, optional
+        For 3D input (see below): how far (a distance) a vertex may lie from
+        the fitted plane. Default: 64 roundings of the largest coordinate
+        (``64 * 2**-52 * max|coordinate|``, :data:`cdt_plugin.planar.PLANE_ROUNDINGS`);
+        0: the vertices must be exactly coplanar (decided in exact arithmetic).
+        Farther vertices raise :class:`NonPlanarError` naming the farthest
+        and its distance.
     vertex_attributes : (n,) or (n, k) float array, optional
         Attributes of the input vertices, carried to every output vertex
         (``tri.vertex_attributes``): Steiner points get the linear
@@ -227,6 +236,15 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
 
     Notes
     -----
+    3D input (an (n, 3) array, a geometry with Z, a PLC with ``z``) is a planar
+    polygon in any plane (:mod:`cdt_plugin.planar`): it is meshed in its plane,
+    ``tri.vertices`` are the 2D coordinates it was meshed in (two of each input
+    vertex's coordinates, exactly: x, y for a horizontal plane),
+    ``tri.vertices3d`` every vertex in 3D (input vertices exactly, Steiner
+    points on the plane) and ``tri.plane`` the plane. Hole seeds may then be
+    3D points (projected on the plane); region seeds are in ``tri.vertices``'
+    2D coordinates.
+
     Steiner points are ``tri.steiner``; each segment piece names its input
     segment in ``tri.segment_ids`` (-1 for a piece of the convex hull when the
     hull bounds the domain). A point placed on a segment lies on it up to one
@@ -265,7 +283,20 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     if smooth is not None:
         from .smoothing import smooth_keyword    # (loaded when asked for)
         smoothing = smooth_keyword(smooth)
+    if plane_tolerance is not None:
+        plane_tolerance = check_plane_tolerance(plane_tolerance)
     plc = as_plc(vertices, segments, holes, regions)
+    plane = None
+    if plc.z is not None:     # 3D input: meshed in its plane
+        plc, plane = planar_plc(plc, plane_tolerance)
+        if plane.axes[2] != 2 and (sizing is not None or smoothing is not None):
+            raise CDTError("size fields and smoothing take their coordinates in x, y: 3D input "
+                           f"in a plane closer to vertical (normal {plane.normal.tolist()}) is "
+                           "meshed in another pair of axes; mesh it without them")
+        if options.max_area is not None:    # (a bound on the area in the plane, not the projection's)
+            options = options._replace(max_area=options.max_area * plane.area_scale)
+        if area is not None:
+            area = area * plane.area_scale
     merged = 0
     if options.merge_distance is not None:
         plc, merged = merge_close_points(plc, options.merge_distance)
@@ -286,10 +317,12 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
                                     split_boundary=split_boundary, split_segments=split_segments)
     if merged:
         tri.stats["merged_points"] = merged
-    if smoothing is None:
-        return tri
-    return tri.smooth(smoothing.method, smoothing.iterations,
-                      size=None if sizing is None else sizing.size)
+    if smoothing is not None:
+        tri = tri.smooth(smoothing.method, smoothing.iterations,
+                         size=None if sizing is None else sizing.size)
+    if plane is not None:
+        tri.plane, tri.input_w = plane, plc.z
+    return tri
 
 
 def checked_sizing(options: MeshOptions, size: object, max_area: object, growth: object,

@@ -128,6 +128,18 @@ class InvalidGeometryError(CDTError):
     than three distinct points); the message names the polygon and ring."""
 
 
+class NonPlanarError(InvalidGeometryError):
+    """3D input whose vertices do not lie in one plane (:mod:`cdt_plugin.planar`):
+    ``vertex`` is the input vertex farthest from the fitted plane, ``point`` its
+    coordinates, ``distance`` its distance from the plane and ``tolerance`` the
+    bound it broke (0: exact coplanarity was asked)."""
+
+    def __init__(self, message: str, *, vertex: int | None = None, distance: float | None = None,
+                 point: tuple[float, ...] | None = None, tolerance: float | None = None) -> None:
+        super().__init__(message)
+        self.vertex, self.distance, self.point, self.tolerance = vertex, distance, point, tolerance
+
+
 class InvalidMeshError(CDTError):
     """A mesh given as triangles is not a triangulation: two triangles overlap,
     a vertex lies inside a triangle or on an edge it does not end, two vertices

@@ -33,13 +33,13 @@ if TYPE_CHECKING:
 __all__ = ["cells_to_polygons", "clip_cells_to_polygon", "to_open3d", "to_shapely", "to_trimesh"]
 
 
-def to_trimesh(tri: Any, z: float = 0.0, **kwargs: Any) -> trimesh.Trimesh:
+def to_trimesh(tri: Any, z: float | None = None, **kwargs: Any) -> trimesh.Trimesh:
     """``tri`` as a flat ``trimesh.Trimesh`` (:func:`cdt_plugin.adapters.trimesh.to_trimesh`)."""
     from cdt_plugin.adapters.trimesh import to_trimesh as convert
     return convert(tri, z=z, **kwargs)
 
 
-def to_open3d(tri: Any, z: ArrayLike = 0.0) -> open3d.geometry.TriangleMesh:
+def to_open3d(tri: Any, z: ArrayLike | None = None) -> open3d.geometry.TriangleMesh:
     """``tri`` as an Open3D mesh (:func:`cdt_plugin.adapters.open3d.to_open3d`)."""
     from cdt_plugin.adapters.open3d import to_open3d as convert
     return convert(tri, z=z)

@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._core.rings import drop_closing_points, open_rings, polygon_rings
 from .errors import CDTError, InputShapeError, NonFiniteCoordinateError, TooFewPointsError
+from .planar import ring_projection
 from .types import GeometryLike
 from .validate import as_points, as_segments, as_xy, raise_nonfinite, real_array
 
@@ -271,7 +272,8 @@ def ring_plc(xy: NDArray[np.float64], begin: NDArray[np.int64], end: NDArray[np.
     >>> len(plc.segments), plc.degenerate_rings, degenerate.tolist()
     (4, [(0, 1)], [False, True])
     """
-    bad, degenerate, n_degenerate, segs, seg_ring = polygon_rings(xy, begin, end)
+    bad, degenerate, n_degenerate, segs, seg_ring = polygon_rings(
+        xy if z is None else ring_projection(xy, z, begin, end), begin, end)
     if bad >= 0 and check_finite:
         rows = np.flatnonzero(~(np.isfinite(xy[:, 0]) & np.isfinite(xy[:, 1])))
         raise NonFiniteCoordinateError(f"geometry has NaN or infinite coordinates at vertex "
@@ -393,7 +395,8 @@ class _Builder:
             return 0
         if arr.ndim != 2 or arr.shape[1] < 2:
             raise InputShapeError(f"coordinates must be (x, y[, z]) tuples, got shape {arr.shape}")
-        if closed and len(arr) > 1 and arr[0, 0] == arr[-1, 0] and arr[0, 1] == arr[-1, 1]:
+        # (every coordinate compared: the two ends of a vertical ring's edge share x, y)
+        if closed and len(arr) > 1 and np.array_equal(arr[0], arr[-1], equal_nan=True):
             arr = arr[:-1]
         if arr.shape[1] > 2:
             self.z.append((self.nv, arr[:, 2]))
@@ -504,14 +507,47 @@ def as_plc(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | None 
             if len(plc.vertices) == 0:
                 raise TooFewPointsError("the input has no vertices")
         else:
-            pts = as_points(cast(ArrayLike, vertices), "vertices")     # (no geometry: arrays)
+            z = None
+            try:                                                    # (no geometry: arrays)
+                pts = as_points(cast(ArrayLike, vertices), "vertices")
+            except InputShapeError:       # (n, 3): 3D, meshed in its plane (cdt_plugin.planar)
+                pts, z = _xy_and_z(vertices)
             segs = _NO_SEGMENTS if segments is None else as_segments(segments, len(pts))
-            plc = PLC(pts, segs, segment_ring=np.full(len(segs), -1, np.int64))
+            plc = PLC(pts, segs, segment_ring=np.full(len(segs), -1, np.int64), z=z)
     if holes is not None:
-        plc.holes = as_xy(holes, "holes", "h", pair=True, empty=True)
+        plc.holes = (as_xy(holes, "holes", "h", pair=True, empty=True) if plc.z is None
+                     else _seeds_of_3d(holes))
     if regions is not None:
         plc.regions = _as_regions(regions)
     return plc
+
+
+def _xy_and_z(vertices: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The x, y and z of (n, 3) vertices (all finite); the (n, 2) shape error
+    for anything else."""
+    arr = real_array(vertices, "vertices")
+    if arr.ndim != 2 or arr.shape[1] != 3 or len(arr) == 0:
+        as_points(arr, "vertices")          # (raises the error for its shape)
+        raise InputShapeError(f"vertices must have shape (n, 2) or (n, 3), got {arr.shape}")
+    _raise_nonfinite_3d(arr, "vertices")
+    return np.ascontiguousarray(arr[:, :2]), np.ascontiguousarray(arr[:, 2])
+
+
+def _raise_nonfinite_3d(arr: NDArray[np.float64], name: str) -> None:
+    bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
+    if len(bad):
+        raise NonFiniteCoordinateError(f"{name} has NaN or infinite coordinates at row(s) "
+                                       f"{bad[:5].tolist()} (row {int(bad[0])} is {arr[bad[0]].tolist()})")
+
+
+def _seeds_of_3d(holes: Any) -> NDArray[np.float64]:
+    """Hole seeds of 3D input: (h, 3) points (projected on the plane with the
+    vertices) or (h, 2) points in the triangulation's 2D coordinates."""
+    arr = real_array(holes, "holes")
+    if arr.ndim == 2 and arr.shape[1] == 3:
+        _raise_nonfinite_3d(arr, "holes")
+        return np.ascontiguousarray(arr)
+    return as_xy(holes, "holes", "h", pair=True, empty=True)
 
 
 _NO_SEGMENTS = np.empty((0, 2), np.int64)

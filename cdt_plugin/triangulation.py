@@ -21,6 +21,7 @@ from .errors import (CDTError, InputShapeError, InvalidMeshError, InvertedTriang
 from .options import MeshOptions, resolve_algorithm
 from .optional import require
 from .parallel import resolve_workers
+from .planar import Plane
 from .plc import PLC
 from .types import MeshLike, MeshStore
 from .validate import as_points, as_segments, as_triangle_bounds, exact_range
@@ -100,6 +101,10 @@ class Triangulation:
     below_min_angle : (q,) int64
         After refinement with ``min_angle``: the triangles that still miss the
         bound (at small input angles); empty otherwise.
+    plane : :class:`~cdt_plugin.planar.Plane` or None
+        For 3D input (a planar polygon in any plane): its plane; ``vertices``
+        are then the 2D coordinates it was meshed in and :attr:`vertices3d`
+        the vertices in 3D. None for 2D input.
     tags : :class:`~cdt_plugin.markers.Tags` or None
         The markers and attributes given with the input (None: none given);
         ``vertex_markers``, ``segment_markers``, ``edge_markers`` and
@@ -119,6 +124,8 @@ class Triangulation:
     below_min_angle: NDArray[np.int64]
     region_attributes: NDArray[np.float64] | None
     tags: markers.Tags | None = None      # (set only when markers or attributes are given)
+    plane: Plane | None = None            # (set only for 3D input)
+    input_w: NDArray[np.float64] | None = None   # with plane: the input vertices' dropped coordinate
     _stats: Stats
     _refinement: RefineState | None = None     # the store a refined result keeps (refine())
     _edges: NDArray[np.int64] | None
@@ -372,6 +379,7 @@ class Triangulation:
             below_min_angle=r.below_min_angle,
             region_attributes=None if self.region_attributes is None else self.region_attributes[r.parents])
         out._refinement = r.state
+        out.plane, out.input_w = self.plane, self.input_w
         out.tags = markers.refined_tags(self.tags, self, lambda: self.vertex_attributes)
         if not r.complete:
             raise RefinementLimitError(
@@ -490,6 +498,24 @@ class Triangulation:
         return quadratic(self, self.vertex_markers, self.edge_markers, self.vertex_attributes)
 
     @property
+    def vertices3d(self) -> NDArray[np.float64]:
+        """(n, 3) float64: every vertex in 3D. For 3D input (:attr:`plane`) the
+        input vertices exactly as given (a merged duplicate as its first
+        occurrence), the Steiner points on the plane (the coordinate the
+        projection dropped from the plane's equation); for 2D input z = 0.
+
+        >>> import cdt_plugin
+        >>> tri = cdt_plugin.triangulate([[0, 0, 0], [2, 0, 2], [2, 2, 2], [0, 2, 0]],
+        ...                              [[0, 1], [1, 2], [2, 3], [3, 0]], max_area=0.5)
+        >>> V = tri.vertices3d
+        >>> bool(np.allclose(V[:, 2], V[:, 0])), len(V) > 4    # the plane z = x
+        (True, True)
+        """
+        if self.plane is None:
+            return np.column_stack([self.vertices, np.zeros(len(self.vertices))])
+        return self.plane.lift(self.vertices, self.vertex_map, self.input_w)
+
+    @property
     def submerged(self) -> NDArray[np.intp]:
         """Input indices of weighted points that are in no triangle."""
         return np.flatnonzero(self.vertex_map < 0)
@@ -499,12 +525,13 @@ class Triangulation:
                 f"{len(self.edges)} edges)")
 
     # ------------------------------------------------ outputs (lazy adapters)
-    def to_trimesh(self, z: float = 0.0, **kwargs: Any) -> trimesh.Trimesh:
-        """This triangulation as a flat ``trimesh.Trimesh`` at height ``z``
+    def to_trimesh(self, z: float | None = None, **kwargs: Any) -> trimesh.Trimesh:
+        """This triangulation as a flat ``trimesh.Trimesh`` in its plane (3D
+        input; z = 0 for 2D input) or at height ``z``
         (see :func:`cdt_plugin.adapters.trimesh.to_trimesh`; needs trimesh)."""
         return hooks.to_trimesh(self, z=z, **kwargs)
 
-    def to_open3d(self, z: ArrayLike = 0.0) -> open3d.geometry.TriangleMesh:
+    def to_open3d(self, z: ArrayLike | None = None) -> open3d.geometry.TriangleMesh:
         """This triangulation as an ``open3d.geometry.TriangleMesh`` (needs Open3D);
         ``z``: one height for all vertices or one per vertex."""
         return hooks.to_open3d(self, z=z)

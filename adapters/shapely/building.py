@@ -24,6 +24,8 @@ def to_shapely(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = None,
     tri : cdt_plugin.Triangulation
     z : float or (n,) array, optional
         A z coordinate for every vertex (a scalar for all): the polygons are 3D.
+        Without it, a triangulation of 3D input (``tri.plane``) gives 3D
+        polygons in its plane (``tri.vertices3d``).
     ccw : bool
         Orientation of the triangle shells (default ``False``: clockwise, as GEOS).
 
@@ -42,7 +44,9 @@ def triangle_shells(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = None
     """The Polygons of :func:`to_shapely`, as an array (one per triangle)."""
     T = np.asarray(tri.triangles)
     V = np.asarray(tri.vertices, dtype=np.float64)
-    if z is not None:
+    if z is None and getattr(tri, "plane", None) is not None:
+        V = np.asarray(tri.vertices3d)          # 3D input: the triangles in its plane
+    elif z is not None:
         zz = np.broadcast_to(np.asarray(z, dtype=np.float64), (len(V),))
         V = np.column_stack([V, zz])
     return triangle_polygons(V, T[:, _CCW if ccw else _CW]) if len(T) else np.empty(0, object)

@@ -4,6 +4,7 @@ shapely's are (an array of geometries in, an array of the same shape out; a
 pandas Series or GeoSeries keeps its index; ``None`` gives ``None``)."""
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
@@ -162,7 +163,8 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
         for i, plc in zip(owner, plcs):
             assert plc is not None      # (only a missing geometry has none: these are polygons)
             try:
-                tri = cdt_plugin.triangulate(plc)
+                # (in x, y as GEOS: a polygon with Z need not be planar; z goes on afterwards)
+                tri = cdt_plugin.triangulate(dataclasses.replace(plc, z=None))
             except CDTError as e:
                 raise with_index(e, int(i), indexed)
             shells[i].append(triangle_shells(tri, z=_vertex_z(tri, plc.z) if plc.z is not None else None))

@@ -209,6 +209,7 @@ def _crossing(unit: shapely.Geometry, names: list[str]) -> tuple[Any, str] | Non
     edges; None when no two edges cross inside both."""
     try:
         plc = PLC.from_geo_interface(unit)
+        plc.z = None                    # (validity is in x, y)
         cdt_plugin.triangulate(plc)
     except SegmentIntersectionError as e:
         if e.point is None or plc.segment_ring is None:

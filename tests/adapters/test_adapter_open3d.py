@@ -67,11 +67,13 @@ def test_non_planar_lineset_names_the_point():
     P = np.asarray(ls.points).copy()
     P[5, 2] = 1e-9
     ls.points = o3d.utility.Vector3dVector(P)
-    with pytest.raises(NonPlanarError, match=r"point 5 = \[3\.0, 1\.0, 1e-09\]") as info:
-        from_lineset(ls)
-    assert isinstance(info.value, cdt_plugin.CDTError)
-    assert info.value.index == 5
-    assert len(from_lineset(ls, atol=1e-6).vertices) == 8
+    with pytest.raises(NonPlanarError, match=r"vertex 5 \[3\.0, 1\.0, 1e-09\] lies") as info:
+        cdt_plugin.triangulate(from_lineset(ls))
+    assert info.value is not None and isinstance(info.value, cdt_plugin.CDTError)
+    assert info.value.vertex == 5 and 0 < info.value.distance < 1e-9
+    tri = cdt_plugin.triangulate(from_lineset(ls), plane_tolerance=1e-6)
+    _verify(tri)
+    assert np.array_equal(tri.vertices3d[:8], P)
 
 
 def test_empty_and_bad_lines():
@@ -159,12 +161,49 @@ def test_tensor_lineset_errors():
     positions = tls.point.positions.numpy().copy()
     positions[5, 2] = 1e-9
     tls.point.positions = o3d.core.Tensor(positions)
-    with pytest.raises(NonPlanarError, match=r"point 5 = \[3\.0, 1\.0, 1e-09\]") as info:
-        from_lineset(tls)
-    assert info.value.index == 5
-    assert len(from_lineset(tls, atol=1e-6).vertices) == 8
+    with pytest.raises(NonPlanarError, match=r"vertex 5 \[3\.0, 1\.0, 1e-09\] lies") as info:
+        cdt_plugin.triangulate(from_lineset(tls))
+    assert info.value.vertex == 5
+    assert len(from_lineset(tls).vertices) == 8
     tls.line.indices = o3d.core.Tensor(np.array([[0, 1], [1, 9]]))
     with pytest.raises(cdt_plugin.SegmentIndexError):
-        cdt_plugin.triangulate(from_lineset(tls, atol=1e-6))
+        cdt_plugin.triangulate(from_lineset(tls), plane_tolerance=1e-6)
     with pytest.raises(TypeError, match="open3d.t.geometry.LineSet"):
         from_lineset(o3d.t.geometry.PointCloud())
+
+
+def _lineset(P, loops):
+    return o3d.geometry.LineSet(o3d.utility.Vector3dVector(np.asarray(P, float)),
+                                o3d.utility.Vector2iVector(np.asarray(loops)))
+
+
+def test_lineset_at_z2_comes_back_at_z2():
+    tri = cdt_plugin.triangulate(from_lineset(_square_with_hole(2.0)), max_area=0.5)
+    _verify(tri)
+    assert tri.plane is not None and tri.plane.horizontal
+    for mesh in (to_open3d(tri), tri.to_open3d()):
+        V = np.asarray(mesh.vertices)
+        assert (V[:, 2] == 2.0).all() and np.array_equal(V[:, :2], tri.vertices)
+        assert np.allclose(np.asarray(mesh.triangle_normals), [0, 0, 1])
+    tmesh = to_open3d_tensor(tri)
+    assert (tmesh.vertex.positions.numpy()[:, 2] == 2.0).all()
+    assert to_open3d(tri).get_surface_area() == pytest.approx(12.0, rel=1e-12)
+
+
+def test_tilted_lineset_stays_on_its_plane():
+    ls = _square_with_hole(0.0)
+    P2 = np.asarray(ls.points)[:, :2]
+    # the plane z = 0.5 x + 0.25 y + 1 (dyadic slopes: the points lie on it exactly)
+    P = np.column_stack([P2, 0.5 * P2[:, 0] + 0.25 * P2[:, 1] + 1.0])
+    tri = cdt_plugin.triangulate(from_lineset(_lineset(P, np.asarray(ls.lines))), max_area=0.3)
+    _verify(tri)
+    mesh = to_open3d(tri)
+    V = np.asarray(mesh.vertices)
+    assert np.array_equal(V[:8], P)                                     # input points exactly
+    assert np.allclose(V[:, 2], 0.5 * V[:, 0] + 0.25 * V[:, 1] + 1.0, rtol=0, atol=1e-14)
+    normal = np.array([-0.5, -0.25, 1.0]) / np.linalg.norm([-0.5, -0.25, 1.0])
+    assert np.allclose(np.asarray(mesh.triangle_normals), normal)
+    mesh.compute_triangle_normals()          # Open3D's own normals agree: the winding faces it
+    assert np.allclose(np.asarray(mesh.triangle_normals), normal)
+    area = 12.0 * np.linalg.norm([-0.5, -0.25, 1.0])                  # 12 in plan, tilted
+    assert mesh.get_surface_area() == pytest.approx(area, rel=1e-12)

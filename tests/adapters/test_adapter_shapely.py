@@ -65,7 +65,7 @@ def test_polygon_with_holes_area_union_and_regions():
 def _reader_cases():
     return [_holed(),
             shapely.MultiPolygon([_holed(), shapely.box(20, 0, 21, 1)]),
-            shapely.Polygon([(0, 0, 1), (1, 0, 2), (1, 1, 3), (0, 1, 4)]),
+            shapely.Polygon([(0, 0, 1), (1, 0, 2), (1, 1, 3), (0, 1, 2)]),   # on z = 1 + x + y
             shapely.Polygon(_circle(0, 0, 1, 9, cw=True)),
             shapely.Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(1, 1), (2, 2), (3, 3), (1, 1)]]),
             shapely.MultiPolygon([shapely.Polygon(), shapely.box(0, 0, 1, 1)]),

@@ -33,8 +33,8 @@ GEOMETRIES = {
     "star with two holes": STAR_WITH_HOLES,
     "multipolygon with holes": shapely.MultiPolygon([STAR_WITH_HOLES, shapely.box(5, 5, 6, 6),
                                                      shapely.Polygon(_star(12, 10, 0))]),
-    "polygon z": shapely.Polygon([(0, 0, 1), (3, 0, 2), (3, 3, 3), (0, 3, 4)],
-                                 [[(1, 1, 5), (2, 1, 6), (1, 2, 7)]]),
+    "polygon z": shapely.Polygon([(0, 0, 1), (3, 0, 1.75), (3, 3, 3.25), (0, 3, 2.5)],   # z = 1 + x/4 + y/2
+                                 [[(1, 1, 1.75), (2, 1, 2), (1, 2, 2.25)]]),
     "zero-area hole": shapely.Polygon(_star(20), [[(0.1, 0.1), (0.3, 0.3), (0.2, 0.2)]]),
     "repeated-point hole": shapely.Polygon(_star(20), [[(0.1, 0.1), (0.1, 0.1), (0.1, 0.1)]]),
     "multipolygon with a degenerate part": shapely.MultiPolygon(

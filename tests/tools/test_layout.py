@@ -38,6 +38,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
         "cdt_plugin.options",     # the options record, checked once
         "cdt_plugin.compiling",   # the cache guard, imported first by __init__
         "cdt_plugin.fields",      # the size field type: checked and evaluated
+        "cdt_plugin.planar",      # planes of 3D input
     )),
     ("plc", ("cdt_plugin.plc", "cdt_plugin.merging")),
     ("route drivers", ("cdt_plugin._routes",)),
@@ -49,6 +50,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("public functions", ("cdt_plugin", "cdt_plugin.delaunay", "cdt_plugin.cdt", "cdt_plugin.dynamic",
                           "cdt_plugin.batch", "cdt_plugin.lift", "cdt_plugin.sizing",
                           "cdt_plugin.nearness")),
+                          "cdt_plugin.faces")),
     ("tools and adapters", ("cdt_plugin.io*", "cdt_plugin.warmup", "cdt_plugin.adapters*",
                             "cdt_plugin.triangle*")),
     ("command line", ("cdt_plugin.cli*", "cdt_plugin.__main__")),

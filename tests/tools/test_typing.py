@@ -84,6 +84,8 @@ TYPED_MODULES = [
     "cdt_plugin.triangle.plot",
     "cdt_plugin.triangle.tri",
     "cdt_plugin.triangulation",
+    "cdt_plugin.planar",
+    "cdt_plugin.faces",
     "cdt_plugin.types",
     "cdt_plugin.validate",
     "cdt_plugin.voronoi",
