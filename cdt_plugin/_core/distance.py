@@ -89,10 +89,14 @@ def bucket_grid(ax, ay, bx, by):
     ``(x0 + i h, y0 + j h)``) holding the sources
     ``items[start[c]:start[c + 1]]`` for ``c = j nx + i``."""
     m = ax.shape[0]
-    x0 = min(ax.min(), bx.min())
-    y0 = min(ay.min(), by.min())
-    width = max(ax.max(), bx.max()) - x0
-    height = max(ay.max(), by.max()) - y0
+    # (a loop, not numpy's min and max: their compiled implementation makes a new process
+    # whose routes come from the cache import numba's array maths, and scipy)
+    x0, y0, x1, y1 = math.inf, math.inf, -math.inf, -math.inf
+    for s in range(m):
+        x0, x1 = min(x0, ax[s], bx[s]), max(x1, ax[s], bx[s])
+        y0, y1 = min(y0, ay[s], by[s]), max(y1, ay[s], by[s])
+    width = x1 - x0
+    height = y1 - y0
     h = cell_side(width, height, m)
     nx = int(width / h) + 1
     ny = int(height / h) + 1
