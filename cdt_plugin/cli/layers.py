@@ -33,6 +33,9 @@ def mesh_layer(args: argparse.Namespace, output: Path) -> int:
     if args.intersections == "split":
         raise CLIError("--intersections split is for the per-feature formats: layer output "
                        "validates polygons (pass --repair to repair invalid ones)")
+    if getattr(args, "smooth", None) is not None:
+        raise CLIError("--smooth is for the per-feature formats: layer output meshes the "
+                       "features in batches, which do not smooth")
     if args.plot is not None:
         check_plot(args.plot)
     with progress_bar(args.progress, "reading", "file", 1) as step:

@@ -40,6 +40,8 @@ def triangulate_options(args: argparse.Namespace) -> dict[str, Any]:
     MeshOptions.check(**options)      # every option checked before any input is read
     if getattr(args, "size", None) is not None:
         options["size"] = as_size_field(args.size)
+    if getattr(args, "smooth", None) is not None:     # (cdt-plugin mesh only; a choice of the parser)
+        options["smooth"] = args.smooth
     return options
 
 

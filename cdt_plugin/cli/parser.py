@@ -94,6 +94,9 @@ def build_parser() -> argparse.ArgumentParser:
     mesh.add_argument("--merge-distance", type=float, metavar="D",
                       help="merge input points closer than D before meshing (lexicographic "
                            "order: a point goes to the nearest point kept before it)")
+    mesh.add_argument("--smooth", choices=("odt", "lloyd"),
+                      help="smooth the mesh after refinement: 10 iterations of ODT or Lloyd, "
+                           "moving Steiner points only (per-feature inputs)")
     mesh.add_argument("--extrude", type=float, metavar="H",
                       help="extrude the mesh into a watertight solid of height H (mesh formats)")
     mesh.add_argument("--report", action="store_true", help="also print the quality report")

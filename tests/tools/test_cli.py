@@ -580,3 +580,37 @@ def test_mesh_with_merge_distance(tmp_path, capsys):
     assert len(V) == 8 and len(T) == 8
     assert cli.main(["mesh", str(src), "-o", str(out), "--merge-distance", "-1"]) == 1
     assert "merge_distance must be a finite number >= 0" in capsys.readouterr().err
+
+
+def test_mesh_with_smooth(tmp_path, capsys):
+    """``--smooth odt`` gives triangulate(smooth="odt")'s mesh: the same vertices
+    count, input vertices where they were, a higher mean radius ratio, valid."""
+    from checker import assert_valid
+    src = CORPUS / "triangle" / "A.poly"
+    plain, smooth = tmp_path / "plain.ele", tmp_path / "smooth.ele"
+    base = ["mesh", str(src), "--min-angle", "25", "--max-area", "0.5"]
+    assert cli.main([*base, "-o", str(plain)]) == 0
+    assert cli.main([*base, "--smooth", "odt", "-o", str(smooth)]) == 0
+    capsys.readouterr()
+    V0, T0 = tio.read_node(tmp_path / "plain.node").vertices, tio.read_ele(plain).triangles
+    V1, T1 = tio.read_node(tmp_path / "smooth.node").vertices, tio.read_ele(smooth).triangles
+    n = len(tio.read_poly(src).vertices)
+    assert len(V1) == len(V0) and np.array_equal(V1[:n], V0[:n])
+    assert_valid(V1, T1, segments=tio.read_poly(tmp_path / "smooth.poly").segments, domain="segments")
+
+    def mean_radius_ratio(V, T):
+        a, b, c = (np.linalg.norm(V[T[:, (i + 1) % 3]] - V[T[:, (i + 2) % 3]], axis=1) for i in range(3))
+        return float(np.mean((b + c - a) * (c + a - b) * (a + b - c) / (a * b * c)))
+    assert mean_radius_ratio(V1, T1) > mean_radius_ratio(V0, T0)
+    assert cli.main([*base, "--smooth", "laplace", "-o", str(smooth)]) == 2     # a usage error
+    assert "invalid choice: 'laplace'" in capsys.readouterr().err
+
+
+def test_smooth_is_refused_for_layer_output(tmp_path, capsys):
+    pytest.importorskip("geopandas")
+    src = tmp_path / "one.geojson"
+    src.write_text(json.dumps({"type": "FeatureCollection", "features": [{
+        "type": "Feature", "properties": {"name": "a"},
+        "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]]}}]}))
+    assert cli.main(["mesh", str(src), "-o", str(tmp_path / "out.gpkg"), "--smooth", "odt"]) == 1
+    assert "--smooth is for the per-feature formats" in capsys.readouterr().err
