@@ -51,6 +51,7 @@ from typing import Any, Callable, NamedTuple, Optional, Union
 import numpy as np
 from numpy.typing import NDArray
 
+from ._core.gradation import triangle_measures
 from .errors import CDTError
 from .fields import ConstantSize, as_size_field, size_values
 from .report import ANGLE_BINS, triangle_quality
@@ -262,10 +263,9 @@ def mesh_quality(V: NDArray[np.float64], T: NDArray[np.int64], size: SizeField =
         "angle_histogram": {"bins": ANGLE_BINS.tolist(),
                             "counts": np.histogram(q["angles"].ravel(), ANGLE_BINS)[0].tolist()}}
     if size is not None:
-        P = V[T]
-        c = P.mean(axis=1)
-        longest = np.sqrt(((P - P[:, [1, 2, 0]]) ** 2).sum(axis=2).max(axis=1))
-        h = size_values(size, c[:, 0], c[:, 1]) if callable(size) else np.full(len(T), float(size))
+        cx, cy, _, longest = triangle_measures(np.ascontiguousarray(V, np.float64),
+                                               np.ascontiguousarray(T, np.int64))
+        h = size_values(size, cx, cy) if callable(size) else np.full(len(T), float(size))
         r = longest / h
         out["size_ratio_quantiles"] = dict(zip(QUANTILES, np.quantile(r, QUANTILES).tolist()))
     return out
