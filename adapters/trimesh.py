@@ -23,12 +23,17 @@ extrude_polygon(polygon, height, transform=None, mid_plane=False, **kwargs)
     Drop-in for ``trimesh.creation.extrude_polygon``: a watertight solid.
 extrude_path(path, height, **kwargs)
     Every polygon of a ``Path2D`` extruded, one ``Trimesh`` each.
+sweep_polygon(polygon, path, angles=None, cap=True, connect=True)
+    Drop-in for ``trimesh.creation.sweep_polygon``: a watertight sweep.
+Extrusion(polygon, transform=None, height=1.0, mutable=True, mid_plane=False)
+    trimesh's lazy ``Extrusion`` primitive, its mesh built by :func:`extrude_polygon`.
 register(default=False), unregister(), registered(default=False)
     Hook this engine into trimesh itself: ``engine="cdt_plugin"`` in
-    ``trimesh.creation.triangulate_polygon`` and in everything that calls it
-    (``extrude_polygon``, ``sweep_polygon``, ``Path2D.triangulate`` /
+    ``trimesh.creation.triangulate_polygon``, ``extrude_polygon`` and
+    ``sweep_polygon`` (whose solids trimesh would otherwise build by merging
+    vertices) and in everything that calls them (``Path2D.triangulate`` /
     ``extrude``, ``Trimesh.slice_plane(cap=True)``); with ``default=True`` also
-    when no engine is named.
+    when no engine is named, and ``Path2D.extrude`` returns :class:`Extrusion`.
 
 Notes
 -----
@@ -63,7 +68,7 @@ from __future__ import annotations
 import contextlib
 import inspect
 import warnings
-from typing import TYPE_CHECKING, Any, Callable, Iterator, Tuple, TypedDict
+from typing import TYPE_CHECKING, Any, Iterator, TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -74,6 +79,8 @@ try:
     import trimesh
     import trimesh.creation
     import trimesh.path
+    import trimesh.intersections
+    import trimesh.primitives
     from trimesh import transformations
 except ImportError as exc:
     raise missing(exc.name, "cdt_plugin.adapters.trimesh", extra="trimesh") from exc
@@ -88,7 +95,7 @@ if TYPE_CHECKING:
     from cdt_plugin import Triangulation
 
 __all__ = ["from_path2d", "from_path3d", "to_trimesh", "triangulate_polygon", "extrude_polygon",
-           "extrude_triangulation", "extrude_path", "register", "unregister", "registered",
+           "extrude_triangulation", "extrude_path", "sweep_polygon", "slice_plane", "Extrusion", "register", "unregister", "registered",
            "is_registered", "ENGINE", "DroppedZWarning"]
 
 ENGINE = "cdt_plugin"
@@ -413,7 +420,9 @@ def extrude_polygon(polygon: shapely.Geometry, height: float, transform: ArrayLi
 
     ``transform`` (4, 4) is applied after construction; ``mid_plane=True``
     centres the solid on z = 0 (as trimesh does). Other keywords go to
-    :func:`cdt_plugin.triangulate`; the solid is built by
+    :func:`cdt_plugin.triangulate`, except the ``Trimesh`` constructor's
+    (``process=``, ``validate=``...: trimesh's own ``extrude_polygon`` passes
+    its keywords to both), which go to the constructor; the solid is built by
     :func:`extrude_triangulation` (by index, no tolerance merging).
     """
     vertices, faces = triangulate_polygon(polygon, **kwargs)
@@ -423,7 +432,8 @@ def extrude_polygon(polygon: shapely.Geometry, height: float, transform: ArrayLi
         translation = np.eye(4)
         translation[2, 3] = abs(float(height)) / -2.0
         transform = translation if transform is None else np.dot(transform, translation)
-    return extrude_triangulation(vertices, faces, height, transform=transform)
+    constructor = {k: v for k, v in kwargs.items() if k in _TRIMESH_KEYWORDS}
+    return extrude_triangulation(vertices, faces, height, transform=transform, **constructor)
 
 
 def extrude_path(path: trimesh.path.Path2D, height: float, transform: ArrayLike | None = None,
@@ -440,22 +450,276 @@ def extrude_path(path: trimesh.path.Path2D, height: float, transform: ArrayLike 
             for polygon in path.polygons_full if polygon is not None and not polygon.is_empty]
 
 
+def _sweep_frames(path: NDArray[np.float64], angles: NDArray[np.float64],
+                  closed: bool) -> NDArray[np.float64]:
+    """The (len(path), 4, 4) frames of ``trimesh.creation.sweep_polygon``: frame
+    ``k`` takes the profile's plane to the plane through ``path[k]`` whose
+    normal is the path's direction there (the mean of the two adjacent
+    directions; of the first and last on a closed path), turned by ``angles[k]``.
+    Composed as trimesh documents its unrolled matrices, so a sweep puts the
+    profile where trimesh's own does."""
+    direction = trimesh.util.unitize(path[1:] - path[:-1])
+    mean = trimesh.util.unitize(direction[1:] + direction[:-1])
+    normal = np.concatenate([direction[:1], mean, direction[-1:]])
+    if closed:
+        normal[0] = trimesh.util.unitize(normal[[0, -1]].mean(axis=0))
+    theta, phi = trimesh.util.vector_to_spherical(normal).T
+    frames = np.empty((len(path), 4, 4))
+    for k in range(len(path)):
+        rotation = (transformations.rotation_matrix(angles[k], [0, 0, 1])
+                    @ transformations.rotation_matrix(phi[k], [1, 0, 0])
+                    @ transformations.rotation_matrix(np.pi / 2 - theta[k], [0, 0, 1]))
+        frames[k] = rotation.T            # the inverse of a rotation
+        frames[k, :3, 3] = path[k]
+    return frames
+
+
+def sweep_polygon(polygon: shapely.Geometry, path: ArrayLike, angles: ArrayLike | None = None,
+                  cap: bool = True, connect: bool = True, kwargs: dict[str, Any] | None = None,
+                  **triangulation: Any) -> trimesh.Trimesh:
+    """Drop-in for ``trimesh.creation.sweep_polygon``: the polygon swept along a
+    3D ``path`` (n, 3), its plane at each path point as trimesh places it
+    (normal along the path, turned by ``angles``).
+
+    Built by index like :func:`extrude_triangulation`: each profile vertex is
+    one vertex per path point, each boundary edge of the triangulation two
+    wall triangles per step, pinch vertices (a hole touching the shell) split
+    per fan. So the solid is watertight where trimesh's own sweep leaves an
+    edge in four faces at a pinch point, and the end caps keep the interior
+    Steiner points of a refined triangulation (``min_angle=``, ``max_area=``),
+    which trimesh's sweep cannot place. ``cap`` closes an open path with the
+    profile at both ends; a closed path (last point within ``trimesh.tol.merge``
+    of the first) is joined into a ring when ``connect``. ``kwargs`` go to the
+    ``Trimesh`` constructor (default ``process=False``), other keywords to
+    :func:`triangulate_polygon`.
+
+    >>> import shapely
+    >>> ring = shapely.box(0, 0, 2, 2).difference(shapely.box(0.5, 0.5, 1.5, 1.5))
+    >>> solid = sweep_polygon(ring, [[0, 0, 0], [0, 0, 1], [0, 0, 3]])
+    >>> bool(solid.is_watertight), round(float(solid.volume), 12)
+    (True, 9.0)
+    """
+    path = np.asarray(path, dtype=np.float64)
+    if path.ndim != 2 or path.shape[1] != 3 or len(path) < 2:
+        raise cdt_plugin.InputShapeError(f"the sweep path must be (n, 3) with n >= 2, got {path.shape}")
+    angles = np.zeros(len(path)) if angles is None else np.asarray(angles, dtype=np.float64)
+    if angles.shape != (len(path),):
+        raise cdt_plugin.InputShapeError(f"angles must be ({len(path)},), one per path point, "
+                                         f"got {angles.shape}")
+    vertices, faces = _profile(polygon, triangulation)
+    boundary = _boundary_edges(faces, len(vertices))
+    ring = bool(np.linalg.norm(path[0] - path[-1]) < trimesh.tol.merge) and connect
+    frames = _sweep_frames(path, angles, ring)
+    slices = len(path) - 1 if ring else len(path)      # a ring's last point is its first
+    n = len(vertices)
+    flat = np.column_stack([vertices, np.zeros(n), np.ones(n)])
+    vertices3 = np.concatenate([flat @ frame.T for frame in frames[:slices]])[:, :3]
+    i, j = boundary[:, 0], boundary[:, 1]
+    walls = []
+    for k in range(len(path) - 1):
+        here, there = k * n, (k + 1) % slices * n
+        # the quad's diagonal as trimesh's own sweep draws it (the volume of a
+        # curved sweep depends on it)
+        walls += [np.column_stack([i + here, j + here, i + there]),
+                  np.column_stack([j + there, i + there, j + here])]
+    if cap and not ring:
+        walls += [faces[:, ::-1], faces + (slices - 1) * n]
+    vertices3, all_faces = _compact(vertices3, np.concatenate(walls))
+    kwargs = dict(kwargs or {})
+    kwargs.setdefault("process", False)
+    return trimesh.Trimesh(vertices=vertices3, faces=np.ascontiguousarray(all_faces), **kwargs)
+
+
+def _profile(polygon: shapely.Geometry,
+             options: dict[str, Any]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """The counter-clockwise triangulation of a profile, its pinch vertices split."""
+    vertices, faces = triangulate_polygon(polygon, **options)
+    if len(faces) == 0:
+        raise cdt_plugin.NoPolygonsError(f"the polygon is empty: nothing to sweep ({polygon!r})")
+    return _split_pinches(vertices, faces, _boundary_edges(faces, len(vertices)))
+
+
+def slice_plane(mesh: trimesh.Trimesh, plane_origin: ArrayLike, plane_normal: ArrayLike,
+                **kwargs: Any) -> trimesh.Trimesh:
+    """The part of ``mesh`` on the positive side of a plane, capped: what
+    ``mesh.slice_plane(origin, normal, cap=True)`` gives, built by index.
+
+    Each edge crossing the plane gets one cut vertex, shared by both faces
+    (trimesh's slicer gives each face its own and then merges vertices by a
+    rounding tolerance, which folds the copies of a pinch point back into one
+    and leaves edges in four faces). The cap is the constrained Delaunay
+    triangulation of the cut's boundary loops in the plane, its pinch points
+    split like :func:`extrude_triangulation`'s, each cap vertex the very vertex
+    of the loop it closes. So a watertight mesh gives a watertight part whose
+    volume is the exact part's volume up to rounding. Several planes
+    ((n, 3) origins and normals) are applied in turn; keywords go to the
+    ``Trimesh`` constructor (default ``process=False``).
+
+    >>> import shapely
+    >>> block = extrude_polygon(shapely.box(0, 0, 4, 4).difference(shapely.box(1, 1, 2, 2)), 2.0)
+    >>> part = slice_plane(block, [0, 0, 0.5], [0, 0, 1])
+    >>> bool(part.is_watertight), float(part.volume)
+    (True, 22.5)
+    """
+    origins = np.asarray(plane_origin, dtype=np.float64).reshape(-1, 3)
+    normals = np.asarray(plane_normal, dtype=np.float64).reshape(-1, 3)
+    if origins.shape != normals.shape:
+        raise cdt_plugin.InputShapeError(f"plane origins {origins.shape} and normals "
+                                         f"{normals.shape} must be (3,) or (n, 3) alike")
+    vertices = np.asarray(mesh.vertices, dtype=np.float64)
+    faces = np.asarray(mesh.faces, dtype=np.int64)
+    for origin, normal in zip(origins, normals):
+        vertices, faces = _cut(vertices, faces, origin, normal)
+    vertices, faces = _compact(vertices, faces)
+    kwargs.setdefault("process", False)
+    return trimesh.Trimesh(vertices=vertices, faces=faces, **kwargs)
+
+
+def _cut(vertices: NDArray[np.float64], faces: NDArray[np.int64], origin: NDArray[np.float64],
+         normal: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """The faces on the positive side of the plane, clipped at it by index, and
+    the cap over the cut."""
+    distance = (vertices - origin) @ normal
+    sign = np.sign(distance).astype(np.int64)
+    corner = sign[faces]
+    keep = faces[(corner >= 0).all(axis=1) & (corner > 0).any(axis=1)]
+    crossing = faces[(corner < 0).any(axis=1) & (corner > 0).any(axis=1)]
+    # one cut vertex per crossing edge, computed from its lower-numbered end
+    a, b = crossing, np.roll(crossing, -1, axis=1)
+    cut = sign[a] * sign[b] < 0
+    low, high = np.minimum(a, b)[cut], np.maximum(a, b)[cut]
+    keys, index = np.unique(low * len(vertices) + high, return_inverse=True)
+    u, w = keys // len(vertices), keys % len(vertices)
+    t = distance[u] / (distance[u] - distance[w])
+    points = vertices[u] + t[:, None] * (vertices[w] - vertices[u])
+    cut_vertex = np.full(a.shape, -1, np.int64)
+    cut_vertex[cut] = len(vertices) + index
+    clipped = []
+    for corners, cuts, signs in zip(crossing, cut_vertex, sign[crossing]):
+        ring = []                   # the face's part on the positive side, in its order
+        for k in range(3):
+            if signs[k] >= 0:
+                ring.append(corners[k])
+            if cuts[k] >= 0:
+                ring.append(cuts[k])
+        clipped += [(ring[0], ring[m], ring[m + 1]) for m in range(1, len(ring) - 1)]
+    vertices = np.concatenate([vertices, points])
+    faces = np.concatenate([keep, np.asarray(clipped, np.int64).reshape(-1, 3)])
+    on_plane = np.concatenate([sign == 0, np.ones(len(points), bool)])
+    return vertices, np.concatenate([faces, _cap(vertices, faces, on_plane, origin, normal)])
+
+
+def _cap(vertices: NDArray[np.float64], faces: NDArray[np.int64], on_plane: NDArray[np.bool_],
+         origin: NDArray[np.float64], normal: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Faces (indices into ``vertices``) closing the boundary loops of ``faces``
+    that lie on the plane, facing away from ``normal``."""
+    open_edges = _boundary_edges(faces[:, ::-1], len(vertices))    # the loops, cap-wise
+    open_edges = open_edges[on_plane[open_edges].all(axis=1)]
+    if len(open_edges) < 3:
+        return np.empty((0, 3), np.int64)
+    used, segments = np.unique(open_edges, return_inverse=True)
+    segments = segments.reshape(-1, 2)
+    to_2d = trimesh.geometry.plane_transform(origin=origin, normal=-normal)
+    points = transformations.transform_points(vertices[used], to_2d)[:, :2]
+    tri = cdt_plugin.triangulate(points, segments)
+    if len(tri.steiner):
+        raise cdt_plugin.InvalidMeshError(
+            f"the cut of the mesh by the plane through {origin.tolist()} with normal "
+            f"{normal.tolist()} crosses itself: it cannot be capped")
+    cap = np.asarray(tri.triangles, np.int64)
+    merged = np.asarray(tri.vertex_map, np.int64)         # loop vertex -> vertex of tri
+    loop_vertex = np.full(len(tri.vertices), -1, np.int64)
+    loop_vertex[merged] = np.arange(len(merged))
+    corners = loop_vertex[cap]
+    # where loop vertices coincide (a pinch point; or the cut runs along an edge of
+    # the mesh twice) each fan of cap faces around the point takes the loop vertex
+    # of the loop edges that bound it
+    for v in np.flatnonzero(np.bincount(merged, minlength=len(tri.vertices)) > 1):
+        for rows, cols, loop in _fans(cap, int(v), merged, segments):
+            corners[rows, cols] = loop
+    return used[corners]
+
+
+def _fans(cap: NDArray[np.int64], v: int, merged: NDArray[np.int64],
+          segments: NDArray[np.int64]) -> Iterator[tuple[NDArray[np.int64], NDArray[np.int64], int]]:
+    """The fans of cap faces around vertex ``v`` (faces joined by an edge at
+    ``v`` that is no loop edge), each as (face rows, corner columns, the loop
+    vertex that bounds it: the start of a loop edge leaving ``v`` along the
+    fan's faces, or the end of one arriving)."""
+    rows, cols = np.nonzero(cap == v)
+    loop_edges = {(int(merged[a]), int(merged[b])): (int(a), int(b)) for a, b in segments}
+    parent = list(range(len(rows)))
+
+    def find(k: int) -> int:
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]
+            k = parent[k]
+        return k
+
+    by_edge: dict[int, int] = {}
+    bounds: dict[int, int] = {}                  # face k -> its loop vertex at v
+    for k, (row, col) in enumerate(zip(rows, cols)):
+        after, before = int(cap[row, (col + 1) % 3]), int(cap[row, (col + 2) % 3])
+        if (v, after) in loop_edges:
+            bounds[k] = loop_edges[(v, after)][0]
+        elif (before, v) in loop_edges:
+            bounds[k] = loop_edges[(before, v)][1]
+        for w in (after, before):
+            if (v, w) in loop_edges or (w, v) in loop_edges:
+                continue                          # a loop edge parts the fans
+            if w in by_edge:
+                parent[find(k)] = find(by_edge[w])
+            else:
+                by_edge[w] = k
+    fans: dict[int, list[int]] = {}
+    for k in range(len(rows)):
+        fans.setdefault(find(k), []).append(k)
+    for members in fans.values():
+        loop = next((bounds[k] for k in members if k in bounds), None)
+        if loop is not None:
+            yield rows[members], cols[members], loop
+
+
+class Extrusion(trimesh.primitives.Extrusion):
+    """trimesh's ``Extrusion`` primitive whose mesh this engine builds
+    (:func:`extrude_polygon`: watertight, by index), whenever it is first
+    touched or rebuilt after a change of its ``primitive`` attributes.
+
+    ``register(default=True)`` puts this class in ``trimesh.primitives`` so that
+    ``Path2D.extrude`` returns it; the mesh stays ours after the registration
+    ends. Everything else is trimesh's primitive (volume and area from the
+    polygon, ``slide``, ``buffer``, ``to_dict``...).
+
+    >>> import shapely
+    >>> part = Extrusion(shapely.box(0, 0, 2, 1), height=3.0)
+    >>> isinstance(part, trimesh.primitives.Extrusion), bool(part.is_watertight), len(part.faces)
+    (True, True, 12)
+    """
+
+    def _create_mesh(self) -> None:
+        attributes = self.primitive
+        mesh = extrude_polygon(attributes.polygon, attributes.height,
+                               transform=attributes.transform, mid_plane=attributes.mid_plane)
+        self._cache["vertices"] = mesh.vertices
+        self._cache["faces"] = mesh.faces
+
+
 # ------------------------------------------------- hooking into trimesh itself
-# trimesh has no engine registry: register() replaces the module attribute
-# trimesh.creation.triangulate_polygon by _hook. Every caller in trimesh looks the
-# attribute up when it runs (extrude_polygon, sweep_polygon and revolve read the
-# module global; Path2D.triangulate and slice_mesh_plane import it at call time),
-# so that one replacement reaches them all.
-_TriangulatePolygon = Callable[..., Tuple[NDArray[np.float64], NDArray[np.int64]]]
+# trimesh has no engine registry: register() replaces module attributes of trimesh
+# by hooks that dispatch on the engine name. Every caller in trimesh looks the
+# attributes up when it runs (extrude_polygon, sweep_polygon and revolve read the
+# creation module's globals; Path2D.triangulate, Path2D.extrude and slice_mesh_plane
+# import them at call time; the Extrusion primitive calls creation.extrude_polygon).
+def _ours(engine: str | None) -> bool:
+    """Whether a trimesh call naming ``engine`` is for this engine."""
+    if engine is None:
+        return _hooked["default"]
+    return isinstance(engine, str) and engine.lower() == ENGINE
 
 
-class _HookState(TypedDict):
-    original: _TriangulatePolygon   # what register() replaced (trimesh's own function)
-    default: bool                   # the hook's engine when none is named
-
-
-# (register() stores the function it replaces; before that, trimesh's function at import)
-_hooked: _HookState = {"original": trimesh.creation.triangulate_polygon, "default": False}
+def _engine_name(engine: str | None) -> str | None:
+    """trimesh's engine names in any case."""
+    return engine.lower() if isinstance(engine, str) else engine
 
 
 def _hook(polygon: shapely.Geometry | None, triangle_args: str | None = None,
@@ -467,45 +731,134 @@ def _hook(polygon: shapely.Geometry | None, triangle_args: str | None = None,
     polygon raises :class:`cdt_plugin.NoPolygonsError` (trimesh's callers would
     fail on the empty arrays, or build an empty solid); any other engine runs
     trimesh's own function, its name lower-cased."""
-    if isinstance(engine, str):
-        engine = engine.lower()
-    if engine == ENGINE or (engine is None and _hooked["default"]):
+    if _ours(engine):
         if polygon is None or polygon.is_empty:
             raise cdt_plugin.NoPolygonsError(
                 f"trimesh asked engine {ENGINE!r} to triangulate an empty polygon ({polygon!r})")
         return triangulate_polygon(polygon, triangle_args=triangle_args,
                                    force_vertices=force_vertices, **kwargs)
-    return _hooked["original"](polygon, triangle_args=triangle_args, engine=engine,
-                               force_vertices=force_vertices, **kwargs)
+    return _original("triangulate_polygon")(polygon, triangle_args=triangle_args,
+                                            engine=_engine_name(engine),
+                                            force_vertices=force_vertices, **kwargs)
+
+
+def _extrude_hook(polygon: shapely.Geometry, height: float, transform: ArrayLike | None = None,
+                  mid_plane: bool = False, **kwargs: Any) -> trimesh.Trimesh:
+    """trimesh's ``extrude_polygon`` while :func:`register` is in force: with
+    this engine, :func:`extrude_polygon` (trimesh's own stacks the caps and
+    walls as separate vertices and lets the ``Trimesh`` constructor merge them
+    by a rounding tolerance, which folds pinch points and near-duplicates)."""
+    if _ours(kwargs.get("engine")):
+        if polygon is None or polygon.is_empty:
+            raise cdt_plugin.NoPolygonsError(
+                f"trimesh asked engine {ENGINE!r} to extrude an empty polygon ({polygon!r})")
+        return extrude_polygon(polygon, height, transform=transform, mid_plane=mid_plane, **kwargs)
+    if "engine" in kwargs:
+        kwargs["engine"] = _engine_name(kwargs["engine"])
+    return _original("extrude_polygon")(polygon, height, transform=transform, mid_plane=mid_plane,
+                                        **kwargs)
+
+
+def _sweep_hook(polygon: shapely.Geometry, path: ArrayLike, angles: ArrayLike | None = None,
+                cap: bool = True, connect: bool = True, kwargs: dict[str, Any] | None = None,
+                **triangulation: Any) -> trimesh.Trimesh:
+    """trimesh's ``sweep_polygon`` while :func:`register` is in force: with
+    this engine, :func:`sweep_polygon` (by index, pinch points split)."""
+    if _ours(triangulation.get("engine")):
+        if polygon is None or polygon.is_empty:
+            raise cdt_plugin.NoPolygonsError(
+                f"trimesh asked engine {ENGINE!r} to sweep an empty polygon ({polygon!r})")
+        return sweep_polygon(polygon, path, angles=angles, cap=cap, connect=connect,
+                             kwargs=kwargs, **triangulation)
+    if "engine" in triangulation:
+        triangulation["engine"] = _engine_name(triangulation["engine"])
+    return _original("sweep_polygon")(polygon, path, angles=angles, cap=cap, connect=connect,
+                                      kwargs=kwargs, **triangulation)
+
+
+def _slice_hook(mesh: trimesh.Trimesh, plane_normal: ArrayLike, plane_origin: ArrayLike,
+                face_index: ArrayLike | None = None, cap: bool = False, engine: str | None = None,
+                **kwargs: Any) -> trimesh.Trimesh | None:
+    """trimesh's ``slice_mesh_plane`` (behind ``Trimesh.slice_plane``) while
+    :func:`register` is in force: capped with this engine, :func:`slice_plane`."""
+    if cap and face_index is None and mesh is not None and _ours(engine):
+        return slice_plane(mesh, plane_origin, plane_normal, **kwargs)
+    return _original("slice_mesh_plane")(mesh, plane_normal, plane_origin, face_index=face_index,
+                                         cap=cap, engine=_engine_name(engine), **kwargs)
+
+
+# What register() replaces: (module, attribute) -> the replacement. The Extrusion
+# primitive only with default=True (Path2D.extrude names no engine).
+_HOOKS: dict[tuple[Any, str], Any] = {
+    (trimesh.creation, "triangulate_polygon"): _hook,
+    (trimesh.creation, "extrude_polygon"): _extrude_hook,
+    (trimesh.creation, "sweep_polygon"): _sweep_hook,
+    (trimesh.intersections, "slice_mesh_plane"): _slice_hook,
+}
+_DEFAULT_HOOKS: dict[tuple[Any, str], Any] = {(trimesh.primitives, "Extrusion"): Extrusion}
+
+
+class _HookState(TypedDict):
+    originals: dict[str, Any]    # attribute name -> what register() replaced (trimesh's own)
+    default: bool                # the hooks' engine when none is named
+
+
+# (register() stores what it replaces; before that, trimesh's own at import)
+_hooked: _HookState = {"originals": {name: getattr(module, name)
+                                     for module, name in [*_HOOKS, *_DEFAULT_HOOKS]},
+                       "default": False}
+
+
+def _original(name: str) -> Any:
+    """trimesh's own attribute ``name`` (the one register() replaced)."""
+    return _hooked["originals"][name]
 
 
 def is_registered() -> bool:
-    """Whether ``trimesh.creation.triangulate_polygon`` is this module's hook."""
+    """Whether the hooks of :func:`register` are in trimesh (``trimesh.creation.triangulate_polygon``
+    is this module's hook)."""
     return trimesh.creation.triangulate_polygon is _hook
 
 
 def register(default: bool = False) -> None:
-    """Make ``engine="cdt_plugin"`` an engine of ``trimesh.creation.triangulate_polygon``.
+    """Make ``engine="cdt_plugin"`` an engine of trimesh, and keep this engine's
+    guarantees (watertight solids of the exact volume) in trimesh's own functions.
 
-    After this, trimesh meshes with :func:`triangulate_polygon` whenever the
-    engine is ``"cdt_plugin"``, in every trimesh function that goes through
-    ``triangulate_polygon`` and passes the engine on: ``extrude_polygon``,
-    ``sweep_polygon``, ``Path2D.triangulate`` and ``Trimesh.slice_plane(...,
-    cap=True)`` (``engine=`` and, except for ``slice_plane``, the keywords of
-    :func:`cdt_plugin.triangulate` or ``triangle_args``). With ``default=True`` it
-    is also the engine when none is named, which reaches the callers that pass
-    no engine: ``Path2D.extrude``, the ``Extrusion`` primitive, ``revolve(cap=True)``.
-    Other engine names (``"earcut"``, ``"manifold"``, ``"triangle"``) still go to
-    trimesh's own function. Engine names are case-insensitive (``"CDT_Plugin"``,
-    ``"Earcut"``). With this engine, an empty polygon raises
-    :class:`cdt_plugin.NoPolygonsError`, and a keyword that is neither
-    :func:`cdt_plugin.triangulate`'s nor the ``Trimesh`` constructor's (which
-    trimesh's ``extrude_polygon`` passes on too) a :class:`cdt_plugin.CDTError`
-    naming it.
+    trimesh has no engine registry, so this replaces attributes of trimesh's
+    modules by hooks that run this module's functions when the engine is
+    ``"cdt_plugin"`` and trimesh's own otherwise:
+
+    * ``trimesh.creation.triangulate_polygon``: :func:`triangulate_polygon`;
+      reaches ``Path2D.triangulate``, ``Trimesh.slice_plane(..., cap=True)``
+      (caps), ``revolve(cap=True)`` and the functions below.
+    * ``trimesh.creation.extrude_polygon``: :func:`extrude_polygon`. trimesh's
+      own extrusion gives the walls their own vertices and lets the ``Trimesh``
+      constructor merge them with the caps' by a rounding tolerance, which
+      leaves pinch points (holes touching each other or the shell at a vertex)
+      and points a rounding error apart not watertight; ours builds the solid by
+      index and splits pinch points.
+    * ``trimesh.creation.sweep_polygon``: :func:`sweep_polygon` (trimesh's own
+      leaves a pinch point's wall edges in four faces, and cannot cap a
+      triangulation with interior Steiner points).
+    * with ``default=True``, ``trimesh.primitives.Extrusion``: :class:`Extrusion`,
+      so ``Path2D.extrude`` returns primitives whose mesh is ours whenever it
+      is built, also after the registration ends.
+
+    ``engine=`` and the keywords of :func:`cdt_plugin.triangulate` or
+    ``triangle_args`` go along (``slice_plane`` passes only the engine). With
+    ``default=True`` this engine is also the one when none is named, which
+    reaches the callers that pass no engine: ``Path2D.extrude``, the ``Extrusion``
+    primitive, ``revolve(cap=True)``. Other engine names (``"earcut"``,
+    ``"manifold"``, ``"triangle"``) run trimesh's own functions, untouched.
+    Engine names are case-insensitive (``"CDT_Plugin"``, ``"Earcut"``). With this
+    engine, an empty polygon raises :class:`cdt_plugin.NoPolygonsError`, and a
+    keyword that is neither :func:`cdt_plugin.triangulate`'s nor the ``Trimesh``
+    constructor's (which trimesh's ``extrude_polygon`` passes on too) a
+    :class:`cdt_plugin.CDTError` naming it.
 
     Calling it again only updates ``default`` (nothing is wrapped twice);
-    :func:`unregister` puts trimesh's function back, and :func:`registered` does
-    both around a ``with`` block.
+    :func:`unregister` puts every replaced attribute back, and :func:`registered`
+    does both around a ``with`` block.
 
     >>> import shapely, trimesh, cdt_plugin.adapters.trimesh as ct
     >>> ct.register()
@@ -520,23 +873,28 @@ def register(default: bool = False) -> None:
     if not isinstance(default, bool):
         raise cdt_plugin.CDTError(f"default must be True or False, got {default!r}")
     if not is_registered():
-        _hooked["original"] = trimesh.creation.triangulate_polygon
-        trimesh.creation.triangulate_polygon = _hook
+        for module, name in [*_HOOKS, *_DEFAULT_HOOKS]:
+            _hooked["originals"][name] = getattr(module, name)
+        for (module, name), hook in _HOOKS.items():
+            setattr(module, name, hook)
+    for (module, name), hook in _DEFAULT_HOOKS.items():
+        setattr(module, name, hook if default else _original(name))
     _hooked["default"] = default
 
 
 def unregister() -> None:
-    """Put trimesh's own ``triangulate_polygon`` back (the very function object
-    :func:`register` replaced); does nothing if the hook is not registered.
+    """Put back every attribute of trimesh that :func:`register` replaced (the
+    very objects it found); does nothing if the hooks are not registered.
 
     >>> import trimesh, cdt_plugin.adapters.trimesh as ct
-    >>> original = trimesh.creation.triangulate_polygon
-    >>> ct.register(); ct.unregister()
-    >>> trimesh.creation.triangulate_polygon is original
+    >>> original = trimesh.creation.extrude_polygon, trimesh.primitives.Extrusion
+    >>> ct.register(default=True); ct.unregister()
+    >>> (trimesh.creation.extrude_polygon, trimesh.primitives.Extrusion) == original
     True
     """
     if is_registered():
-        trimesh.creation.triangulate_polygon = _hooked["original"]
+        for module, name in [*_HOOKS, *_DEFAULT_HOOKS]:
+            setattr(module, name, _original(name))
     _hooked["default"] = False
 
 

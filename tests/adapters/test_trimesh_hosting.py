@@ -17,6 +17,11 @@ from cdt_plugin import CDTError, NoPolygonsError  # noqa: E402
 from checker import assert_valid  # noqa: E402
 
 TRIMESH_TRIANGULATE = trimesh.creation.triangulate_polygon
+# everything register() may replace, as trimesh has it before any test
+TRIMESH_OWN = {(module, name): getattr(module, name) for module, name in
+               [(trimesh.creation, "triangulate_polygon"), (trimesh.creation, "extrude_polygon"),
+                (trimesh.creation, "sweep_polygon"), (trimesh.intersections, "slice_mesh_plane"),
+                (trimesh.primitives, "Extrusion")]}
 L_SHAPE = shapely.Polygon([(0, 0), (4, 0), (4, 1), (1, 1), (1, 3), (0, 3)])
 
 
@@ -24,10 +29,26 @@ L_SHAPE = shapely.Polygon([(0, 0), (4, 0), (4, 1), (1, 1), (1, 3), (0, 3)])
 def trimesh_left_unpatched():
     """Every test leaves trimesh as it found it."""
     yield
-    leaked = trimesh.creation.triangulate_polygon is not TRIMESH_TRIANGULATE
+    leaked = [f"{module.__name__}.{name}" for (module, name), own in TRIMESH_OWN.items()
+              if getattr(module, name) is not own]
     ct.unregister()
-    trimesh.creation.triangulate_polygon = TRIMESH_TRIANGULATE
-    assert not leaked, "a test left trimesh.creation.triangulate_polygon patched"
+    for (module, name), own in TRIMESH_OWN.items():
+        setattr(module, name, own)
+    assert not leaked, f"a test left trimesh patched: {leaked}"
+
+
+@pytest.mark.parametrize("default", [False, True])
+def test_unregister_restores_every_replaced_attribute(default):
+    ct.register(default=default)
+    replaced = [key for key, own in TRIMESH_OWN.items() if getattr(*key) is not own]
+    assert len(replaced) == 4 + default         # the Extrusion primitive only with default
+    ct.register(default=not default)            # again: only the default changes
+    ct.unregister()
+    assert all(getattr(*key) is own for key, own in TRIMESH_OWN.items())
+    with pytest.raises(RuntimeError):
+        with ct.registered(default=True):
+            raise RuntimeError("the block fails")
+    assert all(getattr(*key) is own for key, own in TRIMESH_OWN.items())
 
 
 def _check_solid(mesh, polygon, height):
