@@ -550,7 +550,8 @@ def slice_plane(mesh: trimesh.Trimesh, plane_origin: ArrayLike, plane_normal: Ar
     and leaves edges in four faces). The cap is the constrained Delaunay
     triangulation of the cut's boundary loops in the plane, its pinch points
     split like :func:`extrude_triangulation`'s, each cap vertex the very vertex
-    of the loop it closes. So a watertight mesh gives a watertight part whose
+    of the loop it closes. Vertices within ``trimesh.tol.merge`` of the plane
+    count as on it (trimesh's rule). So a watertight mesh gives a watertight part whose
     volume is the exact part's volume up to rounding. Several planes
     ((n, 3) origins and normals) are applied in turn; keywords go to the
     ``Trimesh`` constructor (default ``process=False``).
@@ -580,7 +581,9 @@ def _cut(vertices: NDArray[np.float64], faces: NDArray[np.int64], origin: NDArra
     """The faces on the positive side of the plane, clipped at it by index, and
     the cap over the cut."""
     distance = (vertices - origin) @ normal
-    sign = np.sign(distance).astype(np.int64)
+    # trimesh's rule: a vertex within trimesh.tol.merge of the plane is on it (a
+    # vertex a rounding error off it would give cut points a rounding error apart)
+    sign = np.where(np.abs(distance) <= trimesh.tol.merge, 0, np.sign(distance)).astype(np.int64)
     corner = sign[faces]
     keep = faces[(corner >= 0).all(axis=1) & (corner > 0).any(axis=1)]
     crossing = faces[(corner < 0).any(axis=1) & (corner > 0).any(axis=1)]
