@@ -1,4 +1,4 @@
-"""trimesh's own tests of creation, extrusion, sweeps, sections and paths, run
+"""trimesh's own tests of creation, extrusion, sweeps, sections, paths and primitives, run
 with our engine registered as trimesh's default (``register(default=True)``).
 
 trimesh's wheel has no tests; its source distribution on PyPI has them, for the
@@ -26,9 +26,9 @@ import pytest
 trimesh = pytest.importorskip("trimesh")
 pytest.importorskip("shapely")
 
-#: trimesh's test modules run here (creation, extrusion, sweeps, sections, paths)
+#: trimesh's test modules run here (creation, extrusion, sweeps, sections, paths, primitives)
 MODULES = ["test_creation.py", "test_extrude.py", "test_sweep.py", "test_section.py",
-           "test_paths.py", "test_polygons.py", "test_path_creation.py"]
+           "test_paths.py", "test_polygons.py", "test_path_creation.py", "test_primitives.py"]
 
 GENERIC = '''"""What trimesh's test modules use from their ``generic`` helper (not in the sdist)."""
 import itertools, json, logging, os, random as _random, timeit, unittest
@@ -42,8 +42,14 @@ from shapely.geometry import Point, Polygon
 from trimesh.constants import tol, tol_path
 from trimesh.grouping import group_rows
 
+try:
+    import jsonschema
+except ImportError:
+    jsonschema = None
+
 log = logging.getLogger("trimesh")
 random = np.random.random
+has_path = True
 has_earcut = trimesh.creation._engines[0][1]
 tf = trimesh.transformations
 # rotations about the origin, as their helper's (their tests expect the centre kept)
