@@ -126,7 +126,7 @@ def polygons():
     touching = _touching(glyphs[::4])
     assert len(touching) > 40
     cad = [_near_duplicates(p) for p in glyphs[1::12]]
-    chosen = glyphs[::3] + touching + cad + _synthetic() + _trimesh_shapes()
+    chosen = glyphs + touching + cad + _synthetic() + _trimesh_shapes()
     assert all(p.is_valid for p in chosen)
     return chosen
 
