@@ -783,8 +783,11 @@ def _slice_hook(mesh: trimesh.Trimesh, plane_normal: ArrayLike, plane_origin: Ar
                 face_index: ArrayLike | None = None, cap: bool = False, engine: str | None = None,
                 **kwargs: Any) -> trimesh.Trimesh | None:
     """trimesh's ``slice_mesh_plane`` (behind ``Trimesh.slice_plane``) while
-    :func:`register` is in force: capped with this engine, :func:`slice_plane`."""
-    if cap and face_index is None and mesh is not None and _ours(engine):
+    :func:`register` is in force: capped with this engine, :func:`slice_plane`
+    for a watertight mesh (its guarantee needs one). A mesh that is not
+    watertight by index (vertices split at texture seams, a triangle soup)
+    goes to trimesh's own step, which merges vertices by a tolerance first."""
+    if cap and face_index is None and mesh is not None and _ours(engine) and mesh.is_watertight:
         return slice_plane(mesh, plane_origin, plane_normal, **kwargs)
     return _original("slice_mesh_plane")(mesh, plane_normal, plane_origin, face_index=face_index,
                                          cap=cap, engine=_engine_name(engine), **kwargs)
@@ -832,8 +835,8 @@ def register(default: bool = False) -> None:
     ``"cdt_plugin"`` and trimesh's own otherwise:
 
     * ``trimesh.creation.triangulate_polygon``: :func:`triangulate_polygon`;
-      reaches ``Path2D.triangulate``, ``Trimesh.slice_plane(..., cap=True)``
-      (caps), ``revolve(cap=True)`` and the functions below.
+      reaches ``Path2D.triangulate``, ``revolve(cap=True)`` and the caps of
+      trimesh's own slicing (meshes that are not watertight by index).
     * ``trimesh.creation.extrude_polygon``: :func:`extrude_polygon`. trimesh's
       own extrusion gives the walls their own vertices and lets the ``Trimesh``
       constructor merge them with the caps' by a rounding tolerance, which
@@ -843,6 +846,11 @@ def register(default: bool = False) -> None:
     * ``trimesh.creation.sweep_polygon``: :func:`sweep_polygon` (trimesh's own
       leaves a pinch point's wall edges in four faces, and cannot cap a
       triangulation with interior Steiner points).
+    * ``trimesh.intersections.slice_mesh_plane`` with ``cap=True`` (behind
+      ``Trimesh.slice_plane``) of a watertight mesh: :func:`slice_plane`.
+      trimesh's own cuts each face apart and merges the cut points by a
+      tolerance, which folds a pinch point's copies into one (a mesh that is
+      not watertight by index, split at texture seams, keeps trimesh's step).
     * with ``default=True``, ``trimesh.primitives.Extrusion``: :class:`Extrusion`,
       so ``Path2D.extrude`` returns primitives whose mesh is ours whenever it
       is built, also after the registration ends.

@@ -286,3 +286,15 @@ def test_other_engines_keep_trimeshs_own_behaviour(engine):
     with ct.registered():                              # no default: Path2D.extrude is trimesh's
         part = trimesh.load_path(polygon).extrude(HEIGHT)
     assert type(part) is trimesh.primitives.Extrusion
+
+
+def test_a_mesh_split_at_seams_is_sliced_by_trimeshs_own_step():
+    """Not watertight by index (every face its own vertices): nothing to keep by
+    index, so the capped slice is trimesh's (its merge first), capped by our engine."""
+    annulus = trimesh.creation.annulus(r_min=1.0, r_max=2.0, height=2.0)     # z in [-1, 1]
+    soup = trimesh.Trimesh(annulus.triangles.reshape(-1, 3),
+                           np.arange(3 * len(annulus.faces)).reshape(-1, 3), process=False)
+    assert not soup.is_watertight
+    with ct.registered(default=True):
+        part = soup.slice_plane([0, 0, 0.5], [0, 0, 1], cap=True)
+    _check_solid(part, annulus.volume / 4, "slice_plane(cap=True) of a soup")
