@@ -150,7 +150,9 @@ def _sdist(cache_dir: Path) -> Path:
 @pytest.fixture(scope="module")
 def suite(request, tmp_path_factory) -> Path:
     """trimesh's chosen test modules, unpacked with our generic, conftest and stand-ins."""
-    archive = _sdist(Path(request.config.cache.mkdir("trimesh-sdist")))
+    cache = getattr(request.config, "cache", None)      # (None under -p no:cacheprovider)
+    archive = _sdist(Path(cache.mkdir("trimesh-sdist")) if cache is not None
+                     else tmp_path_factory.mktemp("trimesh-sdist"))
     root = tmp_path_factory.mktemp("trimesh-tests")
     with tarfile.open(archive) as tar:
         for member in tar.getmembers():
