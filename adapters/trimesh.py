@@ -95,8 +95,8 @@ if TYPE_CHECKING:
     from cdt_plugin import Triangulation
 
 __all__ = ["from_path2d", "from_path3d", "to_trimesh", "triangulate_polygon", "extrude_polygon",
-           "extrude_triangulation", "extrude_path", "sweep_polygon", "slice_plane", "Extrusion", "register", "unregister", "registered",
-           "is_registered", "ENGINE", "DroppedZWarning"]
+           "extrude_triangulation", "extrude_path", "sweep_polygon", "slice_plane", "Extrusion",
+           "register", "unregister", "registered", "is_registered", "ENGINE", "DroppedZWarning"]
 
 ENGINE = "cdt_plugin"
 """The engine name that :func:`register` teaches ``trimesh.creation.triangulate_polygon``."""
@@ -688,10 +688,11 @@ class Extrusion(trimesh.primitives.Extrusion):
     (:func:`extrude_polygon`: watertight, by index), whenever it is first
     touched or rebuilt after a change of its ``primitive`` attributes.
 
-    ``register(default=True)`` puts this class in ``trimesh.primitives`` so that
-    ``Path2D.extrude`` returns it; the mesh stays ours after the registration
-    ends. Everything else is trimesh's primitive (volume and area from the
-    polygon, ``slide``, ``buffer``, ``to_dict``...).
+    Under ``register(default=True)``, ``Path2D.extrude`` returns these; the
+    mesh stays ours after the registration ends. Everything else is trimesh's
+    primitive, and ``trimesh.primitives.Extrusion`` stays trimesh's class (of
+    which this is a subclass): volume and area from the polygon, ``slide``,
+    ``buffer``, ``to_dict``...
 
     >>> import shapely
     >>> part = Extrusion(shapely.box(0, 0, 2, 1), height=3.0)
@@ -711,8 +712,9 @@ class Extrusion(trimesh.primitives.Extrusion):
 # trimesh has no engine registry: register() replaces module attributes of trimesh
 # by hooks that dispatch on the engine name. Every caller in trimesh looks the
 # attributes up when it runs (extrude_polygon, sweep_polygon and revolve read the
-# creation module's globals; Path2D.triangulate, Path2D.extrude and slice_mesh_plane
-# import them at call time; the Extrusion primitive calls creation.extrude_polygon).
+# creation module's globals; Path2D.triangulate and slice_mesh_plane import them at
+# call time; the Extrusion primitive calls creation.extrude_polygon; Trimesh.slice_plane
+# calls intersections.slice_mesh_plane; Path2D.extrude is looked up on the class).
 def _ours(engine: str | None) -> bool:
     """Whether a trimesh call naming ``engine`` is for this engine."""
     if engine is None:
@@ -793,15 +795,24 @@ def _slice_hook(mesh: trimesh.Trimesh, plane_normal: ArrayLike, plane_origin: Ar
                                          cap=cap, engine=_engine_name(engine), **kwargs)
 
 
-# What register() replaces: (module, attribute) -> the replacement. The Extrusion
-# primitive only with default=True (Path2D.extrude names no engine).
+def _path_extrude_hook(self: trimesh.path.Path2D, height: float,
+                       **kwargs: Any) -> Extrusion | list[Extrusion]:
+    """``Path2D.extrude`` under ``register(default=True)``: trimesh's lazy
+    primitives, one per polygon of ``polygons_full`` (one alone, not in a list,
+    as trimesh returns it), of class :class:`Extrusion`."""
+    result = [Extrusion(polygon=polygon, height=height, **kwargs) for polygon in self.polygons_full]
+    return result[0] if len(result) == 1 else result
+
+
+# What register() replaces: (module or class, attribute) -> the replacement.
+# Path2D.extrude only with default=True (it names no engine).
 _HOOKS: dict[tuple[Any, str], Any] = {
     (trimesh.creation, "triangulate_polygon"): _hook,
     (trimesh.creation, "extrude_polygon"): _extrude_hook,
     (trimesh.creation, "sweep_polygon"): _sweep_hook,
     (trimesh.intersections, "slice_mesh_plane"): _slice_hook,
 }
-_DEFAULT_HOOKS: dict[tuple[Any, str], Any] = {(trimesh.primitives, "Extrusion"): Extrusion}
+_DEFAULT_HOOKS: dict[tuple[Any, str], Any] = {(trimesh.path.Path2D, "extrude"): _path_extrude_hook}
 
 
 class _HookState(TypedDict):
@@ -851,9 +862,10 @@ def register(default: bool = False) -> None:
       trimesh's own cuts each face apart and merges the cut points by a
       tolerance, which folds a pinch point's copies into one (a mesh that is
       not watertight by index, split at texture seams, keeps trimesh's step).
-    * with ``default=True``, ``trimesh.primitives.Extrusion``: :class:`Extrusion`,
-      so ``Path2D.extrude`` returns primitives whose mesh is ours whenever it
-      is built, also after the registration ends.
+    * with ``default=True``, ``trimesh.path.Path2D.extrude``: the same
+      lazy primitives, of class :class:`Extrusion`, whose mesh is ours whenever
+      it is built, also after the registration ends (trimesh's own, built
+      after the block, would be trimesh's default engine's).
 
     ``engine=`` and the keywords of :func:`cdt_plugin.triangulate` or
     ``triangle_args`` go along (``slice_plane`` passes only the engine). With
@@ -898,9 +910,9 @@ def unregister() -> None:
     very objects it found); does nothing if the hooks are not registered.
 
     >>> import trimesh, cdt_plugin.adapters.trimesh as ct
-    >>> original = trimesh.creation.extrude_polygon, trimesh.primitives.Extrusion
+    >>> original = trimesh.creation.extrude_polygon, trimesh.path.Path2D.extrude
     >>> ct.register(default=True); ct.unregister()
-    >>> (trimesh.creation.extrude_polygon, trimesh.primitives.Extrusion) == original
+    >>> (trimesh.creation.extrude_polygon, trimesh.path.Path2D.extrude) == original
     True
     """
     if is_registered():

@@ -219,12 +219,11 @@ def test_path_extrude_is_ours_whether_touched_inside_or_after_the_block(polygons
         inside = [trimesh.load_path(p).extrude(HEIGHT) for p in hard]
         for part in inside[::2]:                 # half of them touched inside the block
             assert len(part.faces)
-        assert trimesh.primitives.Extrusion is ct.Extrusion
-    assert trimesh.primitives.Extrusion is not ct.Extrusion
+    assert trimesh.primitives.Extrusion is not ct.Extrusion     # trimesh's class stays trimesh's
     for polygon, parts in zip(hard, inside):
         parts = parts if isinstance(parts, list) else [parts]
         for part in parts:
-            assert isinstance(part, trimesh.primitives.Extrusion)
+            assert isinstance(part, trimesh.primitives.Extrusion) and type(part) is ct.Extrusion
             _check_solid(part, part.primitive.polygon.area * HEIGHT, "Path2D.extrude")
         assert sum(part.volume for part in parts) == pytest.approx(polygon.area * HEIGHT, rel=1e-9)
     moved = inside[0] if not isinstance(inside[0], list) else inside[0][0]
