@@ -484,8 +484,9 @@ def sweep_polygon(polygon: shapely.Geometry, path: ArrayLike, angles: ArrayLike 
     Built by index like :func:`extrude_triangulation`: each profile vertex is
     one vertex per path point, each boundary edge of the triangulation two
     wall triangles per step, pinch vertices (a hole touching the shell) split
-    per fan. So the solid is watertight where trimesh's own sweep leaves an
-    edge in four faces at a pinch point, and the end caps keep the interior
+    per fan. So the solid is watertight where trimesh's own sweep, given a
+    triangulation with the pinch point once (ours, earcut's), leaves the wall
+    edges there in four faces; and the end caps keep the interior
     Steiner points of a refined triangulation (``min_angle=``, ``max_area=``),
     which trimesh's sweep cannot place. ``cap`` closes an open path with the
     profile at both ends; a closed path (last point within ``trimesh.tol.merge``
@@ -854,9 +855,10 @@ def register(default: bool = False) -> None:
       leaves pinch points (holes touching each other or the shell at a vertex)
       and points a rounding error apart not watertight; ours builds the solid by
       index and splits pinch points.
-    * ``trimesh.creation.sweep_polygon``: :func:`sweep_polygon` (trimesh's own
-      leaves a pinch point's wall edges in four faces, and cannot cap a
-      triangulation with interior Steiner points).
+    * ``trimesh.creation.sweep_polygon``: :func:`sweep_polygon` (trimesh's own,
+      given a triangulation with a pinch point once, as ours, leaves the wall
+      edges there in four faces, and cannot cap a triangulation with interior
+      Steiner points).
     * ``trimesh.intersections.slice_mesh_plane`` with ``cap=True`` (behind
       ``Trimesh.slice_plane``) of a watertight mesh: :func:`slice_plane`.
       trimesh's own cuts each face apart and merges the cut points by a
