@@ -16,9 +16,10 @@ from numpy.typing import ArrayLike, NDArray
 from cdt_plugin import CDTError
 from cdt_plugin.optional import require
 from cdt_plugin.adapters.geo.errors import (HeightError, NotPolygonalError, SkippedFeaturesWarning,
-                                            caller_stacklevel, describe, plain)
+                                            caller_stacklevel, describe, is_geographic, plain)
 from cdt_plugin.adapters.geo.meshing import _polygonal, mesh_layer
-from cdt_plugin.adapters.geo.projection import ProjectLike
+from cdt_plugin.adapters.geo.projection import (ProjectLike, centred, layer_extent,
+                                                project_geometries, target_crs)
 from cdt_plugin.adapters.layers import LayerLike, read
 from cdt_plugin.adapters.shapely import Repair
 
@@ -120,11 +121,12 @@ def extrude(data: LayerLike, height: HeightLike, *, base: HeightLike = 0.0,
     frame = read(data, layer=layer)
     top, bottom = layer_heights(frame, height, base)
     not_polygonal = _not_polygonal(frame, errors)
-    mesh = mesh_layer(frame, project=project, repair=repair, errors=errors, progress=progress,
+    projected, unprojected = _projected(frame, project, errors)
+    mesh = mesh_layer(projected, project=None, repair=repair, errors=errors, progress=progress,
                       options=options, require_polygons=True, warn=True)
-    failed = {**not_polygonal, **mesh.errors}
-    solids = extrude_mesh(mesh.source, mesh.batch.vertices, mesh.triangles, mesh.position,
-                          bottom, top, crs=mesh.mesh_crs or frame.crs, errors=failed)
+    failed = {**not_polygonal, **unprojected, **mesh.errors}
+    solids = extrude_mesh(frame, mesh.vertices, mesh.triangles, mesh.position, bottom, top,
+                          crs=projected.crs, errors=failed)
     if output == "solids":
         return solids
     if output == "merged":
@@ -184,11 +186,30 @@ def _check_values(frame: GeoDataFrame, values: NDArray[np.float64], given: Heigh
     if not len(bad):
         return
     what = f"{name}={given!r}" if isinstance(given, str) else name
-    shown = ", ".join(f"feature {plain(frame.index[i])} ({values[i]!r})" for i in bad[:5])
+    shown = ", ".join(f"feature {plain(frame.index[i])} ({float(values[i])!r})" for i in bad[:5])
     more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
     e = HeightError(f"{what} must be {wanted}: {len(bad)} feature(s) are not: {shown}{more}")
     e.index, e.feature = int(bad[0]), plain(frame.index[bad[0]])
     raise e
+
+
+def _projected(frame: GeoDataFrame, project: ProjectLike,
+               errors: str) -> tuple[GeoDataFrame, dict[int, CDTError]]:
+    """The layer in the CRS ``project`` names, chosen and projected as
+    :func:`~cdt_plugin.adapters.geo.triangulate` does (the same functions), and the
+    features that do not project (``errors="skip"``). The solids stay in that CRS:
+    nothing is mapped back."""
+    if project is None:
+        return frame, {}
+    import geopandas
+
+    geoms = np.asarray(frame.geometry.array, dtype=object)
+    extent = layer_extent(geoms, is_geographic(frame.crs)) if centred(project) else None
+    target = target_crs(project, frame.crs, extent)
+    moved, failed = project_geometries(geoms, frame, target, errors)
+    out = frame.copy()
+    out[frame.geometry.name] = geopandas.GeoSeries(moved, index=frame.index, crs=target)
+    return out.set_crs(target, allow_override=True), failed
 
 
 def _not_polygonal(frame: GeoDataFrame, errors: str) -> dict[int, CDTError]:
