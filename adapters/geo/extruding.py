@@ -17,7 +17,7 @@ from cdt_plugin import CDTError
 from cdt_plugin.optional import require
 from cdt_plugin.adapters.geo.errors import (HeightError, NotPolygonalError, SkippedFeaturesWarning,
                                             caller_stacklevel, describe, is_geographic, plain)
-from cdt_plugin.adapters.geo.meshing import _polygonal, mesh_layer
+from cdt_plugin.adapters.geo.meshing import mesh_layer
 from cdt_plugin.adapters.geo.projection import (ProjectLike, centred, layer_extent,
                                                 project_geometries, target_crs)
 from cdt_plugin.adapters.layers import LayerLike, read
@@ -94,7 +94,8 @@ def extrude(data: LayerLike, height: HeightLike, *, base: HeightLike = 0.0,
         not positive and finite, a base that is not finite (checked before any
         meshing; the message names the column and the features).
     NotPolygonalError
-        A feature without a polygon (``errors="raise"``).
+        A feature without a polygon (``errors="raise"``; found by the meshing: a
+        feature without triangles that did not fail).
     NoPolygonsError, cdt_plugin.InvalidGeometryError, ProjectionError
         As in :func:`~cdt_plugin.adapters.geo.triangulate`, naming the feature.
 
@@ -120,11 +121,11 @@ def extrude(data: LayerLike, height: HeightLike, *, base: HeightLike = 0.0,
     require("trimesh", "cdt_plugin.adapters.geo.extrude", extra="trimesh")     # before any work
     frame = read(data, layer=layer)
     top, bottom = layer_heights(frame, height, base)
-    not_polygonal = _not_polygonal(frame, errors)
     projected, unprojected = _projected(frame, project, errors)
     mesh = mesh_layer(projected, project=None, repair=repair, errors=errors, progress=progress,
                       options=options, require_polygons=True, warn=True)
-    failed = {**not_polygonal, **unprojected, **mesh.errors}
+    failed = {**unprojected, **mesh.errors}
+    failed.update(_not_polygonal(frame, mesh.offsets, failed, errors))
     solids = extrude_mesh(frame, mesh.vertices, mesh.triangles, mesh.position, bottom, top,
                           crs=projected.crs, errors=failed)
     if output == "solids":
@@ -212,27 +213,29 @@ def _projected(frame: GeoDataFrame, project: ProjectLike,
     return out.set_crs(target, allow_override=True), failed
 
 
-def _not_polygonal(frame: GeoDataFrame, errors: str) -> dict[int, CDTError]:
-    """NotPolygonalError for the first feature without a polygon; with
+def _not_polygonal(frame: GeoDataFrame, offsets: NDArray[np.int64], failed: dict[int, CDTError],
+                   errors: str) -> dict[int, CDTError]:
+    """The rows without triangles that did not fail: no polygon (a point, a line, an
+    empty or missing geometry). NotPolygonalError for the first; with
     ``errors="skip"`` the errors of all of them (a SkippedFeaturesWarning says so)."""
-    geoms = np.asarray(frame.geometry.array, dtype=object)
-    bad = np.flatnonzero(~_polygonal(geoms))
-    if not len(bad) or len(bad) == len(frame):     # (none at all: mesh_layer names the layer)
+    bad = [i for i in map(int, np.flatnonzero(offsets[1:] == offsets[:-1])) if i not in failed]
+    if not bad:
         return {}
-    failed = {}
-    for i in map(int, bad):
+    geoms = np.asarray(frame.geometry.array, dtype=object)
+    out = {}
+    for i in bad:
         e = NotPolygonalError(f"feature {plain(frame.index[i])}: no polygon to extrude "
                               f"({describe(geoms[i:i + 1]).split(': ', 1)[1]})")
         e.index, e.feature = i, plain(frame.index[i])
         if errors == "raise":
             raise e
-        failed[i] = e
-    labels = [str(e.feature) for e in failed.values()]
+        out[i] = e
+    labels = [str(e.feature) for e in out.values()]
     warnings.warn(SkippedFeaturesWarning(
-        f"{len(failed)} feature(s) have no polygon to extrude and no solid "
+        f"{len(out)} feature(s) have no polygon to extrude and no solid "
         f"({', '.join(labels[:10])}{', ...' if len(labels) > 10 else ''})"),
         stacklevel=caller_stacklevel())
-    return failed
+    return out
 
 
 @dataclass

@@ -334,3 +334,17 @@ def test_glb_bytes_round_trip_in_memory():
     scene = geo.extrude(city(), height="height", output="scene")
     back = trimesh.load(io.BytesIO(scene.export(file_type="glb")), file_type="glb")
     assert len(back.graph.nodes_geometry) == 6
+
+
+def test_example_city_blocks(tmp_path):
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    png = tmp_path / "city.png"
+    done = subprocess.run([sys.executable, str(root / "examples" / "city_blocks.py"), str(png)],
+                          capture_output=True, text=True, cwd=root, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert "8 solids" in done.stdout and "all watertight" in done.stdout
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
