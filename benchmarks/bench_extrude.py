@@ -30,13 +30,12 @@ Usage (from the repository root)::
 from __future__ import annotations
 
 import argparse
-import gc
 import platform
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
+from bench_gis import timed  # (the benchmarks run from this directory)
 
 from cdt_plugin.parallel import available_cores
 
@@ -82,17 +81,6 @@ def _box_coords(x, y, w, d):
                      np.column_stack([y, y, y + d, y + d])], axis=-1)
 
 
-def timed(fn):
-    gc.collect()
-    gc.disable()
-    try:
-        t0 = time.perf_counter()
-        out = fn()
-        return time.perf_counter() - t0, out
-    finally:
-        gc.enable()
-
-
 def checks(meshes, frame) -> tuple[int, int]:
     """(watertight, exact volume) counts over a list of meshes (None: neither)."""
     area = frame.area.to_numpy()
@@ -122,7 +110,6 @@ def trimesh_loop(frame, engine: str | None):
 
 def run_all(frame):
     import trimesh
-
     from cdt_plugin.adapters import geo
 
     small = frame.iloc[:50]
@@ -139,7 +126,7 @@ def run_all(frame):
 
     for output in ("solids", "merged", "trimesh", "scene"):
         geo.extrude(small, height="height", base="base", output=output, progress=False)
-        s, out = timed(lambda: ours(output))
+        s, out = timed(lambda output=output: ours(output))
         note = ""
         if output == "trimesh":
             tight, exact = checks(out, frame)
@@ -152,12 +139,12 @@ def run_all(frame):
 
     for engine in ("earcut", "manifold"):
         trimesh_loop(small, engine)
-        s, out = timed(lambda: trimesh_loop(frame, engine))
+        s, out = timed(lambda engine=engine: trimesh_loop(frame, engine))
         tight, exact = checks(out, frame)
         add(f"trimesh.creation.extrude_polygon loop, engine {engine}", s, n,
             f"{tight:,} watertight, {exact:,} of exact volume")
         if engine == "earcut":
-            s2, merged = timed(lambda: trimesh.util.concatenate(out))
+            s2, merged = timed(lambda meshes=out: trimesh.util.concatenate(meshes))
             add("trimesh.creation.extrude_polygon loop, engine earcut, + util.concatenate",
                 s + s2, n, f"watertight: {bool(merged.is_watertight)}")
             del merged

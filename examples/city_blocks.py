@@ -19,15 +19,13 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
-
-import geopandas  # noqa: E402
-import shapely  # noqa: E402
-import trimesh  # noqa: E402
-
-from cdt_plugin.adapters import geo  # noqa: E402
+import geopandas
+import matplotlib.pyplot as plt
+import numpy as np
+import shapely
+import trimesh
+from cdt_plugin.adapters import geo
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 X0, Y0 = 500_000.0, 5_000_000.0

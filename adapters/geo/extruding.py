@@ -11,17 +11,29 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Union
 
 import numpy as np
+from cdt_plugin.adapters.geo.errors import (
+    HeightError,
+    NotPolygonalError,
+    SkippedFeaturesWarning,
+    caller_stacklevel,
+    describe,
+    is_geographic,
+    plain,
+)
+from cdt_plugin.adapters.geo.meshing import mesh_layer
+from cdt_plugin.adapters.geo.projection import (
+    ProjectLike,
+    centred,
+    layer_extent,
+    project_geometries,
+    target_crs,
+)
+from cdt_plugin.adapters.layers import LayerLike, read
+from cdt_plugin.adapters.shapely import Repair
 from numpy.typing import ArrayLike, NDArray
 
 from cdt_plugin import CDTError
 from cdt_plugin.optional import require
-from cdt_plugin.adapters.geo.errors import (HeightError, NotPolygonalError, SkippedFeaturesWarning,
-                                            caller_stacklevel, describe, is_geographic, plain)
-from cdt_plugin.adapters.geo.meshing import mesh_layer
-from cdt_plugin.adapters.geo.projection import (ProjectLike, centred, layer_extent,
-                                                project_geometries, target_crs)
-from cdt_plugin.adapters.layers import LayerLike, read
-from cdt_plugin.adapters.shapely import Repair
 
 if TYPE_CHECKING:
     import pyproj
@@ -479,7 +491,7 @@ def split_pinches(V: NDArray[np.float64], T: NDArray[np.int64]
     follower = np.where(in_key[order][at] == out_key, order[at], -1)   # across the edge v -> next
     first = np.arange(len(t))                      # the corner that starts each one's fan
     first[follower[follower >= 0]] = np.flatnonzero(follower >= 0)
-    for _ in range(max(int(len(t)).bit_length(), 1)):
+    for _ in range(max(len(t).bit_length(), 1)):
         first = first[first]
     fans, fan_of = np.unique(first, return_inverse=True)
     fan_vertex = v[fans]

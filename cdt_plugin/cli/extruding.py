@@ -4,16 +4,19 @@ feature or as one merged mesh."""
 from __future__ import annotations
 
 import argparse
-import sys
-import warnings
 from pathlib import Path
 from typing import Any
 
-from ..errors import CDTError
-from .formats import GEOJSON_FORMATS, GIS_FORMATS, check_packages, import_for, suffix_name
-from .layers import layer_error
+from .formats import (
+    GEOJSON_FORMATS,
+    GIS_FORMATS,
+    check_packages,
+    import_for,
+    suffix_name,
+)
+from .layers import layer_progress, run_on_layer
 from .readers import read_layer
-from .terminal import CLIError, progress_bar, warn
+from .terminal import CLIError, progress_bar
 from .writers import check_directory
 
 SCENE_OUTPUTS = (".glb", ".gltf")
@@ -88,23 +91,10 @@ def extrude_command(args: argparse.Namespace) -> int:
         if step is not None:
             step(1)
     from ..adapters import geo
-    progress = args.progress if args.progress is not None else len(frame) > 1 and sys.stderr.isatty()
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        try:
-            solids = geo.extrude(frame, height=args.height, base=args.base, output="solids",
-                                 project=args.project, repair=args.repair, errors=args.errors,
-                                 progress=progress, workers=args.workers)
-        except CDTError as exc:
-            raise CLIError(layer_error(exc, frame)) from None
-    for i in sorted(solids.errors):
-        warn(f"skipped {layer_error(solids.errors[i], frame)}")
-    if solids.errors and len(solids.errors) == len(frame):
-        raise CLIError(f"{source}: no feature could be extruded ({len(frame)} skipped)")
-    for w in caught:
-        if issubclass(w.category, geo.GeographicCRSWarning):
-            warn(str(w.message).replace("pass project='utm', 'aeqd' or a projected CRS",
-                                        "pass --project utm or --project aeqd"))
+    progress = layer_progress(args, frame)
+    solids = run_on_layer(frame, source, "extruded", lambda: geo.extrude(
+        frame, height=args.height, base=args.base, output="solids", project=args.project,
+        repair=args.repair, errors=args.errors, progress=progress, workers=args.workers))
     with progress_bar(args.progress, "writing", "file", 1) as step:
         print(solids.write(output))
         if step is not None:

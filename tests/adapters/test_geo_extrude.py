@@ -15,12 +15,12 @@ shapely = pytest.importorskip("shapely")
 trimesh = pytest.importorskip("trimesh")
 pytest.importorskip("pyproj")
 
-from cdt_plugin import InvalidGeometryError, NoPolygonsError  # noqa: E402
-from cdt_plugin.adapters import geo  # noqa: E402
-from cdt_plugin.adapters.geo.extruding import json_safe, split_pinches  # noqa: E402
-import cdt_plugin.adapters.trimesh as ct  # noqa: E402
+import cdt_plugin.adapters.trimesh as ct
+from cdt_plugin.adapters import geo
+from cdt_plugin.adapters.geo.extruding import json_safe, split_pinches
+from checker import assert_valid
 
-from checker import assert_valid  # noqa: E402
+from cdt_plugin import InvalidGeometryError, NoPolygonsError
 
 X0, Y0 = 500_000.0, 5_000_000.0          # UTM 33N, metres
 
@@ -37,7 +37,7 @@ TWO_PARTS = shapely.MultiPolygon([shapely.box(-10, 0, -4, 4), COURTYARD])
 FOOTPRINTS = [shapely.box(0, 0, 12, 9), L_SHAPE, COURTYARD, TWO_HOLES, HOLE_ON_SHELL, TWO_PARTS]
 
 
-def city(**columns) -> "gpd.GeoDataFrame":
+def city(**columns) -> gpd.GeoDataFrame:
     """The footprints moved to UTM coordinates, one block apart, with attributes."""
     geoms = [shapely.affinity.translate(g, X0 + 50 * k, Y0) for k, g in enumerate(FOOTPRINTS)]
     data = {"name": ["box", "L", "courtyard", "two holes", "hole on shell", "two parts"],

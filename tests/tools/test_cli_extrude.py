@@ -13,7 +13,7 @@ shapely = pytest.importorskip("shapely")
 trimesh = pytest.importorskip("trimesh")
 pytest.importorskip("pyogrio")
 
-from cdt_plugin import cli  # noqa: E402
+from cdt_plugin import cli
 
 X0, Y0 = 500_000.0, 5_000_000.0
 
@@ -79,7 +79,7 @@ def test_one_merged_mesh(buildings, tmp_path, suffix):
 
 
 def test_errors_named(buildings, tmp_path, capsys):
-    path, layer = buildings
+    path, _ = buildings
     out = tmp_path / "city.glb"
     assert cli.main(["extrude", str(path), "--height", "storeys", "-o", str(out)]) == 1
     assert "height='storeys': the layer has no such attribute column" in capsys.readouterr().err
@@ -93,7 +93,7 @@ def test_errors_named(buildings, tmp_path, capsys):
 
 
 def test_points_skipped_with_errors_skip(buildings, tmp_path, capsys):
-    path, layer = buildings
+    _, layer = buildings
     mixed = layer.copy()
     mixed.loc[1, "geometry"] = shapely.Point(X0, Y0)
     mixed_path = tmp_path / "mixed.gpkg"
@@ -110,7 +110,7 @@ def test_points_skipped_with_errors_skip(buildings, tmp_path, capsys):
 
 
 def test_lon_lat_layer_projected(buildings, tmp_path, capsys):
-    path, layer = buildings
+    _, layer = buildings
     lonlat = tmp_path / "lonlat.gpkg"
     layer.to_crs("EPSG:4326").to_file(lonlat, engine="pyogrio")
     out = tmp_path / "city.obj"
