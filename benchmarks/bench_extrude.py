@@ -9,8 +9,9 @@ jitter, height and base (columns ``height``, ``base``, ``kind``). Implementation
   triangulation on every core and the solids of the whole layer built with NumPy;
   to the flat arrays (``output="solids"``), to one merged ``Trimesh``
   (``output="merged"``), to one ``Trimesh`` per feature with its attributes
-  (``output="trimesh"``) and to a ``trimesh.Scene`` with one node per feature
-  (``output="scene"``);
+  (``output="trimesh"``), to a ``trimesh.Scene`` with one node per feature
+  (``output="scene"``) and written to a ``.glb`` file (``GeoSolids.write``: the scene
+  exported by trimesh);
 * ``trimesh extrude_polygon``: a Python loop of
   ``trimesh.creation.extrude_polygon(polygon, height)`` per footprint (moved up to
   its base), with the ``earcut`` engine (mapbox_earcut, trimesh's default) and the
@@ -32,6 +33,7 @@ from __future__ import annotations
 import argparse
 import platform
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -136,6 +138,14 @@ def run_all(frame):
         add(f"cdt_plugin geo.extrude(output={output!r}), {_threads(available_cores())}", s,
             len(out.geometry) if output == "scene" else n, note)
         del out
+
+    with tempfile.TemporaryDirectory() as tmp:
+        glb = Path(tmp) / "city.glb"
+        geo.extrude(small, height="height", base="base", output="solids").write(glb)
+        s, _ = timed(lambda: geo.extrude(frame, height="height", base="base", output="solids",
+                                         progress=False).write(glb))
+        add(f"cdt_plugin geo.extrude(...).write('city.glb'), {_threads(available_cores())}", s, n,
+            f"{glb.stat().st_size / 2**20:.0f} MB, one node per footprint")
 
     for engine in ("earcut", "manifold"):
         trimesh_loop(small, engine)
