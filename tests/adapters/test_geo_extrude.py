@@ -32,6 +32,11 @@ TWO_HOLES = shapely.Polygon([(0, 0), (20, 0), (20, 20), (0, 20)],
                              [(10, 10), (10, 16), (16, 16), (16, 10)]])
 # a hole touching its shell at (0, 6)
 HOLE_ON_SHELL = shapely.Polygon([(0, 0), (12, 0), (12, 12), (0, 12)], [[(0, 6), (5, 4), (5, 8)]])
+# three holes meeting at (10, 10); two parts of a MultiPolygon touching at (5, 5)
+THREE_HOLES = shapely.Polygon([(0, 0), (20, 0), (20, 20), (0, 20)],
+                              [[(10, 10), (6, 4), (14, 4)], [(10, 10), (16, 12), (12, 16)],
+                               [(10, 10), (8, 16), (4, 12)]])
+TOUCHING_PARTS = shapely.MultiPolygon([shapely.box(0, 0, 5, 5), shapely.box(5, 5, 10, 10)])
 L_SHAPE = shapely.Polygon([(0, 0), (20, 0), (20, 8), (8, 8), (8, 20), (0, 20)])
 TWO_PARTS = shapely.MultiPolygon([shapely.box(-10, 0, -4, 4), COURTYARD])
 FOOTPRINTS = [shapely.box(0, 0, 12, 9), L_SHAPE, COURTYARD, TWO_HOLES, HOLE_ON_SHELL, TWO_PARTS]
@@ -118,9 +123,10 @@ def test_attributes_kept_json_safe():
 
 
 def test_pinch_points_split_like_the_trimesh_adapter():
-    """Two holes touching at a vertex, a hole touching the shell: the same solid
-    (vertices and faces as coordinates) as extrude_triangulation builds one by one."""
-    for footprint in (TWO_HOLES, HOLE_ON_SHELL):
+    """Two or three holes touching at a vertex, a hole touching the shell, two parts
+    touching at a corner: the same solid (vertices and faces as coordinates) as
+    extrude_triangulation builds one by one."""
+    for footprint in (TWO_HOLES, HOLE_ON_SHELL, THREE_HOLES, TOUCHING_PARTS):
         layer = gpd.GeoDataFrame({"h": [5.0]}, geometry=[footprint])
         (mesh,) = geo.extrude(layer, height="h")
         assert_solid(mesh, footprint, 5.0, 0.0)
