@@ -354,3 +354,10 @@ def test_example_city_blocks(tmp_path):
     assert done.returncode == 0, done.stderr
     assert "8 solids" in done.stdout and "all watertight" in done.stdout
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_scene_node_names_unique_when_labels_repeat():
+    layer = city()
+    layer.index = ["a", "a", "b", "c", "c", "d"]
+    scene = geo.extrude(layer, height="height", output="scene")
+    assert sorted(scene.graph.nodes_geometry) == ["a#0", "a#1", "b#2", "c#3", "c#4", "d#5"]
