@@ -11,6 +11,9 @@ Polygon with its holes, or a MultiPolygon's parts together) -> :class:`GeoMesh`
 * :func:`triangulate` -- the whole layer on one machine.
 * :func:`triangulate_dask` -- a dask-geopandas GeoDataFrame, partition by partition
   (``map_partitions``), on any Dask cluster.
+* :func:`extrude` -- every polygon of a layer extruded into a watertight solid (a
+  height column or number, a base), as trimesh meshes, one merged mesh or a
+  ``trimesh.Scene`` with one node per feature (``.glb`` with the attributes).
 * :func:`voronoi` -- the Voronoi cell (the power diagram's, with weights) of every
   point of a point layer, clipped to a boundary polygon or layer; one row per point.
 * ``gdf.cdt.triangulate(...)`` / ``gs.cdt.triangulate(...)`` -- :func:`triangulate` as
@@ -18,7 +21,7 @@ Polygon with its holes, or a MultiPolygon's parts together) -> :class:`GeoMesh`
   registered when this module is imported).
 
 One module per job, the public names re-exported here: :mod:`.meshing`
-(:func:`triangulate`), :mod:`.voronoi_cells` (:func:`voronoi`), :mod:`.dask_frames`
+(:func:`triangulate`), :mod:`.extruding` (:func:`extrude`), :mod:`.voronoi_cells` (:func:`voronoi`), :mod:`.dask_frames`
 (:func:`triangulate_dask`), :mod:`.accessor` (``.cdt``), :mod:`.projection`
 (``project=``), :mod:`.results` (:class:`GeoMesh`, GeoArrow), :mod:`.errors` (the
 warnings and errors); reading and writing layers (:func:`read`,
@@ -76,10 +79,13 @@ from cdt_plugin.adapters.geo.accessor import CDTAccessor
 from cdt_plugin.adapters.geo.dask_frames import triangulate_dask
 from cdt_plugin.adapters.geo.errors import (
     GeographicCRSWarning,
+    HeightError,
     NotGeographicError,
+    NotPolygonalError,
     ProjectionError,
     SkippedFeaturesWarning,
 )
+from cdt_plugin.adapters.geo.extruding import EXTRUDE_OUTPUTS, GeoSolids, HeightLike, extrude  # noqa: F401
 from cdt_plugin.adapters.geo.meshing import AUTO_PROGRESS_FEATURES, OUTPUTS, triangulate  # noqa: F401
 from cdt_plugin.adapters.geo.projection import ProjectLike  # noqa: F401
 from cdt_plugin.adapters.geo.results import ID_COLUMNS, GeoMesh  # noqa: F401
@@ -91,6 +97,7 @@ from cdt_plugin import CDTError, NoPolygonsError  # noqa: F401  (re-exported)
 
 __all__ = ["triangulate", "triangulate_dask", "voronoi", "read", "write_geojson", "GeoMesh",
            "GeographicCRSWarning", "SkippedFeaturesWarning", "NoPolygonsError", "ProjectionError",
-           "NotGeographicError", "CDTAccessor"]
+           "NotGeographicError", "CDTAccessor", "extrude", "GeoSolids", "HeightError",
+           "NotPolygonalError"]
 
 claim_modules_names(globals())

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
-from cdt_plugin import CDTError
+from cdt_plugin import CDTError, InvalidGeometryError
 
 if TYPE_CHECKING:
     import pyproj
@@ -104,3 +104,16 @@ def warn_geographic(crs: Any) -> None:
         "areas distorted away from the equator); pass project='utm', 'aeqd' or a projected "
         "CRS to mesh in metres (input vertices keep their coordinates exactly)"),
         stacklevel=caller_stacklevel())
+
+
+class HeightError(CDTError):
+    """``height=`` / ``base=`` of :func:`~cdt_plugin.adapters.geo.extrude` cannot be
+    used: a column the layer does not have, or that is not numeric; a height that is
+    not positive and finite, a base that is not finite. The message names the column
+    and the first features concerned; ``feature`` / ``index`` are the first one's
+    label and row number (None when the whole option is wrong)."""
+
+
+class NotPolygonalError(InvalidGeometryError):
+    """A feature that :func:`~cdt_plugin.adapters.geo.extrude` cannot make a solid of:
+    a point, a line, an empty or missing geometry (``errors="skip"`` skips it)."""

@@ -34,12 +34,18 @@ a cell in pieces it is a MultiPolygon (and a GeoPackage then stores every cell a
 one); an empty cell (a submerged weighted point, a point whose cell misses the
 boundary) is an empty geometry, null in GeoJSON.
 
+Solids: ``cdt-plugin extrude BUILDINGS --height COLUMN|H [--base COLUMN|Z] -o city.glb``
+extrudes every polygon of a layer into a watertight solid
+(:func:`cdt_plugin.adapters.geo.extrude`) and writes a glTF scene (``.glb`` /
+``.gltf``: one node per feature, named by its index, its attributes as the node's
+extras) or one merged mesh (``.ply``, ``.obj``, ``.stl``, ``.off``).
+
 Errors are one line on stderr (``cdt-plugin: error: ...``) and exit status 1;
 command-line usage errors exit with 2.
 
 The package, top down: :mod:`~cdt_plugin.cli.parser` (the options),
-:mod:`~cdt_plugin.cli.commands` (five commands), :mod:`~cdt_plugin.cli.triangle` (Triangle's
-own command line), :mod:`~cdt_plugin.cli.layers`
+:mod:`~cdt_plugin.cli.commands` (five commands), :mod:`~cdt_plugin.cli.extruding` (``extrude``),
+:mod:`~cdt_plugin.cli.triangle` (Triangle's own command line), :mod:`~cdt_plugin.cli.layers`
 (layer jobs through :mod:`cdt_plugin.adapters.geo`), :mod:`~cdt_plugin.cli.meshing`
 (per-feature meshing), :mod:`~cdt_plugin.cli.readers` and :mod:`~cdt_plugin.cli.writers`
 (one reader per input kind; the outputs), :mod:`~cdt_plugin.cli.formats` (extensions and

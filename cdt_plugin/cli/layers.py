@@ -7,7 +7,7 @@ import argparse
 import sys
 import warnings
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Callable
 
 from ..errors import CDTError
 from ..report import Report, mesh_report
@@ -65,24 +65,38 @@ def _triangulate_layer(frame: GeoDataFrame, args: argparse.Namespace,
     """:func:`cdt_plugin.adapters.geo.triangulate` (``output="mesh"``) with the
     command's options; its warnings become ``cdt-plugin: warning:`` lines."""
     from ..adapters import geo
-    progress = args.progress if args.progress is not None else len(frame) > 1 and sys.stderr.isatty()
+    progress = layer_progress(args, frame)
+    return run_on_layer(frame, args.input, "meshed", lambda: geo.triangulate(
+        frame, output="mesh", project=args.project, repair=args.repair, errors=args.errors,
+        progress=progress, workers=args.workers, **options))
+
+
+def layer_progress(args: argparse.Namespace, frame: GeoDataFrame) -> bool:
+    """``--progress`` / ``--no-progress``, or by default a bar on a terminal."""
+    return args.progress if args.progress is not None else len(frame) > 1 and sys.stderr.isatty()
+
+
+def run_on_layer(frame: GeoDataFrame, source: Any, done: str, call: Callable[[], Any]) -> Any:
+    """``call()`` (a GIS adapter's job on ``frame`` whose result has ``errors``, row ->
+    CDTError, with ``errors="skip"``): its errors naming the feature and the command's
+    options, a warning line per skipped feature, an error when all were skipped, the
+    geographic-CRS warning with the command's option names."""
+    from ..adapters import geo
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            mesh = geo.triangulate(frame, output="mesh", project=args.project, repair=args.repair,
-                                   errors=args.errors, progress=progress, workers=args.workers,
-                                   **options)
+            result = call()
         except CDTError as exc:
             raise CLIError(layer_error(exc, frame)) from None
-    for i in sorted(mesh.errors):
-        warn(f"skipped {layer_error(mesh.errors[i], frame)}")
-    if mesh.errors and len(mesh.errors) == len(frame):
-        raise CLIError(f"{args.input}: no feature could be meshed ({len(frame)} skipped)")
+    for i in sorted(result.errors):
+        warn(f"skipped {layer_error(result.errors[i], frame)}")
+    if result.errors and len(result.errors) == len(frame):
+        raise CLIError(f"{source}: no feature could be {done} ({len(frame)} skipped)")
     for w in caught:
         if issubclass(w.category, geo.GeographicCRSWarning):
             warn(str(w.message).replace("pass project='utm', 'aeqd' or a projected CRS",
                                         "pass --project utm or --project aeqd"))
-    return mesh
+    return result
 
 
 def voronoi_layer(points: GeoDataFrame, boundary: GeoDataFrame | None,

@@ -1,4 +1,4 @@
-"""The argument parser of the command line: the six subcommands, their options
+"""The argument parser of the command line: the seven subcommands, their options
 and the examples shown by ``--help``."""
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from ..compiling import ROUTES
 from ..errors import CDTError
 from ..nearness import check_near
 from .commands import compile_command, mesh_command, report_command, tin_command, voronoi_command
+from .extruding import add_extrude_command
 from .triangle import add_triangle_command
 
 EXAMPLES = """\
@@ -26,6 +27,8 @@ examples:
   cdt-plugin mesh lake.gpkg -o lake_mesh.gpkg --size 200 --size-near rivers.gpkg:20:200:1000
   cdt-plugin voronoi shops.gpkg --boundary city.gpkg -o cells.gpkg
   cdt-plugin voronoi stations.shp --boundary country.geojson --weights power -o cells.geojson
+  cdt-plugin extrude buildings.gpkg --height height -o city.glb
+  cdt-plugin extrude buildings.shp --height 12 --base ground --project utm -o city.obj
   cdt-plugin tin points.gpkg --breaklines lines.gpkg -o dem.tif --resolution 10
   cdt-plugin report polygon.json --against earcut
   cdt-plugin report polygon.geojson --against other_mesh.obj --json
@@ -34,15 +37,15 @@ examples:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser (subcommands ``mesh``, ``report``, ``voronoi``, ``tin``, ``triangle`` and
-    ``compile``)."""
+    """The argument parser (subcommands ``mesh``, ``report``, ``voronoi``, ``tin``, ``extrude``,
+    ``triangle`` and ``compile``)."""
     fmt = argparse.RawDescriptionHelpFormatter
     parser = argparse.ArgumentParser(
         prog="cdt-plugin", formatter_class=fmt, epilog=EXAMPLES,
         description="Constrained Delaunay triangulation of polygon and PSLG files: "
                     "mesh them, report their quality, compare with other meshes.")
     parser.add_argument("--version", action="version", version=f"cdt-plugin {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{mesh,report,voronoi,tin,triangle,compile}", required=True)
+    sub = parser.add_subparsers(dest="command", metavar="{mesh,report,voronoi,tin,extrude,triangle,compile}", required=True)
 
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("input", metavar="INPUT",
@@ -159,6 +162,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="interpolation on the grid (default: linear)")
     tin.set_defaults(func=tin_command)
 
+    add_extrude_command(sub, EXAMPLES, _progress_options, _workers_arg)
     add_triangle_command(sub)
 
     comp = sub.add_parser("compile", formatter_class=fmt,

@@ -141,7 +141,7 @@ def test_subprocess_run(files, tmp_path):
 def test_help_lists_the_subcommand_and_its_examples(capsys):
     assert cli.main(["--help"]) == 0
     text = capsys.readouterr().out
-    assert "{mesh,report,voronoi,tin,triangle,compile}" in text
+    assert "{mesh,report,voronoi,tin,extrude,triangle,compile}" in text
     assert "cdt-plugin voronoi shops.gpkg --boundary city.gpkg -o cells.gpkg" in text
     assert cli.main(["voronoi", "--help"]) == 0
     text = capsys.readouterr().out
