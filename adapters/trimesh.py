@@ -87,6 +87,7 @@ except ImportError as exc:
 
 import cdt_plugin
 from cdt_plugin import PLC
+from cdt_plugin import solids
 from cdt_plugin.switches import options_from_switches
 
 if TYPE_CHECKING:
@@ -300,58 +301,6 @@ def _engine_options(kwargs: dict[str, Any]) -> dict[str, Any]:
     return options
 
 
-def _boundary_edges(faces: NDArray[np.int64], n: int) -> NDArray[np.int64]:
-    """Directed edges (i, j) of counter-clockwise faces whose reverse is no
-    edge: the domain boundary, with the domain on the left."""
-    directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    key = directed[:, 0] * n + directed[:, 1]
-    reverse = directed[:, 1] * n + directed[:, 0]
-    return directed[~np.isin(key, reverse)]
-
-
-def _split_pinches(vertices: NDArray[np.float64], faces: NDArray[np.int64],
-                   boundary: NDArray[np.int64]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """Give each fan of faces around a pinch vertex (a vertex where the
-    boundary passes more than once, such as a hole touching its shell) its
-    own copy of the vertex, so that the extruded walls meet in manifold edges.
-    Returns the (possibly longer) vertex array and the renumbered faces."""
-    starts = np.bincount(boundary[:, 0], minlength=len(vertices))
-    pinched = np.flatnonzero(starts > 1)
-    if len(pinched) == 0:
-        return vertices, faces
-    faces = faces.copy()
-    extra: list[NDArray[np.float64]] = []
-    n = len(vertices)
-    for v in pinched:
-        around = np.flatnonzero((faces == v).any(axis=1))
-        # union faces of the fan over the edges (v, w) they share
-        parent = {int(f): int(f) for f in around}
-
-        def find(f: int) -> int:
-            while parent[f] != f:
-                parent[f] = parent[parent[f]]
-                f = parent[f]
-            return f
-
-        by_other: dict[int, list[int]] = {}
-        for f in around:
-            for w in faces[f]:
-                if w != v:
-                    by_other.setdefault(int(w), []).append(int(f))
-        for shared in by_other.values():
-            for other in shared[1:]:
-                parent[find(other)] = find(shared[0])
-        fans: dict[int, list[int]] = {}
-        for f in around:
-            fans.setdefault(find(int(f)), []).append(int(f))
-        for fan in list(fans.values())[1:]:
-            copy = n + len(extra)
-            extra.append(vertices[v])
-            rows = np.asarray(fan)
-            faces[rows] = np.where(faces[rows] == v, copy, faces[rows])
-    return np.concatenate([vertices, np.asarray(extra).reshape(-1, 2)]), faces
-
-
 def extrude_triangulation(vertices: ArrayLike, faces: ArrayLike, height: float,
                           transform: ArrayLike | None = None, *, split_pinches: bool = True,
                           **kwargs: Any) -> trimesh.Trimesh:
@@ -377,24 +326,22 @@ def extrude_triangulation(vertices: ArrayLike, faces: ArrayLike, height: float,
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
     if vertices.ndim != 2 or vertices.shape[1] != 2:
-        raise ValueError(f"vertices must be (n, 2), got {vertices.shape}")
+        raise cdt_plugin.InputShapeError(f"vertices must be (n, 2), got {vertices.shape}")
     if faces.ndim != 2 or faces.shape[1] != 3:
-        raise ValueError(f"faces must be (m, 3), got {faces.shape}")
+        raise cdt_plugin.InputShapeError(f"faces must be (m, 3), got {faces.shape}")
     height = float(height)
     if not np.isfinite(height) or height == 0.0:
-        raise ValueError(f"height must be finite and nonzero, got {height}")
+        raise cdt_plugin.CDTError(f"height must be finite and nonzero, got {height}")
     n = len(vertices)
     if len(faces):
         a, b, c = (vertices[faces[:, k]] for k in range(3))
         area2 = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
         if np.sum(area2) < 0:            # clockwise input: make it counter-clockwise
             faces = faces[:, ::-1]
-    boundary = _boundary_edges(faces, n)
     if split_pinches:
-        vertices, faces = _split_pinches(vertices, faces, boundary)
-        if len(vertices) != n:
-            n = len(vertices)
-            boundary = _boundary_edges(faces, n)
+        vertices, faces = solids.split_pinches(vertices, faces)
+        n = len(vertices)
+    boundary = solids.boundary_edges(faces, n)
     i, j = boundary[:, 0], boundary[:, 1]
     # the domain lies left of i -> j, so (i, j, j') and (i, j', i') face outwards
     walls = np.concatenate([np.column_stack([i, j, j + n]), np.column_stack([i, j + n, i + n])])
@@ -508,7 +455,7 @@ def sweep_polygon(polygon: shapely.Geometry, path: ArrayLike, angles: ArrayLike 
         raise cdt_plugin.InputShapeError(f"angles must be ({len(path)},), one per path point, "
                                          f"got {angles.shape}")
     vertices, faces = _profile(polygon, triangulation)
-    boundary = _boundary_edges(faces, len(vertices))
+    boundary = solids.boundary_edges(faces, len(vertices))
     ring = bool(np.linalg.norm(path[0] - path[-1]) < trimesh.tol.merge) and connect
     frames = _sweep_frames(path, angles, ring)
     slices = len(path) - 1 if ring else len(path)      # a ring's last point is its first
@@ -537,7 +484,7 @@ def _profile(polygon: shapely.Geometry,
     vertices, faces = triangulate_polygon(polygon, **options)
     if len(faces) == 0:
         raise cdt_plugin.NoPolygonsError(f"the polygon is empty: nothing to sweep ({polygon!r})")
-    return _split_pinches(vertices, faces, _boundary_edges(faces, len(vertices)))
+    return solids.split_pinches(vertices, faces)
 
 
 def slice_plane(mesh: trimesh.Trimesh, plane_origin: ArrayLike, plane_normal: ArrayLike,
@@ -617,7 +564,7 @@ def _cap(vertices: NDArray[np.float64], faces: NDArray[np.int64], on_plane: NDAr
          origin: NDArray[np.float64], normal: NDArray[np.float64]) -> NDArray[np.int64]:
     """Faces (indices into ``vertices``) closing the boundary loops of ``faces``
     that lie on the plane, facing away from ``normal``."""
-    open_edges = _boundary_edges(faces[:, ::-1], len(vertices))    # the loops, cap-wise
+    open_edges = solids.boundary_edges(faces[:, ::-1], len(vertices))    # the loops, cap-wise
     open_edges = open_edges[on_plane[open_edges].all(axis=1)]
     if len(open_edges) < 3:
         return np.empty((0, 3), np.int64)

@@ -34,6 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from cdt_plugin import CDTError
 from cdt_plugin.optional import require
+from cdt_plugin.solids import boundary_edges, split_pinches
 
 if TYPE_CHECKING:
     import pyproj
@@ -452,55 +453,3 @@ def _compact(V: NDArray[np.float64], T: NDArray[np.int64],
     new = np.empty(len(V), np.int64)
     new[used] = np.arange(len(used))
     return V[used], new[T], row[used]
-
-
-def boundary_edges(T: NDArray[np.int64], n: int) -> NDArray[np.int64]:
-    """Directed edges (i, j) of counter-clockwise triangles (a manifold: every edge
-    in one or two of them) that are in one triangle only: the boundary, with the
-    domain on the left. One sort of the undirected edges (faster than a set test
-    of each edge's reverse)."""
-    E = np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]])
-    key = np.minimum(E[:, 0], E[:, 1]) * n + np.maximum(E[:, 0], E[:, 1])
-    order = np.argsort(key)
-    s = key[order]
-    alone = np.ones(len(s), bool)
-    alone[1:] &= s[1:] != s[:-1]
-    alone[:-1] &= s[:-1] != s[1:]
-    return E[order[alone]]
-
-
-def split_pinches(V: NDArray[np.float64], T: NDArray[np.int64]
-                  ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """A copy of every pinch vertex (where the boundary passes more than once: a
-    hole touching its shell or another hole at a point) for each fan of triangles
-    around it after the first, so that the walls meet in manifold edges. Vectorised:
-    only the corners at pinch vertices are looked at; each corner's neighbour
-    around its vertex is the corner whose incoming edge is its outgoing one, and
-    each fan is labelled by its first corner (pointer doubling along the chain).
-    The copies go at the end of ``V``."""
-    n = len(V)
-    pinched = np.bincount(boundary_edges(T, n)[:, 0], minlength=n) > 1
-    t, c = np.nonzero(pinched[T])
-    if not len(t):
-        return V, T
-    v = T[t, c]
-    out_key = v * n + T[t, (c + 1) % 3]            # v -> next corner of the triangle
-    in_key = v * n + T[t, (c + 2) % 3]             # (previous corner -> v), reversed
-    order = np.argsort(in_key)
-    at = np.minimum(np.searchsorted(in_key[order], out_key), len(order) - 1)
-    follower = np.where(in_key[order][at] == out_key, order[at], -1)   # across the edge v -> next
-    first = np.arange(len(t))                      # the corner that starts each one's fan
-    first[follower[follower >= 0]] = np.flatnonzero(follower >= 0)
-    for _ in range(max(len(t).bit_length(), 1)):
-        first = first[first]
-    fans, fan_of = np.unique(first, return_inverse=True)
-    fan_vertex = v[fans]
-    by_vertex = np.lexsort((fans, fan_vertex))
-    keeps = np.ones(len(fans), bool)               # the first fan of each vertex keeps it
-    keeps[by_vertex[1:]] = fan_vertex[by_vertex[1:]] != fan_vertex[by_vertex[:-1]]
-    new_id = np.where(keeps, fan_vertex, -1)
-    copies = np.flatnonzero(~keeps)
-    new_id[copies] = n + np.arange(len(copies))
-    T = T.copy()
-    T[t, c] = new_id[fan_of.ravel()]
-    return np.concatenate([V, V[fan_vertex[copies]]]), T

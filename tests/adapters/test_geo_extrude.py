@@ -17,7 +17,8 @@ pytest.importorskip("pyproj")
 
 import cdt_plugin.adapters.trimesh as ct
 from cdt_plugin.adapters import geo
-from cdt_plugin.adapters.geo.extruding import json_safe, split_pinches
+from cdt_plugin.adapters.geo.extruding import json_safe
+from cdt_plugin.solids import split_pinches
 from checker import assert_valid
 
 from cdt_plugin import InvalidGeometryError, NoPolygonsError

@@ -88,6 +88,7 @@ TYPED_MODULES = [
     "cdt_plugin.triangulation",
     "cdt_plugin.planar",
     "cdt_plugin.faces",
+    "cdt_plugin.solids",
     "cdt_plugin.types",
     "cdt_plugin.validate",
     "cdt_plugin.voronoi",
