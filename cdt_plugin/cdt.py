@@ -99,7 +99,8 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
         hole point. Without holes or regions the inside is decided by depth
         parity: odd numbers of segments crossed from outside are inside.
     regions : (r, 2..4) array, optional
-        Region seeds ``x, y[, attribute[, max_area]]``: each paints its
+        Region seeds ``x, y[, attribute[, max_area]]`` (3D input: also
+        ``x, y, z, attribute, max_area``, see Notes): each paints its
         segment-bounded region; ``tri.regions`` gives the seed index per
         triangle and ``tri.region_attributes`` the attribute. A positive
         ``max_area`` bounds the area of the region's triangles (Steiner points
@@ -241,9 +242,12 @@ def triangulate(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | 
     ``tri.vertices`` are the 2D coordinates it was meshed in (two of each input
     vertex's coordinates, exactly: x, y for a horizontal plane),
     ``tri.vertices3d`` every vertex in 3D (input vertices exactly, Steiner
-    points on the plane) and ``tri.plane`` the plane. Hole seeds may then be
-    3D points (projected on the plane); region seeds are in ``tri.vertices``'
-    2D coordinates.
+    points on the plane) and ``tri.plane`` the plane. Seeds may then be 3D
+    points of the plane, projected as the vertices are: holes as (h, 3),
+    regions as rows of five ``x, y, z, attribute, max_area`` (NaN: none); a
+    seed farther from the plane than ``plane_tolerance`` (its default when
+    0) raises :class:`NonPlanarError` naming it. Seeds of two columns (and
+    regions of two to four) are in ``tri.vertices``' 2D coordinates, as before.
 
     Steiner points are ``tri.steiner``; each segment piece names its input
     segment in ``tri.segment_ids`` (-1 for a piece of the convex hull when the

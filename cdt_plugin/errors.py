@@ -132,7 +132,8 @@ class NonPlanarError(InvalidGeometryError):
     """3D input whose vertices do not lie in one plane (:mod:`cdt_plugin.planar`):
     ``vertex`` is the input vertex farthest from the fitted plane, ``point`` its
     coordinates, ``distance`` its distance from the plane and ``tolerance`` the
-    bound it broke (0: exact coplanarity was asked)."""
+    bound it broke (0: exact coplanarity was asked). For a hole or region seed
+    given in 3D off the plane, ``vertex`` is None and ``point`` the seed."""
 
     def __init__(self, message: str, *, vertex: int | None = None, distance: float | None = None,
                  point: tuple[float, ...] | None = None, tolerance: float | None = None) -> None:

@@ -253,7 +253,9 @@ def planar_plc(plc: Any, tolerance: float | None = None) -> tuple[Any, Plane]:
     """A :class:`~cdt_plugin.PLC` with ``z`` (3D input) as the PLC of its projection on its plane,
     whose ``z`` is the input vertices' dropped coordinate, and the plane;
     :class:`NonPlanarError` when a vertex lies off the plane.
-    ``plc.holes`` given as (h, 3) points are projected too."""
+    Seeds given in 3D, ``plc.holes`` as (h, 3) points and ``plc.regions`` as
+    (r, 5) rows ``x, y, z, attribute, max_area``, are projected the same way
+    (:func:`projected_seeds`); 2D seeds are in the projection's coordinates."""
     assert plc.z is not None
     z = np.asarray(plc.z, np.float64)
     if np.isnan(z).any():
@@ -267,9 +269,36 @@ def planar_plc(plc: Any, tolerance: float | None = None) -> tuple[Any, Plane]:
     if plane.axes != (0, 1, 2):     # (else x, y as they are, z the dropped coordinate)
         changes = {"vertices": plane.project(xyz), "z": np.ascontiguousarray(xyz[:, plane.axes[2]])}
     if plc.holes is not None and plc.holes.shape[1] == 3:
-        changes["holes"] = plane.project(plc.holes)
-    if plc.regions is not None and plane.area_scale != 1.0:
-        regions = plc.regions.copy()            # (their max_area: an area in the plane)
+        changes["holes"] = projected_seeds(plc.holes, "hole", xyz, plane, tolerance)
+    regions = plc.regions
+    if regions is not None and regions.shape[1] == 5:
+        regions = np.column_stack([projected_seeds(regions[:, :3], "region", xyz, plane, tolerance),
+                                   regions[:, 3:]])
+    if regions is not None and plane.area_scale != 1.0:
+        regions = regions.copy()                # (their max_area: an area in the plane)
         regions[:, 3] *= plane.area_scale
+    if regions is not plc.regions:
         changes["regions"] = regions
     return (dataclasses.replace(plc, **changes) if changes else plc), plane
+
+
+def projected_seeds(seeds: NDArray[np.float64], kind: str, xyz: NDArray[np.float64], plane: Plane,
+                    tolerance: float | None = None) -> NDArray[np.float64]:
+    """3D seed points (``kind``: "hole" or "region") of the 3D input ``xyz``
+    on its ``plane``, projected as its vertices are (:meth:`Plane.project`:
+    exact), or :class:`NonPlanarError` naming the seed farthest from the plane
+    when it lies farther than ``tolerance`` (None or 0: :func:`default_tolerance`
+    of the vertices and seeds; a seed only picks a region, so exact
+    coplanarity is asked of the vertices alone)."""
+    if len(seeds):
+        tol = tolerance if tolerance else default_tolerance(np.vstack([xyz, seeds]))
+        d = np.abs(plane.distances(seeds))
+        far = int(np.argmax(d))
+        if not d[far] <= tol:
+            raise NonPlanarError(
+                f"{kind} seed {far} {seeds[far].tolist()} lies {float(d[far])!r} from the plane of the "
+                f"3D input (through {plane.point.tolist()} with normal {plane.normal.tolist()}), "
+                f"farther than plane_tolerance={tol!r}: a 3D seed must be a point of the plane "
+                f"(or give it in the 2D coordinates the input is meshed in, axes {list(plane.axes[:2])})",
+                distance=float(d[far]), point=tuple(float(c) for c in seeds[far]), tolerance=tol)
+    return plane.project(seeds)

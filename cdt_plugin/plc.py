@@ -34,6 +34,8 @@ class PLC:
     segments : (m, 2) int64 vertex indices
     holes : (h, 2) float64, or None (None: inside/outside by depth parity)
     regions : (r, 4) float64 rows ``x, y, attribute, max_area`` (NaN: none), or None
+        (3D input: rows of five, ``x, y, z, attribute, max_area``, until
+        projected on its plane)
     segment_ring : (m,) int64 ring of each segment, -1 for free segments
     ring_polygon : (R,) int64 polygon of each ring
     ring_is_hole : (R,) bool
@@ -518,7 +520,7 @@ def as_plc(vertices: ArrayLike | PLC | GeometryLike, segments: ArrayLike | None 
         plc.holes = (as_xy(holes, "holes", "h", pair=True, empty=True) if plc.z is None
                      else _seeds_of_3d(holes))
     if regions is not None:
-        plc.regions = _as_regions(regions)
+        plc.regions = _as_regions(regions, plc.z is not None)
     return plc
 
 
@@ -587,14 +589,23 @@ def _ring_marker(value: Any, role: str) -> int:
     return int(value)
 
 
-def _as_regions(regions) -> np.ndarray:
+def _as_regions(regions: Any, three_d: bool = False) -> np.ndarray:
+    """Region seeds as (r, 4) rows ``x, y, attribute, max_area`` (a missing
+    attribute: the row's index; a missing max_area: NaN); for 3D input
+    (``three_d``) rows of five, ``x, y, z, attribute, max_area``, are 3D
+    seeds, kept as they are (projected on the plane with the vertices)."""
     arr = real_array(regions, "regions")
     if arr.size == 0:
         return np.empty((0, 4))
     if arr.ndim == 1:
         arr = arr[None, :]
+    if three_d and arr.ndim == 2 and arr.shape[1] == 5:
+        _raise_nonfinite_3d(arr[:, :3], "regions")
+        return np.array(arr, np.float64)
     if arr.ndim != 2 or arr.shape[1] not in (2, 3, 4):
-        raise InputShapeError(f"regions must be rows (x, y[, attribute[, max_area]]), got {arr.shape}")
+        raise InputShapeError(f"regions must be rows (x, y[, attribute[, max_area]])"
+                              f"{' or, in 3D, (x, y, z, attribute, max_area)' if three_d else ''}, "
+                              f"got {arr.shape}")
     out = np.full((len(arr), 4), np.nan)
     out[:, : arr.shape[1]] = arr
     if arr.shape[1] == 2:

@@ -690,7 +690,7 @@ class Triangulation:
         >>> vor.regions[4]                  # the centre point's cell: four Voronoi vertices
         [0, 2, 1, 3]
         >>> vor.cell(4).round(4).tolist()   # cut to the box
-        [[0.125, 1.0], [1.0, 0.4167], [1.875, 1.0], [1.375, 2.0], [0.625, 2.0]]
+        [[1.375, 2.0], [0.625, 2.0], [0.125, 1.0], [1.0, 0.4167], [1.875, 1.0]]
         """
         from .voronoi import voronoi                 # (loaded with its kernels on first use)
         return voronoi(self, clip, workers=workers)

@@ -19,6 +19,7 @@ from cdt_plugin.validate import as_points
 _EMPTY_COLLECTION = shapely.GeometryCollection()    # geometries are immutable: one serves all
 from cdt_plugin.adapters.shapely.building import to_shapely, triangle_shells
 from cdt_plugin.adapters.shapely.cells import cells_to_polygons
+from cdt_plugin.adapters.shapely.validity import scaled
 from cdt_plugin.adapters.shapely.reading import (MULTIPOLYGON, POLYGON, collections_to_polygonal,
                                                  geometry_plcs, is_array_input, like_input,
                                                  mesh_if_plainly_valid, repair_method, with_index)
@@ -462,7 +463,13 @@ def _collinear_voronoi(sites: np.ndarray, box: tuple[float, float, float, float]
     """Parallel strips: the Voronoi diagram of ``sites`` (distinct, all on one
     line, at least two) cut to ``box``. Along the line the sites are in
     lexicographic (x, y) order, exactly; each pair of neighbours is separated by
-    its perpendicular bisector, a chord of the box."""
+    its perpendicular bisector, a chord of the box. Far from unit scale the
+    strips are made near it and scaled back, exactly by a power of two (GEOS's
+    convex hulls square the coordinates)."""
+    e = int(np.frexp(np.abs(np.asarray(box)).max())[1])
+    if not -64 <= e <= 64:
+        near = _collinear_voronoi(np.ldexp(sites, -e), tuple(np.ldexp(box, -e).tolist()), only_edges)
+        return scaled(near, e)
     order = np.lexsort((sites[:, 1], sites[:, 0]))
     s = sites[order]
     along = s[1:] - s[:-1]

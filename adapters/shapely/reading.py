@@ -15,6 +15,7 @@ import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, TooFewPointsError
 from cdt_plugin.batch import CHUNK, MeshBatch, check_batch_options, geometry_plc, triangulate_rings
 from cdt_plugin.parallel import map_ordered, resolve_workers
+from cdt_plugin.options import MeshOptions
 from cdt_plugin.plc import ring_markers, shapely_polygon_rings
 import cdt_plugin.adapters.shapely.validity as validity
 
@@ -82,7 +83,9 @@ def triangulate(geometry: Any, *, repair: Repair = False, markers: Any = None, *
         geometry (e.g. a column of a GeoDataFrame: markers from an attribute).
     **options
         Passed to :func:`cdt_plugin.triangulate` (``intersections``, ``keep_hull``,
-        ``holes``, ``regions``, ``algorithm``, ``max_steiner``).
+        ``holes``, ``regions``, ``algorithm``, ``max_steiner``). With
+        ``merge_distance``, validity is decided on the geometry with its close
+        points merged (:func:`.validity.merged`), as it is meshed.
 
     Returns
     -------
@@ -114,7 +117,7 @@ def triangulate(geometry: Any, *, repair: Repair = False, markers: Any = None, *
         tri = mesh_if_plainly_valid(geometry)
         if tri is not None:
             return tri
-    elif markers is None and plain_polygon(geometry):
+    elif markers is None and not options.get("merge_distance") and plain_polygon(geometry):
         return cdt_plugin.triangulate(geometry, **options)
     if is_array_input(geometry):
         arr = np.asarray(geometry, dtype=object).ravel()
@@ -355,7 +358,9 @@ def like_input(values: np.ndarray, geometry: Any) -> Any:
 
 def _triangulate_many(arr: NDArray[np.object_], method: str | None, options: dict[str, Any],
                       indexed: bool, markers: list[Any] | None = None) -> list[cdt_plugin.Triangulation | None]:
-    plcs = geometry_plcs(arr, method, indexed)
+    merge = options.get("merge_distance")      # (checked first: validity is decided after merging)
+    merge = MeshOptions.check(merge_distance=merge).merge_distance if merge is not None else None
+    plcs = geometry_plcs(arr, method, indexed, merge_distance=merge)
     out: list[cdt_plugin.Triangulation | None] = []
     for i, plc in enumerate(plcs):
         if plc is None:
@@ -394,9 +399,11 @@ def _check_input(arr: NDArray[np.object_], indexed: bool | np.ndarray) -> None:
 
 
 def geometry_plcs(arr: NDArray[np.object_], method: str | None,
-          indexed: bool | np.ndarray) -> list[PLC | None]:
+          indexed: bool | np.ndarray, merge_distance: float | None = None) -> list[PLC | None]:
     """Validate (and repair) a 1-D object array of geometries and read each into a PLC.
-    Validation is one vectorised GEOS call for the whole array."""
+    Validation is one vectorised GEOS call for the whole array; with
+    ``merge_distance``, of the geometries with their close points merged
+    (:func:`.validity.merged`), as the engine will mesh them."""
     missing = shapely.is_missing(arr)
     _check_input(arr, indexed)
     types = shapely.get_type_id(arr)
@@ -404,9 +411,16 @@ def geometry_plcs(arr: NDArray[np.object_], method: str | None,
     # --- validity of polygonal input (GeometryCollections: their polygonal members)
     idx = np.flatnonzero(_CHECKED_FOR_VALIDITY[types + 1])
     if len(idx):
-        valid = validity.is_valid(arr[idx])
-        for i in map(int, idx[~valid]):
-            arr[i] = _repair_or_raise(arr[i], int(types[i]), method, i, indexed)
+        checked = arr[idx] if merge_distance is None else validity.merged(arr[idx], merge_distance)
+        valid = validity.is_valid(checked)
+        for k, i in zip(np.flatnonzero(~valid), map(int, idx[~valid])):
+            try:
+                arr[i] = _repair_or_raise(checked[k], int(types[i]), method, i, indexed)
+            except InvalidGeometryError as e:
+                if merge_distance is not None:
+                    e.args = (f"{e.args[0]} (its points closer than merge_distance={merge_distance!r} "
+                              "merged, as they are meshed)",)
+                raise
         if (~valid).any():
             types = shapely.get_type_id(arr)
     empty = shapely.is_empty(arr) & ~missing

@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 import cdt_plugin
 from cdt_plugin import PLC, CDTError, SegmentIntersectionError
+from cdt_plugin.merging import close_point_representatives
 
 #: Geometries whose largest |coordinate| lies within ``2**-HOME .. 2**HOME``
 #: are checked as they are (the products of GEOS's tests stay far from
@@ -47,6 +48,28 @@ def unit_shift(geoms: Any) -> NDArray[np.int64]:
     _, e = np.frexp(np.where(np.isfinite(top), top, 0.0))
     far = (top > 0) & ((e > HOME) | (e < -HOME))
     return np.where(far, -e, 0).astype(np.int64)
+
+
+def merged(geoms: NDArray[np.object_], distance: float) -> NDArray[np.object_]:
+    """Each geometry with every vertex moved onto its representative for
+    ``merge_distance=distance`` (:func:`cdt_plugin.merging.close_point_representatives`
+    over all of the geometry's x, y: the rule the engine applies to the
+    points it reads from it, so validity is decided on what is meshed).
+    Coordinates are copied exactly; a geometry with nothing to merge is
+    itself.
+
+    >>> import shapely
+    >>> zigzag = shapely.Polygon([(0, 0), (1, 0), (1, 1), (0.5, 1e-9), (0.5 + 1e-9, -1e-9), (0, 1)])
+    >>> zigzag.is_valid, merged([zigzag], 1e-6)[0].is_valid
+    (False, True)
+    """
+    out = np.empty(len(geoms), dtype=object)
+    for k, g in enumerate(geoms):
+        xy = shapely.get_coordinates(g)
+        rep = close_point_representatives(xy, distance)
+        moved = rep != np.arange(len(xy))
+        out[k] = g if not moved.any() else shapely.transform(g, lambda c: c[rep])
+    return out
 
 
 def at_home(geometry: shapely.Geometry) -> bool:

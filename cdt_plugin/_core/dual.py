@@ -676,8 +676,10 @@ def dd_div(ah, al, bh, bl):
     return dd_add(hi, lo, q3, 0.0)
 
 
-FAR = -1          # label of a side of the far box
-SIDE = -2         # label of a side of the clip box
+BOTTOM = -2       # labels of the clip box's sides (y = ymin, x = xmax, y = ymax, x = xmin):
+RIGHT = -3        # side s is label -2 - s, counter-clockwise from the bottom
+TOP = -4
+LEFT = -5
 
 
 @entry
@@ -685,22 +687,24 @@ def clip_cells(vx, vy, vw, triangles, offsets, ring, hull, face_of, centres,
                xmin, ymin, xmax, ymax, lo, hi):
     """Each vertex's cell cut to the box ``[xmin, xmax] x [ymin, ymax]``.
 
-    A bounded cell is its ring of face centres; an unbounded one its chain of
-    face centres, the two rays' ends on the boundary of a far box (the one
-    that holds the clip box, the centres and the vertices with a margin) and
-    the far box's corners between them, counter-clockwise: the cell cut to the
-    far box. Each side is labelled with the vertex across it (the ridge it
-    lies on). Then Sutherland-Hodgman cuts the polygon to the clip box; where a
-    ridge crosses a side of the box, the point is computed from the ridge's
-    two vertices (their bisector, the power bisector with weights), which is
-    accurate even where the face centres at its ends are far away (nearly
-    collinear vertices), and the same in both cells. Face centres, ray ends
-    and box sides are shared exactly too, so the cells form an exact coverage
-    of the box. Returns the cells of vertices ``lo:hi`` as ``(offsets, xy)``
-    (offsets from 0): counter-clockwise rings, not closed, empty where
-    nothing is left."""
+    A cell whose face centres all lie in the box is its ring of face centres.
+    Any other (one with a centre outside the box, or unbounded) is the box cut
+    by the half-plane of each of its ridges in turn, the points nearer to its
+    vertex than to the one across (power distance with weights): the
+    half-plane is given exactly by the two vertices, so a ridge whose ends lie
+    far beyond the box (nearly collinear vertices, whose face centres are
+    1e17 away and rounded by more than a cell is wide there) cuts the box where
+    it crosses it, not between rounded far points. Where a ridge crosses a side
+    of the box, the point is computed from the ridge's two vertices (their
+    bisector), the same in both cells; where it meets the next ridge of the
+    ring inside the box, the corner is their face centre, the one the
+    neighbouring cells use. So the cells form an exact coverage of the box.
+    Returns the cells of vertices ``lo:hi`` as ``(offsets, xy)`` (offsets from
+    0): counter-clockwise rings, not closed, empty where nothing is left."""
     nv = hi - lo
     faces, across = cell_scratch(offsets, lo, hi)
+    ridges = np.empty(faces.shape[0] + 1, np.int64)
+    corner = np.empty(faces.shape[0] + 1, np.int64)
     cap = 2 * faces.shape[0] + 32
     ax = np.empty(cap)
     ay = np.empty(cap)
@@ -708,7 +712,7 @@ def clip_cells(vx, vy, vw, triangles, offsets, ring, hull, face_of, centres,
     bx = np.empty(cap)
     by = np.empty(cap)
     bl = np.empty(cap, np.int64)
-    far = far_box(vx, vy, centres, xmin, ymin, xmax, ymax)
+    box = np.array([ymin, xmax, ymax, xmin])             # side s lies on coordinate box[s]
     sites, cell, spare = (vx, vy, vw), (ax, ay, al), (bx, by, bl)
     out_offsets = np.zeros(nv + 1, np.int64)
     out = np.empty((8 * nv + 2 * (offsets[hi] - offsets[lo]) + 16, 2))
@@ -717,20 +721,22 @@ def clip_cells(vx, vy, vw, triangles, offsets, ring, hull, face_of, centres,
         na = cell_ring(triangles, offsets, ring, hull, face_of, v, faces, across)
         if hull[v]:
             na -= 1                                      # (the -1 for infinity)
-        inside = True
+        inside = not hull[v]
+        lo_x, lo_y, hi_x, hi_y = np.inf, np.inf, -np.inf, -np.inf
         for p in range(na):
             ax[p] = centres[faces[p], 0]
             ay[p] = centres[faces[p], 1]
-            al[p] = across[p]
             inside = inside and xmin <= ax[p] <= xmax and ymin <= ay[p] <= ymax
-        if hull[v] and na > 0:
-            na = close_far(sites, triangles, offsets, ring, v, cell, na, far)
-            inside = False
-        if not inside:
-            na = cut_side(sites, v, cell, spare, na, False, xmin, False)
-            na = cut_side(sites, v, cell, spare, na, False, xmax, True)
-            na = cut_side(sites, v, cell, spare, na, True, ymin, False)
-            na = cut_side(sites, v, cell, spare, na, True, ymax, True)
+            lo_x, hi_x = min(lo_x, ax[p]), max(hi_x, ax[p])
+            lo_y, hi_y = min(lo_y, ay[p]), max(hi_y, ay[p])
+        if not hull[v] and (hi_x < xmin or lo_x > xmax or hi_y < ymin or lo_y > ymax):
+            na = 0                                       # a bounded cell beyond one side of the box
+        elif not inside and na > 0:
+            k = ridge_ring(triangles, offsets, ring, hull[v], v, faces, across, na, ridges, corner)
+            na = box_corners(cell, xmin, ymin, xmax, ymax)
+            for r in range(k):
+                na = cut_ridge(sites, v, cell, spare, na, ridges, corner, k, r, centres, box)
+            na = drop_repeats(ax, ay, na)
         if na < 3:
             na = 0
         for p in range(na):
@@ -742,132 +748,72 @@ def clip_cells(vx, vy, vw, triangles, offsets, ring, hull, face_of, centres,
 
 
 @kernel
-def far_box(vx, vy, centres, xmin, ymin, xmax, ymax):
-    """A box holding the clip box, every face centre and every vertex, with
-    a margin as wide as all of them: ``(xmin, ymin, xmax, ymax)`` (scaled
-    with its inputs: a power-of-two scale of the input scales the cells exactly)."""
-    # (loops, not numpy's min and max, whose implementation would make a new process
-    # whose routes come from the cache import numba's array maths, and scipy)
-    lo_x, lo_y, hi_x, hi_y = xmin, ymin, xmax, ymax
-    for i in range(vx.shape[0]):
-        lo_x, hi_x = min(lo_x, vx[i]), max(hi_x, vx[i])
-        lo_y, hi_y = min(lo_y, vy[i]), max(hi_y, vy[i])
-    for f in range(centres.shape[0]):
-        lo_x, hi_x = min(lo_x, centres[f, 0]), max(hi_x, centres[f, 0])
-        lo_y, hi_y = min(lo_y, centres[f, 1]), max(hi_y, centres[f, 1])
-    m = max(hi_x - lo_x, hi_y - lo_y)          # > 0: the clip box has a positive size
-    return np.array([lo_x - m, lo_y - m, hi_x + m, hi_y + m])
-
-
-@kernel
-def close_far(sites, triangles, offsets, ring, v, cell, na, far):
-    """Close the chain of face centres ``cell``, ``(ax, ay, al)[:na]`` (see
-    :func:`cut_side`), of hull vertex ``v``'s unbounded cell (``sites`` is
-    ``(vx, vy, vw)``):
-    the end of its outgoing ray on the far box, the far box's corners
-    counter-clockwise, the end of its incoming ray. Each ray leaves its face
-    centre along the outward normal of its hull edge, computed from the edge
-    as directed in the triangle (so both cells of the ridge get the same end)."""
-    vx, vy = sites[0], sites[1]
-    ax, ay, al = cell
-    t = ring[offsets[v + 1] - 2]                 # the last triangle (before the -1): hull edge b -> v
-    b = triangles[t, (corner_of(triangles, t, v) + 2) % 3]
-    t = ring[offsets[v]]                         # the first one: hull edge v -> a
-    a = triangles[t, (corner_of(triangles, t, v) + 1) % 3]
-    ex, ey, out = ray_end(ax[na - 1], ay[na - 1], vy[v] - vy[b], vx[b] - vx[v], far)
-    sx, sy, back = ray_end(ax[0], ay[0], vy[a] - vy[v], vx[v] - vx[a], far)
-    al[na - 1] = b                               # the last centre's side: the ray out
-    ax[na] = ex
-    ay[na] = ey
-    al[na] = FAR
-    na += 1
-    span = back - out
-    if span < 0.0:
-        span += 4.0
-    if span > 3.5:       # a cell opens less than half a turn: the two ends, a rounding error
-        span = 0.0       # apart on a far box, came out the wrong way round (a straight hull)
-    for k in range(1, 5):                        # corners passed going counter-clockwise
-        corner = np.floor(out) + k
-        if corner - out >= span:
-            break
-        c = int(corner) % 4
-        ax[na] = far[2] if c == 1 or c == 2 else far[0]
-        ay[na] = far[3] if c == 2 or c == 3 else far[1]
-        al[na] = FAR
-        na += 1
-    ax[na] = sx
-    ay[na] = sy
-    al[na] = a                                   # the ray in, to the first centre
+def ridge_ring(triangles, offsets, ring, on_hull, v, faces, across, na, ridges, corner):
+    """Vertex ``v``'s ridges counter-clockwise into ``ridges[:k]`` (the
+    vertex across each), and into ``corner[r]`` the face where ridge ``r``
+    meets ridge ``r + 1`` (-1 between the last and the first ridges of an
+    unbounded cell, which meet only at infinity), from its ring of ``na`` faces
+    ``faces`` and ``across`` (:func:`cell_ring`). Returns ``k``."""
+    if not on_hull:                                      # face p + 1 between across[p] and across[p + 1]
+        for p in range(na):
+            ridges[p] = across[p]
+            corner[p] = faces[(p + 1) % na]
+        return na
+    t = ring[offsets[v]]                                 # the first triangle: hull edge v -> a, the ray in
+    ridges[0] = triangles[t, (corner_of(triangles, t, v) + 1) % 3]
+    for p in range(na):                                  # face p between ridges p and p + 1
+        ridges[p + 1] = across[p]
+        corner[p] = faces[p]
+    corner[na] = -1
     return na + 1
 
 
 @kernel
-def ray_end(cx, cy, nx, ny, far):
-    """Where the ray from ``(cx, cy)`` (inside the far box) along ``(nx, ny)``
-    leaves the far box, the side's coordinate set exactly, and its position
-    on the box's boundary counter-clockwise: side ``s`` (0 bottom, 1 right,
-    2 top, 3 left) plus the fraction along it."""
-    tx = np.inf
-    ty = np.inf
-    if nx > 0.0:
-        tx = (far[2] - cx) / nx
-    elif nx < 0.0:
-        tx = (far[0] - cx) / nx
-    if ny > 0.0:
-        ty = (far[3] - cy) / ny
-    elif ny < 0.0:
-        ty = (far[1] - cy) / ny
-    w = far[2] - far[0]
-    h = far[3] - far[1]
-    if tx <= ty:
-        x = far[2] if nx > 0.0 else far[0]
-        y = min(max(cy + tx * ny, far[1]), far[3])
-        pos = 1.0 + (y - far[1]) / h if nx > 0.0 else 3.0 + (far[3] - y) / h
-    else:
-        y = far[3] if ny > 0.0 else far[1]
-        x = min(max(cx + ty * nx, far[0]), far[2])
-        pos = 2.0 + (far[2] - x) / w if ny > 0.0 else (x - far[0]) / w
-    return x, y, pos % 4.0
+def box_corners(cell, xmin, ymin, xmax, ymax):
+    """The box's corners counter-clockwise into ``cell`` (see :func:`cut_ridge`),
+    each side labelled with the side it lies on; returns 4."""
+    ax, ay, al = cell
+    ax[0], ay[0], al[0] = xmin, ymin, BOTTOM
+    ax[1], ay[1], al[1] = xmax, ymin, RIGHT
+    ax[2], ay[2], al[2] = xmax, ymax, TOP
+    ax[3], ay[3], al[3] = xmin, ymax, LEFT
+    return 4
 
 
 @kernel
-def cut_side(sites, v, cell, spare, na, vertical, bound, upper):
-    """Cut vertex ``v``'s convex cell polygon ``cell``, ``(ax, ay, al)``:
-    corners ``(ax, ay)[:na]``, side ``p`` from corner ``p`` to ``p + 1``
-    labelled ``al[p]`` (``spare`` is room for another such polygon, ``sites``
-    ``(vx, vy, vw)``), to ``x <= bound``
-    (``upper``) or ``x >= bound`` (``y`` when ``vertical``), in place (one
-    Sutherland-Hodgman step); returns its new size. Corners are compared
-    exactly. A crossing gets the side's coordinate ``bound`` exactly and the
-    other from :func:`crossing`; the new side along the box is labelled
-    ``SIDE``."""
+def cut_ridge(sites, v, cell, spare, na, ridges, corner, k, r, centres, box):
+    """Cut vertex ``v``'s convex polygon ``cell``, ``(ax, ay, al)``: corners
+    ``(ax, ay)[:na]``, side ``p`` from corner ``p`` to ``p + 1`` labelled
+    ``al[p]`` (the vertex across the ridge it lies on, or a box side), to the
+    half-plane of ridge ``ridges[r]`` (the points no farther from ``v``, power
+    distance with weights), in place (one Sutherland-Hodgman step; ``spare``
+    is room for another such polygon); returns its new size. A point on the
+    ridge is kept. The new side along the ridge is labelled with it."""
     ax, ay, al = cell
     bx, by, bl = spare
+    u = ridges[r]
     outside = False
     for p in range(na):
-        c = ay[p] if vertical else ax[p]
-        if (c > bound) if upper else (c < bound):
+        if power_gap(sites, v, u, ax[p], ay[p]) > 0.0:
             outside = True
             break
     if not outside:
         return na
     nb = 0
+    gq = power_gap(sites, v, u, ax[0], ay[0])
     for p in range(na):
         q = p + 1 if p + 1 < na else 0
-        cp = ay[p] if vertical else ax[p]
-        cq = ay[q] if vertical else ax[q]
-        in_p = (cp <= bound) if upper else (cp >= bound)
-        in_q = (cq <= bound) if upper else (cq >= bound)
-        if in_p:
+        gp = gq
+        gq = power_gap(sites, v, u, ax[q], ay[q])
+        if gp <= 0.0:
             bx[nb] = ax[p]
             by[nb] = ay[p]
-            bl[nb] = al[p]
+            bl[nb] = u if gp == 0.0 and gq > 0.0 else al[p]     # (on the ridge, leaving: along it)
             nb += 1
-        if in_p != in_q and cp != bound and cq != bound:
-            other = crossing(sites, v, al[p], ax[p], ay[p], ax[q], ay[q], vertical, bound)
-            bx[nb] = other if vertical else bound
-            by[nb] = bound if vertical else other
-            bl[nb] = SIDE if in_p else al[p]             # leaving: along the box; entering: on
+        if (gp < 0.0 and gq > 0.0) or (gp > 0.0 and gq < 0.0):
+            bx[nb], by[nb] = meet(sites, v, u, al[p], ax[p], ay[p], ax[q], ay[q], gp, gq,
+                                  ridges, corner, k, r, centres, box)
+            bl[nb] = u if gp < 0.0 else al[p]            # leaving: along the ridge; entering: on
             nb += 1
     for p in range(nb):
         ax[p] = bx[p]
@@ -877,36 +823,83 @@ def cut_side(sites, v, cell, spare, na, vertical, bound, upper):
 
 
 @kernel
-def crossing(sites, v, u, px, py, qx, qy, vertical, bound):
-    """The other coordinate where the side ``p -> q`` of ``v``'s cell meets
-    the line ``x = bound`` (``y`` when ``vertical``), kept between ``p`` and
-    ``q``. On a ridge (``u >= 0``, the vertex across): from the bisector of
-    ``v`` and ``u`` (power bisector with weights) through their midpoint,
-    with the pair in increasing order, so both cells get the same point;
-    else (far box and clip box sides) interpolated from the end that comes
-    first lexicographically."""
+def power_gap(sites, v, u, x, y):
+    """Half of (power distance of ``(x, y)`` to ``v``) minus (to ``u``):
+    negative on ``v``'s side of their ridge. Computed from the pair in
+    increasing order and negated for the other, so both cells decide a point
+    alike."""
     vx, vy, vw = sites
-    if u >= 0:
-        i, j = min(u, v), max(u, v)
-        nx = vx[j] - vx[i]
-        ny = vy[j] - vy[i]
-        mx = 0.5 * (vx[i] + vx[j])
-        my = 0.5 * (vy[i] + vy[j])
-        rhs = 0.5 * (vw[i] - vw[j])          # n . (x - m) = (w_i - w_j) / 2
-        if vertical and nx != 0.0:
-            value = mx + (rhs - ny * (bound - my)) / nx
-        elif not vertical and ny != 0.0:
-            value = my + (rhs - nx * (bound - mx)) / ny
-        else:
-            value = np.nan
+    i, j = min(u, v), max(u, v)
+    g = ((vx[j] - vx[i]) * (x - 0.5 * (vx[i] + vx[j])) + (vy[j] - vy[i]) * (y - 0.5 * (vy[i] + vy[j]))
+         - 0.5 * (vw[i] - vw[j]))
+    return g if v == i else -g
+
+
+@kernel
+def meet(sites, v, u, w, px, py, qx, qy, gp, gq, ridges, corner, k, r, centres, box):
+    """Where ridge ``u`` (``ridges[r]``) crosses the side ``p -> q`` of
+    ``v``'s polygon, which lies on ``w`` (a vertex across a ridge or a box
+    side, :func:`cut_ridge`); ``gp``, ``gq``: the ends' :func:`power_gap`, of
+    opposite signs. On a box side: from the bisector of ``v`` and ``u``
+    (:func:`crossing`). On the ridge before or after ``u`` in the ring: their
+    face centre, if it lies in the box. Else interpolated between ``p`` and ``q``."""
+    if w < 0:
+        s = -2 - w
+        vertical = s % 2 == 0                            # bottom and top: the line y = box[s]
+        other = crossing(sites, v, u, px, py, qx, qy, gp, gq, vertical, box[s])
+        return (other, box[s]) if vertical else (box[s], other)
+    f = corner[r] if ridges[(r + 1) % k] == w else -1
+    if f < 0 and ridges[(r - 1) % k] == w:               # (two ridges meet at a face and at infinity)
+        f = corner[(r - 1) % k]
+    if f >= 0:
+        cx = centres[f, 0]
+        cy = centres[f, 1]
+        if box[3] <= cx <= box[1] and box[0] <= cy <= box[2]:
+            return cx, cy
+    t = gp / (gp - gq)
+    return px + t * (qx - px), py + t * (qy - py)
+
+
+@kernel
+def drop_repeats(ax, ay, na):
+    """Remove corners equal to the one before them (cyclically) from
+    ``(ax, ay)[:na]``; returns the new size."""
+    m = 0
+    for p in range(na):
+        if m > 0 and ax[p] == ax[m - 1] and ay[p] == ay[m - 1]:
+            continue
+        ax[m] = ax[p]
+        ay[m] = ay[p]
+        m += 1
+    while m > 1 and ax[m - 1] == ax[0] and ay[m - 1] == ay[0]:
+        m -= 1
+    return m
+
+
+@kernel
+def crossing(sites, v, u, px, py, qx, qy, gp, gq, vertical, bound):
+    """The other coordinate where ridge ``u`` of ``v``'s cell meets the
+    box side ``p -> q`` on the line ``x = bound`` (``y`` when ``vertical``),
+    kept between ``p`` and ``q``: from the bisector of ``v`` and ``u`` (power
+    bisector with weights) through their midpoint, with the pair in increasing
+    order, so both cells get the same point; interpolated by the ends'
+    :func:`power_gap` ``gp``, ``gq`` where the ridge runs along the line (a
+    rounding error's crossing)."""
+    vx, vy, vw = sites
+    i, j = min(u, v), max(u, v)
+    nx = vx[j] - vx[i]
+    ny = vy[j] - vy[i]
+    mx = 0.5 * (vx[i] + vx[j])
+    my = 0.5 * (vy[i] + vy[j])
+    rhs = 0.5 * (vw[i] - vw[j])          # n . (x - m) = (w_i - w_j) / 2
+    if vertical and nx != 0.0:
+        value = mx + (rhs - ny * (bound - my)) / nx
+    elif not vertical and ny != 0.0:
+        value = my + (rhs - nx * (bound - mx)) / ny
     else:
         value = np.nan
     if not np.isfinite(value):
-        if qx < px or (qx == px and qy < py):
-            px, py, qx, qy = qx, qy, px, py
-        if vertical:
-            value = px + (bound - py) / (qy - py) * (qx - px)
-        else:
-            value = py + (bound - px) / (qx - px) * (qy - py)
+        t = gp / (gp - gq)
+        value = px + t * (qx - px) if vertical else py + t * (qy - py)
     lo_, hi_ = (min(px, qx), max(px, qx)) if vertical else (min(py, qy), max(py, qy))
     return min(max(value, lo_), hi_)

@@ -711,3 +711,50 @@ def test_ring_markers_mark_exterior_and_holes():
         sa.triangulate(poly, markers={"hole": 1})
     with pytest.raises(cdt_plugin.InputShapeError, match="one per geometry"):
         sa.triangulate([poly, poly], markers=[1, 2, 3])
+
+
+# a CAD outline whose hole has a corner written twice, 1e-14 apart (GEOS: "Self-intersection"),
+# and a shell corner twice: valid once its near-duplicates are merged
+_NEAR = shapely.Polygon([(0, 0), (1e-12, 0), (4, 0), (4, 4), (4, 4 + 1e-13), (0, 4)],
+                        [[(1, 1), (1, 3), (3, 3), (3, 1), (3 + 1e-14, 1)]])
+
+
+def _area(tri):
+    a, b, c = (tri.vertices[tri.triangles[:, k]] for k in range(3))
+    return 0.5 * float(((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]).sum())
+
+
+def test_merge_distance_merges_before_validity_is_decided():
+    assert not _NEAR.is_valid
+    with pytest.raises(cdt_plugin.InvalidGeometryError, match="Self-intersection"):
+        sa.triangulate(_NEAR)
+    engine = cdt_plugin.triangulate(_NEAR, merge_distance=1e-9)
+    for out in (sa.triangulate(_NEAR, merge_distance=1e-9),
+                sa.triangulate([_NEAR, shapely.box(0, 0, 1, 1)], merge_distance=1e-9)[0]):
+        assert out.stats["merged_points"] == 3 and np.array_equal(out.vertex_map, engine.vertex_map)
+        assert np.array_equal(out.triangles, engine.triangles)
+        assert_valid(out.vertices, out.triangles, segments=out.segments, domain="segments",
+                     require_all_vertices=False)
+        assert _area(out) == pytest.approx(12.0, rel=1e-12)
+    # too small a distance merges nothing: GEOS's verdict on the input stands
+    with pytest.raises(cdt_plugin.InvalidGeometryError, match="merge_distance=1e-15"):
+        sa.triangulate(_NEAR, merge_distance=1e-15)
+
+
+def test_merge_distance_that_folds_a_polygon_is_refused_alike_one_by_one_and_in_arrays():
+    # a slit 2e-10 wide: valid as given, a ring that runs back on itself once its two sides
+    # merge; the verdict is the merged polygon's, for one geometry and for an array
+    slit = shapely.Polygon([(0, 0), (4, 0), (4, 4), (2 + 1e-10, 4), (2, 1), (2 - 1e-10, 4), (0, 4)])
+    assert slit.is_valid and len(sa.triangulate(slit).triangles) == 5
+    for geometry in (slit, [slit]):
+        with pytest.raises(cdt_plugin.InvalidGeometryError, match="Self-intersection.*merge_distance=1e-09"):
+            sa.triangulate(geometry, merge_distance=1e-9)
+    fixed = sa.triangulate(slit, merge_distance=1e-9, repair=True)     # make_valid of the merged one
+    assert_valid(fixed.vertices, fixed.triangles, segments=fixed.segments, domain="segments")
+    assert _area(fixed) == pytest.approx(16.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("value", [-1.0, float("nan"), "1e-9"])
+def test_bad_merge_distance_is_named_before_validity(value):
+    with pytest.raises(cdt_plugin.CDTError, match="merge_distance must be"):
+        sa.triangulate(_NEAR, merge_distance=value)

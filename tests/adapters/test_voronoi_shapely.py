@@ -406,7 +406,7 @@ def _cells_at_unit(cells, k):
 
 
 @pytest.mark.parametrize("k", [-1000, -600, 0, 600, 1000])
-@pytest.mark.parametrize("flatness", [1e-6, 1e-10, 1e-14])
+@pytest.mark.parametrize("flatness", [1e-6, 1e-10, 1e-14, 1e-16, 1e-18])
 def test_nearly_collinear_sites_give_three_cells_at_every_scale(k, flatness):
     # three sites ~100 apart, the third off the line of the others by `flatness` of their
     # distance: the Voronoi vertex lies ~1/flatness away (beyond the doubles at 2**1000,
@@ -420,6 +420,7 @@ def test_nearly_collinear_sites_give_three_cells_at_every_scale(k, flatness):
             warnings.simplefilter("error")          # no overflow or invalid-value warning either
             cells = _cells_at_unit(sa.voronoi_polygons(shapely.MultiPoint(np.ldexp(sites, k))), k)
         assert len(cells) == 3 and shapely.is_valid(cells).all()
+        assert np.isfinite(shapely.bounds(cells)).all() and (shapely.area(cells) > 0).all()
         owners = [int(np.flatnonzero(shapely.intersects_xy(cells, *s))[0]) for s in sites]
         assert sorted(owners) == [0, 1, 2]
         envelope = shapely.envelope(shapely.union_all(cells))
@@ -439,3 +440,20 @@ def test_a_centre_that_rounds_to_nan_is_computed_again():
     geos = np.array(shapely.voronoi_polygons(shapely.MultiPoint(sites)).geoms)
     assert (shapely.area(cells) > 0).all()
     assert sorted(shapely.area(cells)) == pytest.approx(sorted(shapely.area(geos)), rel=1e-6)
+
+
+@pytest.mark.parametrize("k, offset", [(-1000, 0.0), (0, 0.0), (1000, 0.0), (0, 1e9), (0, 1e15)])
+def test_collinear_sites_give_strips_at_every_magnitude(k, offset):
+    # exactly on one line (small integers, so the offset keeps them there): parallel strips,
+    # the same as GEOS's at unit scale and no offset, moved and scaled exactly
+    coords = np.array([[0, 0], [3, 1], [-6, -2], [12, 4], [9, 3]], float)
+    g = shapely.MultiPoint(np.ldexp(coords + offset, k))
+    cells = _cells_at_unit(sa.voronoi_polygons(g), k)
+    geos = np.array(shapely.voronoi_polygons(shapely.MultiPoint(coords)).geoms)
+    assert len(cells) == 5 and shapely.is_valid(cells).all() and (shapely.area(cells) > 0).all()
+    moved = shapely.transform(cells, lambda c: c - offset)
+    rounding = np.spacing(offset) * 42 * 4       # (each corner rounded, on a box 42 high)
+    for cell, site in zip(moved, coords):
+        assert cell.contains(shapely.Point(site))
+        theirs = geos[shapely.contains_xy(geos, *site)][0]
+        assert shapely.symmetric_difference(cell, theirs).area <= REL * theirs.area + rounding

@@ -165,6 +165,68 @@ def test_3d_hole_seeds_are_projected():
     assert len(tri.triangles) == 8
 
 
+@pytest.mark.parametrize("seed", range(6))
+def test_3d_seeds_are_points_of_the_plane(seed):
+    # a square with a square hole, cut in two halves by two walls from the shell's corners to
+    # the hole's, rotated into a random plane: a 3D hole seed and 3D region seeds (x, y, z,
+    # attribute, max_area) pick the same regions as the 2D seeds of the mesh's projection
+    rng = np.random.default_rng(seed)
+    R, shift = _rotation(rng), rng.normal(size=3) * 10 ** rng.integers(0, 4)
+    rings = np.vstack([RINGS, [[0, 4], [2, 6]]])
+    P = np.column_stack([SQUARE[:8], np.zeros(8)]) @ R.T + shift
+    seeds = np.array([[2.0, 2.0, 0], [3.0, 0.5, 0], [0.5, 3.0, 0]]) @ R.T + shift
+    regions = np.column_stack([seeds[1:], [10.0, 20.0], [np.nan, 0.05]])
+    tri = cdt_plugin.triangulate(P, rings, holes=seeds[:1], regions=regions)
+    _check_in_plane(tri, P)
+    uv = tri.plane.project(seeds)
+    flat_regions = np.column_stack([uv[1:], [10.0, 20.0], [np.nan, 0.05 * tri.plane.area_scale]])
+    same = cdt_plugin.triangulate(tri.vertices[:len(P)], rings, holes=uv[:1], regions=flat_regions)
+    assert np.array_equal(same.triangles, tri.triangles) and np.array_equal(same.vertices, tri.vertices)
+    assert np.array_equal(same.region_attributes, tri.region_attributes)
+    a, b, c = (tri.vertices3d[tri.triangles[:, k]] for k in range(3))
+    areas = np.linalg.norm(np.cross(b - a, c - a), axis=1) / 2
+    assert areas.sum() == pytest.approx(12.0, rel=1e-12)
+    for value, bound in ((10.0, np.inf), (20.0, 0.05)):
+        part = tri.region_attributes.ravel() == value
+        assert areas[part].sum() == pytest.approx(6.0, rel=1e-12) and areas[part].max() <= bound * (1 + 1e-9)
+
+
+def test_3d_seeds_of_a_polygon_z():
+    shapely = pytest.importorskip("shapely")
+    # a wall, the plane y = 1: its hole's seed given in 3D
+    wall = shapely.Polygon([(0, 1, 0), (4, 1, 0), (4, 1, 3), (0, 1, 3)],
+                           [[(1, 1, 1), (2, 1, 1), (2, 1, 2), (1, 1, 2)]])
+    tri = cdt_plugin.triangulate(wall, holes=[[1.5, 1, 1.5]], regions=[[3, 1, 2, 7.0, np.nan]])
+    assert tri.plane.axes[2] == 1 and (tri.vertices3d[:, 1] == 1).all()
+    assert_valid(tri.vertices, tri.triangles, segments=tri.segments, domain="segments")
+    a, b, c = (tri.vertices3d[tri.triangles[:, k]] for k in range(3))
+    assert np.linalg.norm(np.cross(b - a, c - a), axis=1).sum() / 2 == pytest.approx(11.0)
+    assert (tri.region_attributes == 7.0).all()
+
+
+def test_3d_seeds_off_the_plane_are_named():
+    P = np.array([[0, 0, 0], [4, 0, 4], [4, 4, 4], [0, 4, 0]], float)       # the plane z = x
+    square = [[0, 1], [1, 2], [2, 3], [3, 0]]
+    with pytest.raises(cdt_plugin.NonPlanarError, match=r"hole seed 1 \[2.0, 2.0, 2.5\]") as err:
+        cdt_plugin.triangulate(P, square, holes=[[1, 1, 1], [2, 2, 2.5]])
+    assert err.value.vertex is None and err.value.point == (2.0, 2.0, 2.5)
+    assert err.value.distance == pytest.approx(0.5 / np.sqrt(2))
+    with pytest.raises(cdt_plugin.NonPlanarError, match="region seed 0"):
+        cdt_plugin.triangulate(P, square, regions=[[1, 1, 1.001, 5.0, np.nan]])
+    # within plane_tolerance, taken (projected); an exact plane asks it of the vertices only
+    tri = cdt_plugin.triangulate(P, square, regions=[[1, 1, 1.001, 5.0, np.nan]], plane_tolerance=0.01)
+    assert (tri.region_attributes == 5.0).all()
+    tri = cdt_plugin.triangulate(P, square, regions=[[1, 1, 1, 5.0, np.nan]], plane_tolerance=0)
+    assert (tri.region_attributes == 5.0).all()
+    # 2D seeds keep their meaning (x, y, attribute) and 2D input refuses rows of five
+    tri = cdt_plugin.triangulate(P, square, regions=[[1, 1, 5.0]])
+    assert (tri.region_attributes == 5.0).all()
+    with pytest.raises(cdt_plugin.InputShapeError, match="regions must be rows"):
+        cdt_plugin.triangulate(P[:, :2], square, regions=[[1, 1, 1, 5.0, np.nan]])
+    with pytest.raises(cdt_plugin.NonFiniteCoordinateError, match="regions"):
+        cdt_plugin.triangulate(P, square, regions=[[1, 1, np.nan, 5.0, np.nan]])
+
+
 def test_plane_from_normal_keeps_orientation():
     for normal, axes in (([0, 0, -2], (0, 1, 2)), ([3, 1, 1], (1, 2, 0)), ([0, -5, 1], (2, 0, 1))):
         plane = Plane.from_normal(normal, [0, 0, 0])

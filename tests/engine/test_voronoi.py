@@ -276,6 +276,75 @@ def test_nearly_collinear_points_give_strips_that_tile_the_box():
         assert _in_ring(vor.cell(i), P[i], 1e-12)
 
 
+def _nearly_collinear(rng, m, flatness):
+    """``m`` sites about 100 apart, the ones after the first two off the line
+    of those two by ``flatness`` of their distance (either side)."""
+    a, b = rng.random(2) * 100, rng.random(2) * 100
+    t = rng.uniform(-1, 2, m - 2)[:, None]
+    side = rng.choice([-1.0, 1.0], (m - 2, 1)) * flatness * np.array([a[1] - b[1], b[0] - a[0]])
+    return np.vstack([a, b, a + t * (b - a) + side])
+
+
+def _check_strips(vor, k=0):
+    """The cells of a box-clipped diagram of a few sites, times ``2**-k``: each
+    non-empty and holding its site, their areas summing to the box's, and no
+    sample point strictly inside two cells (up to rounding)."""
+    box = np.ldexp(np.array(vor.clip), -k)
+    sites = np.ldexp(vor.points, -k)
+    cells = [np.ldexp(vor.cell(i), -k) for i in range(len(sites))]
+    size = max(box[2] - box[0], box[3] - box[1])
+    for i, cell in enumerate(cells):
+        assert len(cell) >= 3 and _area(cell) > 0, (sites.tolist(), i)
+        assert _in_ring(cell, sites[i], 1e-12 * size), (sites.tolist(), i)
+    whole = (box[2] - box[0]) * (box[3] - box[1])
+    # corners rounded to the doubles: each moves a side by at most a spacing of the coordinates
+    perimeter = sum(np.hypot(*(np.roll(c, -1, axis=0) - c).T).sum() for c in cells)
+    rounding = 1e-12 * whole + perimeter * np.spacing(np.abs(box).max())
+    assert abs(sum(map(_area, cells)) - whole) <= rounding, sites.tolist()
+    rng = np.random.default_rng(1)
+    for p in np.column_stack([rng.uniform(box[0], box[2], 50), rng.uniform(box[1], box[3], 50)]):
+        assert sum(_in_ring(cell, p, -1e-9 * size) for cell in cells) <= 1, (sites.tolist(), p)
+
+
+@pytest.mark.parametrize("sites", [
+    [[59.83762816921075, 27.922305206246634], [82.69416289627772, 7.431842880298822],
+     [100.12028001171034, -8.190350094495427]],
+    [[66.44037016958879, 69.98885907650752], [91.9051526126196, 4.163148061906419],
+     [88.53451814017532, 12.876138687895144]],
+    [[45.890455542169484, 26.089789419545863], [13.040035049854948, 71.7734071191463],
+     [-17.484806455945737, 114.22294562712791]]])
+def test_a_middle_cell_between_ridges_that_meet_1e17_away_is_a_strip(sites):
+    """Three sites within about 1e-16 relative of a line: the ridges of the
+    middle one meet about 1e17 away, where the far ends of its rays round by
+    more than its cell is wide; it came out empty. The cell is the box cut by
+    the half-planes of its ridges, which the sites give exactly."""
+    tri = _delaunay(sites)
+    assert len(tri.triangles) == 1 and np.abs(tri.voronoi().vertices).max() > 1e15
+    vor = tri.voronoi()
+    _check_strips(vor.clipped(vor.envelope()))
+
+
+@pytest.mark.parametrize("m", [3, 4])
+@pytest.mark.parametrize("flatness", [1e-12, 1e-15, 1e-16, 1e-17, 1e-18])
+@pytest.mark.parametrize("k, offset", [(0, 0.0), (-1000, 0.0), (1000, 0.0), (0, 1e9), (0, 1e15)])
+def test_nearly_collinear_sites_tile_the_box_at_every_magnitude(m, flatness, k, offset):
+    """Random nearly collinear triples and quadruples, scaled by ``2**k`` or
+    moved by ``offset``: every cell non-empty and holding its site, the cells
+    tiling the box; scaled, the cells are the unit-scale ones times ``2**k``
+    exactly."""
+    rng = np.random.default_rng(int(-np.log10(flatness)) + 7 * m)
+    for _ in range(40):
+        P = _nearly_collinear(rng, m, flatness) + offset
+        if len(cdt_plugin.delaunay(P).triangles) == 0:      # (rounded onto one line by the offset)
+            continue
+        vor = _delaunay(np.ldexp(P, k)).voronoi()
+        vor = vor.clipped(vor.envelope())
+        _check_strips(vor, k)
+        if k:
+            unit = cdt_plugin.delaunay(P).voronoi()
+            assert np.array_equal(vor.cell_xy, np.ldexp(unit.clipped(unit.envelope()).cell_xy, k))
+
+
 def test_clip_smaller_than_the_points_leaves_empty_cells():
     g = np.array([(x, y) for y in range(5) for x in range(5)], float)
     box = (1.2, 1.2, 2.6, 2.4)
