@@ -43,10 +43,13 @@ back: every input vertex gets back its original coordinates exactly (bit for bit
 a Steiner vertex on a boundary edge goes to the same fraction of the original edge
 (so the triangles still tile the original polygons, and neighbours sharing a border
 stay seamless), and the other Steiner vertices are inverse-projected. The triangles
-are constrained Delaunay (and meet ``min_angle``) in the meshing CRS. A feature whose
-triangles would not stay counter-clockwise in the layer's CRS (one split at the
+are constrained Delaunay (and meet ``min_angle``) in the meshing CRS. Vertices on
+another ring's edge (touching rings) are inserted into that edge first, and a triangle
+that turns flat or clockwise when mapped back is mended by an edge flip. A feature whose
+triangles still would not stay counter-clockwise in the layer's CRS (one split at the
 antimeridian, whose parts meet in the projection, or one too far from the
-projection's centre) raises :class:`ProjectionError` (or is skipped).
+projection's centre, or one valid only in the meshing CRS) raises
+:class:`ProjectionError` (or is skipped).
 
 Z. Polygons with Z keep it: input vertices keep their own z, Steiner and
 intersection vertices get z interpolated linearly along their segment or inside

@@ -14,8 +14,8 @@ from cdt_plugin.optional import require
 from cdt_plugin.adapters.geo.errors import (ProjectionError, describe, is_geographic, plain,
                                             relabel, warn_geographic, warn_skipped)
 from cdt_plugin.adapters.geo.projection import (ProjectLike, centred, counter_clockwise,
-                                                layer_extent, project_geometries, restore,
-                                                target_crs)
+                                                fold_cause, layer_extent, project_geometries,
+                                                restore, target_crs, unfold)
 from cdt_plugin.adapters.geo.results import GeoMesh
 from cdt_plugin.adapters.geo.sizing import LayerSizing, check_layer_sizing, layer_size
 from cdt_plugin.adapters.layers import LayerLike, read
@@ -199,6 +199,7 @@ def mesh_layer(frame: GeoDataFrame, *, project: ProjectLike, repair: Repair, err
     T, position, part, vertices = batch.triangles, batch.geometry, batch.region, batch.vertices
     if target is not None:
         vertices = restore(vertices, T, geoms, meshed, target, frame.crs)
+        T = unfold(vertices, T, position, part)
         folded = _folded_features(vertices, T, position, frame, target, errors)
         if folded:
             failed.update(folded)
@@ -219,9 +220,8 @@ def _folded_features(V, T, position, frame, target, errors) -> dict:
     for i, count in zip(*np.unique(bad, return_counts=True)):
         e = ProjectionError(
             f"feature {plain(frame.index[i])}: {count} of its triangles turn clockwise when mapped "
-            f"back from {target.name!r} to {frame.crs.name!r} (parts split at the antimeridian "
-            "meet in the projection, or the feature lies too far from the projection's centre); "
-            "mesh it unprojected or in a CRS where it is in one piece")
+            f"back from {target.name!r} to {frame.crs.name!r}: "
+            f"{fold_cause(frame.geometry.iloc[i], frame.crs)}")
         e.index, e.feature = int(i), plain(frame.index[i])
         if errors == "raise":
             raise e

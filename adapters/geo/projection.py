@@ -1,5 +1,16 @@
 """Projections of a layer for meshing (``project=``): the meshing CRS, the
-layer into it, and the mesh back, input vertices bit for bit."""
+layer into it, and the mesh back, input vertices bit for bit.
+
+A projection moves vertices but keeps edges straight, so a vertex that lies
+exactly on another ring's edge in the layer's CRS (a hole touching its shell, two
+holes or two parts touching) would land a hair off that edge in the meshing CRS.
+Such vertices are first inserted into the edges they lie on (in the layer's
+coordinates, exactly), so both CRSs see the same touching rings. Mapped back, a
+thin triangle may still turn flat or clockwise (its corners were collinear in
+the layer's CRS, or the map back bends it); :func:`unfold` flips such a
+triangle's edge with its neighbour's where that makes both counter-clockwise
+(exactly, in the layer's CRS). What cannot be unfolded that way is a feature
+that is not valid in the layer's own CRS (checked by the caller)."""
 from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Union
@@ -7,7 +18,9 @@ from typing import TYPE_CHECKING, Any, Union
 import numpy as np
 import shapely
 
+from cdt_plugin._core.certify import orientation_signs
 from cdt_plugin.adapters.geo.errors import ProjectionError, plain
+from cdt_plugin.adapters.shapely.reading import MULTIPOLYGON, POLYGON
 
 if TYPE_CHECKING:
     import pyproj
@@ -149,6 +162,7 @@ def project_geometries(geoms: np.ndarray, frame: GeoDataFrame, target: Any,
     except pyproj.exceptions.ProjError as exc:
         raise ProjectionError(f"no transformation from {frame.crs.name!r} to {target.name!r} "
                               f"({exc})") from exc
+    geoms = with_touching_vertices(geoms)
     try:
         projected = shapely.transform(geoms, _xy_transform(forward), include_z=None)
     except pyproj.exceptions.ProjError:     # one by one, to name the features that fail
@@ -195,7 +209,7 @@ def restore(V: np.ndarray, T: np.ndarray, geoms: np.ndarray, projected: np.ndarr
     import pyproj
 
     back = pyproj.Transformer.from_crs(target, crs, always_xy=True)
-    original = shapely.get_coordinates(geoms)
+    original = shapely.get_coordinates(with_touching_vertices(geoms))     # (as projected)
     row = _find_rows(V, shapely.get_coordinates(projected))
     out = np.empty_like(V)
     is_input = row >= 0
@@ -285,8 +299,154 @@ def _find_rows(keys: np.ndarray, table) -> np.ndarray:
 
 
 def counter_clockwise(V: np.ndarray, T: np.ndarray) -> np.ndarray:
-    """Per triangle: a positive (floating-point) cross product of its edges. A check of
-    the mapped-back output, never a meshing decision."""
-    P = V[T]
-    u, v = P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]
-    return u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0] > 0
+    """Per triangle: whether it turns counter-clockwise (exact orientation; flat
+    triangles do not). A check of the mapped-back output, never a meshing decision."""
+    return _orientations(V, T) > 0
+
+
+def fold_cause(geometry: Any, crs: Any) -> str:
+    """Why a feature's triangles still fold once mapped back to ``crs`` (after
+    :func:`unfold`): the feature is not valid there (its rings cross in the layer's
+    own coordinates, though not in the meshing CRS), or the projection bends it."""
+    try:
+        reason = shapely.is_valid_reason(geometry)
+    except shapely.errors.GEOSException:
+        reason = "Valid Geometry"
+    if reason != "Valid Geometry":
+        return (f"it is not valid in {crs.name!r} ({reason}), only in the meshing CRS; "
+                "repair it in its own CRS (shapely.make_valid)")
+    return ("parts split at the antimeridian meet in the projection, or the feature lies too "
+            "far from the projection's centre; mesh it unprojected or in a CRS where it is in "
+            "one piece")
+
+
+def _orientations(V: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """Exact orientation sign of each triangle (+1 counter-clockwise, 0 flat, -1)."""
+    if not len(T):
+        return np.zeros(0, np.int64)
+    return orientation_signs(np.ascontiguousarray(V[:, 0], np.float64),
+                             np.ascontiguousarray(V[:, 1], np.float64),
+                             np.ascontiguousarray(T, np.int64))
+
+
+def unfold(V: np.ndarray, T: np.ndarray, position: np.ndarray, part: np.ndarray) -> np.ndarray:
+    """The triangles ``T`` with edges flipped where a triangle is flat or clockwise
+    in the mapped-back coordinates ``V`` and flipping an edge it shares with a
+    triangle of the same polygon (so not a ring edge) makes both counter-clockwise
+    (exact orientations). Flips keep the union of the two triangles, so the
+    triangles still tile the polygon. ``T`` itself when every triangle turns
+    counter-clockwise; triangles that no flip repairs stay as they are.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> V = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [1.0, 1.0]])
+    >>> T = np.array([[0, 1, 2], [0, 2, 3]])          # (0, 1, 2) is flat
+    >>> unfold(V, T, np.zeros(2, int), np.zeros(2, int)).tolist()
+    [[1, 2, 3], [1, 3, 0]]
+    """
+    sign = _orientations(V, T)
+    bad = np.flatnonzero(sign <= 0)
+    if not len(bad):
+        return T
+    T = T.copy()
+    rows = np.flatnonzero(np.isin(position, position[bad]))     # the folded features only
+    across = {(int(T[t, j]), int(T[t, (j + 1) % 3])): int(t) for t in rows for j in range(3)}
+    pending = [int(t) for t in bad]
+    while pending:
+        left = [t for t in pending if not _flip_out(V, T, t, across, position, part)]
+        if len(left) == len(pending):
+            break
+        pending = left
+    return T
+
+
+def _flip_out(V, T, t, across, position, part) -> bool:
+    """Flip one edge of the folded triangle ``t`` (see :func:`unfold`); whether it did."""
+    for j in range(3):
+        c, a, b = (int(T[t, (j + k) % 3]) for k in range(3))
+        u = across.get((b, a))
+        if u is None or position[u] != position[t] or part[u] != part[t]:
+            continue
+        d = int(next(v for v in T[u] if v != a and v != b))
+        new = np.array([[c, a, d], [c, d, b]])
+        if (_orientations(V, new) <= 0).any():
+            continue
+        for tri in (T[t], T[u]):
+            for k in range(3):
+                del across[(int(tri[k]), int(tri[(k + 1) % 3]))]
+        T[t], T[u] = new
+        for s in (t, u):
+            for k in range(3):
+                across[(int(T[s, k]), int(T[s, (k + 1) % 3]))] = s
+        return True
+    return False
+
+
+def with_touching_vertices(geoms: np.ndarray) -> np.ndarray:
+    """The geometries with every polygon vertex that lies exactly inside an edge of
+    another ring of the same feature inserted into that edge (``geoms`` itself when
+    there is none). Only features with two rings or more can have one; candidates
+    come from bounding boxes, the decision is exact."""
+    polygonal = np.isin(shapely.get_type_id(geoms), (POLYGON, MULTIPOLYGON))
+    parts, feature_of_part = shapely.get_parts(np.where(polygonal, geoms, None), return_index=True)
+    rings, part_of_ring = shapely.get_rings(parts, return_index=True)
+    if len(rings) == len(np.unique(feature_of_part[part_of_ring])):
+        return geoms                        # one ring per feature: nothing can touch
+    feature_of_ring = feature_of_part[part_of_ring]
+    xy, ring_of = shapely.get_coordinates(rings, return_index=True)
+    first = np.r_[True, ring_of[1:] != ring_of[:-1]]
+    edge_start = np.flatnonzero(~np.r_[ring_of[1:] != ring_of[:-1], True])   # i -> i + 1
+    segments = shapely.linestrings(np.stack([xy[edge_start], xy[edge_start + 1]], axis=1))
+    vertex = np.flatnonzero(~first)           # each ring's vertices once (closing point)
+    tree = shapely.STRtree(segments)
+    v, e = tree.query(shapely.points(xy[vertex]))
+    v, e = vertex[v], edge_start[e]
+    same = (feature_of_ring[ring_of[v]] == feature_of_ring[ring_of[e]]) & (ring_of[v] != ring_of[e])
+    v, e = v[same], e[same]
+    P, A, B = xy[v], xy[e], xy[e + 1]
+    inside = ~(P == A).all(axis=1) & ~(P == B).all(axis=1)
+    v, e = v[inside], e[inside]
+    flat = _orientations(np.concatenate([xy[v], xy[e], xy[e + 1]]),
+                         np.arange(3 * len(v)).reshape(3, -1).T) == 0 if len(v) else v
+    v, e = v[flat], e[flat]
+    if not len(v):
+        return geoms
+    return _insert(geoms, rings, part_of_ring, feature_of_part, v, e)
+
+
+def _insert(geoms, rings, part_of_ring, feature_of_part, v, e) -> np.ndarray:
+    """The features of ``geoms`` with vertex ``v[k]`` inserted after coordinate
+    ``e[k]`` (rows of the rings' coordinates), in order along each edge."""
+    xyz, ring_of = shapely.get_coordinates(rings, include_z=True, return_index=True)
+    has_z = shapely.has_z(rings)
+    ends = np.searchsorted(ring_of, np.arange(len(rings) + 1))
+    added: dict[int, list[int]] = {}
+    for vi, ei in zip(v.tolist(), e.tolist()):
+        added.setdefault(ei, []).append(vi)
+    out = np.array(geoms, dtype=object)
+    for f in np.unique(feature_of_part[part_of_ring[ring_of[e]]]):
+        polygons = []
+        for p in np.flatnonzero(feature_of_part == f):
+            new_rings = []
+            for r in np.flatnonzero(part_of_ring == p):
+                rows = []
+                for i in range(ends[r], ends[r + 1]):
+                    rows.append(i)
+                    rows.extend(_along(xyz, i, added.get(i, [])))
+                ring = xyz[rows] if has_z[r] else xyz[rows, :2]
+                new_rings.append(ring)
+            polygons.append(shapely.Polygon(new_rings[0], new_rings[1:]))
+        out[f] = polygons[0] if shapely.get_type_id(geoms[f]) == POLYGON else \
+            shapely.MultiPolygon(polygons)
+    return out
+
+
+def _along(xyz: np.ndarray, i: int, points: list[int]) -> list[int]:
+    """``points`` (rows of ``xyz`` on the edge from row ``i`` to ``i + 1``) sorted
+    from ``i`` onwards, once each position (exact comparisons)."""
+    if not points:
+        return []
+    dx, dy = np.sign(xyz[i + 1, :2] - xyz[i, :2])
+    key = {(float(xyz[p, 0]), float(xyz[p, 1])): p for p in points}
+    return [key[k] for k in sorted(key, key=lambda k: (k[0] * (dx or 1), k[1] * (dy or 1)))]
