@@ -488,10 +488,7 @@ def render(results: dict, info: dict, args_line: str) -> str:
               "| polygon | cdt_plugin.triangulate us | / Triangle | goal | / earcut via trimesh | "
               "/ earcut (arrays) | stretch |",
               "|---|---:|---:|---|---:|---:|---|"]
-    for shape in SHAPES:
-        m = med.get(shape.name)
-        if m is None:
-            continue
+    for shape, m in _measured(med):
         ours, tri = m.get("ours"), m.get("triangle")
         goal = None if not (ours and tri) else (
             ours <= GOAL_TRIANGLE * tri and (shape.name != "square" or ours * 1e6 <= GOAL_SQUARE_US))
@@ -555,6 +552,11 @@ def render(results: dict, info: dict, args_line: str) -> str:
         lines += [""] + [f"- WARNING: {w}" for w in results["warnings"]]
     return "\n".join(lines) + "\n"
 
+def _measured(med: dict[str, dict[str, float | None]]) -> list[tuple[Shape, dict[str, float | None]]]:
+    """The polygons of this run, in table order, with their medians by implementation."""
+    return [(shape, med[shape.name]) for shape in SHAPES if shape.name in med]
+
+
 def dropin_lines(med: dict[str, dict[str, float | None]]) -> list[str]:
     """The drop-ins against what they replace (issue #47): the shapely drop-in
     against cdt_plugin.triangulate, GEOS and Triangle, the trimesh drop-in
@@ -567,10 +569,7 @@ def dropin_lines(med: dict[str, dict[str, float | None]]) -> list[str]:
              "| polygon | shapely drop-in us | / cdt_plugin.triangulate | / GEOS | / Triangle | goal | "
              "trimesh drop-in us | / cdt_plugin.triangulate | / Triangle | goal |",
              "|---|---:|---:|---:|---:|---|---:|---:|---:|---|"]
-    for shape in SHAPES:
-        m = med.get(shape.name)
-        if m is None:
-            continue
+    for shape, m in _measured(med):
         ours, shp, trm = m.get("ours"), m.get("ours_shapely"), m.get("ours_trimesh")
         geos, tri = m.get("geos"), m.get("triangle")
         shp_goal = None if not (shp and ours) else shp <= GOAL_DROPIN_OURS * ours
