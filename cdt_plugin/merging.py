@@ -38,9 +38,10 @@ def _representatives(xy: NDArray[np.float64], distance: float) -> tuple[NDArray[
     duplicates, which the engine merges anyway, are not counted): one
     compiled call (the grid's cells, made there, were most of a small call's
     time in NumPy), after NumPy's sort for many points."""
-    x, y = np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1])
-    order = lexicographic_order(x, y) if len(x) >= SMALL_SORT else _SORTED_THERE
-    return close_representatives(x, y, order, float(distance))
+    order = _SORTED_THERE
+    if len(xy) >= SMALL_SORT:
+        order = lexicographic_order(np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]))
+    return close_representatives(np.ascontiguousarray(xy, dtype=np.float64), order, float(distance))
 
 
 _SORTED_THERE = np.empty(0, np.int64)     # (few points: sorted in the compiled call)

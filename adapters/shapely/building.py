@@ -62,7 +62,8 @@ def _header(*values: int) -> bytes:
 
 _POLYGON_HEADER = {2: np.frombuffer(_header(3, 1, 4), np.uint8),          # Polygon, 1 ring, 4 points
                    3: np.frombuffer(_header(1003, 1, 4), np.uint8)}       # (ISO WKB: Z is +1000)
-_COLLECTION_TYPE = {2: 7, 3: 1007}
+_COLLECTION_HEADER = {2: _header(7), 3: _header(1007)}                    # (then the count)
+_COUNT = struct.Struct("=I")
 
 
 class PolygonRecords(NamedTuple):
@@ -99,12 +100,9 @@ def polygon_collection(parts: list[PolygonRecords]) -> shapely.GeometryCollectio
     >>> polygon_collection([triangle_records(tri), triangle_records(tri, z=5.0)]).wkt
     'GEOMETRYCOLLECTION Z (POLYGON ((0 0, 0 1, 1 0, 0 0)), POLYGON Z ((0 0 5, 0 1 5, 1 0 5, 0 0 5)))'
     """
-    if len(parts) == 1:                 # (one part, a mesh's: the bytes joined by +)
-        part = parts[0]
-        return _from_wkb(_header(_COLLECTION_TYPE[part.dim], part.count) + part.data.tobytes())
-    dim = max((p.dim for p in parts), default=2)
-    head = _header(_COLLECTION_TYPE[dim], sum(p.count for p in parts))
-    return _from_wkb(b"".join([head] + [p.data.tobytes() for p in parts]))
+    head = _COLLECTION_HEADER[max((p.dim for p in parts), default=2)]
+    count = _COUNT.pack(sum(p.count for p in parts))
+    return _from_wkb(b"".join([head, count] + [p.data.tobytes() for p in parts]))
 
 
 _RAISE = np.uint8(DecodingErrorOptions.get_value("raise"))

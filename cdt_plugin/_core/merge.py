@@ -58,16 +58,19 @@ def cell_numbers(v, width):
 
 
 @entry
-def close_representatives(x, y, order, distance):
-    """The representative of every point (itself when kept) by the module's
-    rule, the points taken in ``order`` (their lexicographic order; empty: made
-    here), in a grid of cells at least twice ``distance`` wide and at least
-    ``CELL_FLOOR`` of the points' extent; and how many points are moved
-    (merged onto a representative at another position: exact duplicates are
-    not counted)."""
-    n = x.shape[0]
+def close_representatives(xy, order, distance):
+    """The representative of every point of ``xy`` (n, 2) (itself when kept)
+    by the module's rule, the points taken in ``order`` (their lexicographic
+    order; empty: made here), in a grid of cells at least twice ``distance``
+    wide and at least ``CELL_FLOOR`` of the points' extent; and how many points
+    are moved (merged onto a representative at another position: exact
+    duplicates are not counted)."""
+    n = xy.shape[0]
     if n == 0:
         return np.empty(0, np.int64), 0
+    x, y = np.empty(n), np.empty(n)
+    for i in range(n):
+        x[i], y[i] = xy[i, 0], xy[i, 1]
     if order.shape[0] != n:
         order = lexicographic_order_compiled(x, y)
     x_lo, x_hi, y_lo, y_hi = x[0], x[0], y[0], y[0]
