@@ -67,9 +67,9 @@ _COUNT = struct.Struct("=I")
 
 
 class PolygonRecords(NamedTuple):
-    """The WKB of ``count`` Polygons of dimension ``dim`` (2 or 3), one after the other."""
+    """The WKB of ``polygons`` Polygons of dimension ``dim`` (2 or 3), one after the other."""
     data: NDArray[np.uint8]
-    count: int
+    polygons: int
     dim: int
 
 
@@ -101,7 +101,7 @@ def polygon_collection(parts: list[PolygonRecords]) -> shapely.GeometryCollectio
     'GEOMETRYCOLLECTION Z (POLYGON ((0 0, 0 1, 1 0, 0 0)), POLYGON Z ((0 0 5, 0 1 5, 1 0 5, 0 0 5)))'
     """
     head = _COLLECTION_HEADER[max((p.dim for p in parts), default=2)]
-    count = _COUNT.pack(sum(p.count for p in parts))
+    count = _COUNT.pack(sum(p.polygons for p in parts))
     return _from_wkb(b"".join([head, count] + [p.data.tobytes() for p in parts]))
 
 

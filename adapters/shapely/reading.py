@@ -4,6 +4,7 @@ PLC of a geometry, one Triangulation per geometry (:func:`triangulate`) or a
 whole batch in one compiled call (:func:`triangulate_batch`)."""
 from __future__ import annotations
 
+import time
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -313,11 +314,12 @@ def mesh_if_plainly_valid(geometry: Any) -> cdt_plugin.Triangulation | None:
     EMPTY hole) goes the general way, valid or not."""
     if type(geometry) is not shapely.Polygon:
         return None
+    t0 = time.perf_counter()      # (stats["seconds"] counts the reading, as triangulate's does)
     try:       # (what cdt_plugin.triangulate(geometry) does, without its option checks)
         plc = as_plc(geometry)
-        if plc.z is not None or plc.empty_rings:
+        if plc.z is not None or plc.empty_rings or plc.ring_is_hole is None:
             return None
-        tri = triangulate_plc(plc, _NO_OPTIONS, workers=None)
+        tri = triangulate_plc(plc, _NO_OPTIONS, t0=t0, workers=None)
     except CDTError:
         return None
     s = tri.stats
