@@ -265,7 +265,7 @@ def triangulate_polygon(polygon: shapely.Geometry | None, triangle_args: str | N
     """
     if triangle_args is not None:
         kwargs = {**options_from_switches(triangle_args), **kwargs}
-    kwargs = _engine_options(kwargs)
+    kwargs = _engine_options(kwargs) if kwargs else {"merge_distance": trimesh.tol.merge}
     if polygon is None or polygon.is_empty:
         return np.empty((0, 2), np.float64), np.empty((0, 3), np.int64)
     if getattr(polygon, "has_z", False):

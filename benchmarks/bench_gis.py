@@ -26,6 +26,11 @@ million vertices). Every implementation meshes the same polygons:
 * ``shapely.constrained_delaunay_triangles`` (GEOS), vectorised over the array;
 * ``trimesh earcut``: a loop of ``trimesh.creation.triangulate_polygon(p, engine="earcut")``.
 
+The small layer (issue #47): the same polygons once each, not replicated, meshed by
+``geo.triangulate`` (all cores and 1 thread) against a Python loop of shapely's own
+``constrained_delaunay_triangles``, one call per polygon (and GEOS's call on the
+array), in interleaved runs (``--small-rounds``, the least time of each).
+
 Each implementation runs once after a warm-up on a small input (numba compiled and
 cached, imports done), in this one process (the dask workers are separate processes
 started before timing). The table gives seconds, polygons per second and the speed-up
@@ -153,6 +158,57 @@ def _threads(n: int) -> str:
     return f"{n} thread{'s' if n > 1 else ''}"
 
 
+def small_layer_rows(frame, rounds: int = 7):
+    """The small layer (the Natural Earth polygons, not replicated): geo.triangulate
+    against a Python loop of shapely's own ``constrained_delaunay_triangles``, one
+    call per polygon, as a script that meshes a layer without this package does
+    (and GEOS's vectorised call); interleaved rounds, the least time of each."""
+    import warnings
+
+    import shapely
+    from cdt_plugin.adapters import geo
+
+    geoms = np.asarray(frame.geometry.values, dtype=object)
+    cores = available_cores()
+    runs = {
+        f"cdt_plugin geo.triangulate (GeoDataFrame), {_threads(cores)}":
+            lambda: len(geo.triangulate(frame, progress=False)),
+        "cdt_plugin geo.triangulate (GeoDataFrame), 1 thread":
+            lambda: len(geo.triangulate(frame, progress=False, workers=1)),
+        "loop of shapely.constrained_delaunay_triangles (GEOS), one call per polygon":
+            lambda: sum(len(shapely.constrained_delaunay_triangles(p).geoms) for p in geoms),
+        "shapely.constrained_delaunay_triangles (GEOS) of the array":
+            lambda: int(shapely.get_num_geometries(shapely.constrained_delaunay_triangles(geoms)).sum()),
+    }
+    best = {name: float("inf") for name in runs}
+    counts = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")       # degree space is fine for a plain CDT
+        for name, fn in runs.items():
+            counts[name] = fn()               # (warm-up)
+        for _ in range(rounds):
+            for name, fn in runs.items():
+                seconds, _ = timed(fn)
+                best[name] = min(best[name], seconds)
+    rows = [{"name": name, "seconds": best[name], "polygons": len(geoms), "triangles": counts[name]}
+            for name in runs]
+    for r in rows:
+        print(f"small layer: {r['name']:70s} {r['seconds']:8.3f} s", file=sys.stderr)
+    return rows
+
+
+def small_layer_lines(rows, n_vertices: int, rounds: int) -> list[str]:
+    loop = next(r for r in rows if r["name"].startswith("loop"))
+    lines = ["", f"The small layer: the same polygons, not replicated ({rows[0]['polygons']:,} polygons, "
+             f"{n_vertices:,} vertices), least of {rounds} interleaved runs each after a warm-up:", "",
+             "| implementation | seconds | polygons / s | / the loop's time | triangles |",
+             "|---|---:|---:|---:|---:|"]
+    for r in rows:
+        lines.append(f"| {r['name']} | {r['seconds']:.3f} | {r['polygons'] / r['seconds']:,.0f} | "
+                     f"{r['seconds'] / loop['seconds']:.2f}x | {r['triangles']:,} |")
+    return lines
+
+
 def run_dask_threads(frame, n_threads: int):
     """triangulate_dask on Dask's threaded scheduler (the kernels release the GIL)."""
     import warnings
@@ -224,7 +280,7 @@ def run_dask(frame, n_workers: int):
     return s, int(counts.sum())
 
 
-def render(rows, n_polygons: int, n_vertices: int, writes) -> str:
+def render(rows, n_polygons: int, n_vertices: int, writes, small=None) -> str:
     import numba
     geos = next(r for r in rows if r["name"].startswith("shapely"))
     earcut = next(r for r in rows if r["name"].startswith("trimesh earcut"))
@@ -253,12 +309,14 @@ def render(rows, n_polygons: int, n_vertices: int, writes) -> str:
     for w in writes:
         lines.append(f"| {w['name']} | {w['seconds']:.2f} | {w['triangles'] / w['seconds']:,.0f} | "
                      f"{slow / w['seconds']:.1f}x |")
-    return "\n".join(lines + goal_lines(rows, writes)) + "\n"
+    if small:
+        lines += small_layer_lines(*small)
+    return "\n".join(lines + goal_lines(rows, writes, small[0] if small else [])) + "\n"
 
 
-def goal_lines(rows, writes) -> list[str]:
-    """The goals of issue #18 that this table measures, judged on this run's
-    ratios (the rows a partial run left out are skipped)."""
+def goal_lines(rows, writes, small_rows=()) -> list[str]:
+    """The goals of issues #18 and #47 that these tables measure, judged on this
+    run's ratios (the rows a partial run left out are skipped)."""
     by = {r["name"]: r["seconds"] for r in rows}
 
     def find(*words):
@@ -283,8 +341,14 @@ def goal_lines(rows, writes) -> list[str]:
                    lambda r: r < 1.0),
                   (f"6. Dask {kind}: 2 workers / geo.triangulate, 1 thread", two, frame1, "< 1x",
                    lambda r: r < 1.0)]
-    out = ["", "Against the goals of issue #18 that this table measures, in this run (A / B: A's time "
-           "over B's):", "",
+    small_by = {r["name"]: r["seconds"] for r in small_rows}
+    small_loop = next((t for name, t in small_by.items() if name.startswith("loop")), None)
+    for name, t in small_by.items():
+        if name.startswith("cdt_plugin geo.triangulate"):
+            goals.append((f"#47: small layer, {name.removeprefix('cdt_plugin ')} / the loop of shapely's "
+                          "constrained_delaunay_triangles", t, small_loop, "< 1x", lambda r: r < 1.0))
+    out = ["", "Against the goals of issues #18 and #47 that these tables measure, in this run (A / B: A's "
+           "time over B's):", "",
            "| goal | ratio | wanted | verdict |", "|---|---:|---|---|"]
     for name, a, b, wanted, ok in goals:
         if a is None or b is None:
@@ -301,14 +365,19 @@ def main(argv=None) -> int:
     ap.add_argument("--geojson-polygons", type=int, default=5000,
                     help="polygons whose triangles the GeoJSON writers write")
     ap.add_argument("--write-readme", action="store_true")
+    ap.add_argument("--small-rounds", type=int, default=7,
+                    help="interleaved runs of the small layer's table (the least time of each is shown)")
     ap.add_argument("--out", default=str(HERE / "results" / "gis.md"))
     args = ap.parse_args(argv)
     import shapely
+    layer = polygons(1)                 # the small layer: every polygon once
+    small = (small_layer_rows(layer, args.small_rounds),
+             int(shapely.get_num_coordinates(layer.geometry.values).sum()), args.small_rounds)
     frame = polygons(args.polygons)
     n_vertices = int(shapely.get_num_coordinates(frame.geometry.values).sum())
     rows = run_all(frame, args.workers)
     writes = geojson_rows(frame, args.geojson_polygons)
-    table = render(rows, len(frame), n_vertices, writes)
+    table = render(rows, len(frame), n_vertices, writes, small)
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(table)
     print(table)

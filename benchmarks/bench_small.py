@@ -37,7 +37,11 @@ Each round times ``number`` back-to-back calls (hundreds for the small polygons)
 reports the mean per call; the table gives the median over the rounds in
 microseconds, and the ratio of ``cdt_plugin.triangulate`` to Triangle and to earcut.
 The goal (the issue): every row at most 1.0x Triangle's time, the square at most
-30 us; stretch: at most 2x earcut.
+30 us; stretch: at most 2x earcut. A second table sets the drop-ins against what
+they replace (issue #47): the shapely drop-in at most 1.5x ``cdt_plugin.triangulate``
+at every size and at most 1.0x GEOS from 60 vertices up (below, its ratio to GEOS is
+reported), the trimesh drop-in at most 1.2x ``cdt_plugin.triangulate``; both also
+against Triangle.
 
 First use, each case a new Python process (``NUMBA_CACHE_DIR`` = a fresh temporary
 directory for the empty-cache cases):
@@ -64,10 +68,13 @@ Usage (from the repository root)::
     python benchmarks/bench_small.py                  # full run, ~8 minutes on 2 cores (6 of them compiling)
     python benchmarks/bench_small.py --write-readme   # full run + the README summary rows
     python benchmarks/bench_small.py --only ours,triangle --workloads square --no-cold
+    python benchmarks/bench_small.py --keep-first-use  # warm tables anew, first use kept from the file
 
 Options: ``--repeat R`` (rounds, default 15; 3 with ``--quick``), ``--only``,
 ``--workloads``, ``--timeout S`` per timed sample, ``--setup-timeout S`` (import +
 warm-up, and each first-use child), ``--no-cold`` (skip the first-use processes),
+``--keep-first-use`` (skip them and keep the first-use rows of the results file written
+before, with the date of the run that measured them),
 ``--out PATH.md`` (a .json with the raw numbers is written beside it; default
 ``benchmarks/results/small.md``, ``small-quick.md`` with ``--quick``).
 
@@ -95,8 +102,8 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from harness import (REPO_ROOT, WORKER_FLAG, Impl, Suite, Workload,  # noqa: E402
-                     command_line, machine_info, measure_times, select_by_name, short_reason,
-                     write_results)
+                     command_line, machine_info, measure_times, results_path, select_by_name,
+                     short_reason, write_results)
 from harness import main as harness_main  # noqa: E402
 
 FIRST_USE_FLAG = "--_first-use"
@@ -268,6 +275,10 @@ SUITE = Suite(
 GOAL_TRIANGLE = 1.0        # every row at most Triangle's time
 GOAL_SQUARE_US = 30.0      # ... and the square at most 30 us
 STRETCH_EARCUT = 2.0       # stretch: at most 2x earcut
+GOAL_DROPIN_OURS = 1.5     # the shapely drop-in: at most 1.5x cdt_plugin.triangulate ...
+GOAL_DROPIN_GEOS = 1.0     # ... and at most GEOS's time from GEOS_FROM vertices up
+GEOS_FROM = 60
+GOAL_TRIMESH_OURS = 1.2    # the trimesh drop-in: at most 1.2x cdt_plugin.triangulate
 GOAL_COLD_S = 30.0         # import + delaunay + triangulate + refinement, empty cache
 GOAL_CACHED_S = 0.5        # import + first small triangulate, filled cache
 HELPER_ENV = "CDT_PLUGIN_COMPILE_HELPER"   # cdt_plugin.compiling's switch ("0": one process)
@@ -477,10 +488,7 @@ def render(results: dict, info: dict, args_line: str) -> str:
               "| polygon | cdt_plugin.triangulate us | / Triangle | goal | / earcut via trimesh | "
               "/ earcut (arrays) | stretch |",
               "|---|---:|---:|---|---:|---:|---|"]
-    for shape in SHAPES:
-        m = med.get(shape.name)
-        if m is None:
-            continue
+    for shape, m in _measured(med):
         ours, tri = m.get("ours"), m.get("triangle")
         goal = None if not (ours and tri) else (
             ours <= GOAL_TRIANGLE * tri and (shape.name != "square" or ours * 1e6 <= GOAL_SQUARE_US))
@@ -489,8 +497,13 @@ def render(results: dict, info: dict, args_line: str) -> str:
         lines.append(f"| {shape.label} | {_us(ours)} | {_ratio(ours, tri)} | {_verdict(goal)} | "
                      f"{_ratio(ours, ecs[0])} | {_ratio(ours, ecs[1])} | {_verdict(stretch)} |")
 
+    lines += dropin_lines(med)
+
     first = results.get("first_use")
     if first:
+        if results.get("first_use_from"):
+            lines += ["", f"First use was not run again here (`--keep-first-use`): the rows of the run of "
+                      f"{results['first_use_from']}, which measured it."]
         lines += ["", "First use, each case a new process (`NUMBA_CACHE_DIR` = a fresh temporary directory for "
                   "the empty-cache cases; the filled-cache cases reuse the all-in-one case's directory):", "",
                   "| numba cache | case | phases in the child (s) | import + calls s | child wall s | goal |",
@@ -539,6 +552,35 @@ def render(results: dict, info: dict, args_line: str) -> str:
         lines += [""] + [f"- WARNING: {w}" for w in results["warnings"]]
     return "\n".join(lines) + "\n"
 
+def _measured(med: dict[str, dict[str, float | None]]) -> list[tuple[Shape, dict[str, float | None]]]:
+    """The polygons of this run, in table order, with their medians by implementation."""
+    return [(shape, med[shape.name]) for shape in SHAPES if shape.name in med]
+
+
+def dropin_lines(med: dict[str, dict[str, float | None]]) -> list[str]:
+    """The drop-ins against what they replace (issue #47): the shapely drop-in
+    against cdt_plugin.triangulate, GEOS and Triangle, the trimesh drop-in
+    against cdt_plugin.triangulate and Triangle, each row judged on its goal."""
+    lines = ["", f"The drop-ins against what they replace: the shapely drop-in at most "
+             f"{GOAL_DROPIN_OURS:.1f}x cdt_plugin.triangulate at every size and at most {GOAL_DROPIN_GEOS:.1f}x "
+             f"GEOS from {GEOS_FROM} vertices up (below, GEOS's few microseconds are out of reach of a "
+             "compiled call from Python: the ratio is reported, not judged); the trimesh drop-in at most "
+             f"{GOAL_TRIMESH_OURS:.1f}x cdt_plugin.triangulate:", "",
+             "| polygon | shapely drop-in us | / cdt_plugin.triangulate | / GEOS | / Triangle | goal | "
+             "trimesh drop-in us | / cdt_plugin.triangulate | / Triangle | goal |",
+             "|---|---:|---:|---:|---:|---|---:|---:|---:|---|"]
+    for shape, m in _measured(med):
+        ours, shp, trm = m.get("ours"), m.get("ours_shapely"), m.get("ours_trimesh")
+        geos, tri = m.get("geos"), m.get("triangle")
+        shp_goal = None if not (shp and ours) else shp <= GOAL_DROPIN_OURS * ours
+        if shp_goal is not None and shape.n_vertices >= GEOS_FROM:
+            shp_goal = None if not geos else shp_goal and shp <= GOAL_DROPIN_GEOS * geos
+        trm_goal = None if not (trm and ours) else trm <= GOAL_TRIMESH_OURS * ours
+        lines.append(f"| {shape.label} | {_us(shp)} | {_ratio(shp, ours)} | {_ratio(shp, geos)} | "
+                     f"{_ratio(shp, tri)} | {_verdict(shp_goal)} | {_us(trm)} | {_ratio(trm, ours)} | "
+                     f"{_ratio(trm, tri)} | {_verdict(trm_goal)} |")
+    return lines
+
 # ----------------------------------------------------------------------------- driver
 
 
@@ -560,6 +602,9 @@ def _parse(argv: list[str]) -> argparse.Namespace:
     p.add_argument("--setup-timeout", type=float, default=600.0,
                    help="seconds allowed for import + warm-up, and for each first-use process (default 600)")
     p.add_argument("--no-cold", action="store_true", help="skip the first-use processes")
+    p.add_argument("--keep-first-use", action="store_true",
+                   help="skip the first-use processes and keep the first-use rows of the results file "
+                   "written before (its .json), saying so: the warm tables are new, the file complete")
     p.add_argument("--out", default=None,
                    help="markdown output (a .json with raw numbers is written beside it); "
                    "default benchmarks/results/small.md (small-quick.md with --quick)")
@@ -593,7 +638,11 @@ def main(argv: list[str] | None = None) -> int:
         results["workloads"][wl.name] = {
             name: {"median": c.median, "times": c.times, "count": c.count, "error": c.error,
                    "number": wl.number} for name, c in cells.items()}
-    if not args.no_cold:
+    if args.keep_first_use:
+        earlier = json.loads(results_path(SUITE, args).with_suffix(".json").read_text())
+        results["first_use"] = earlier["first_use"]
+        results["first_use_from"] = earlier.get("first_use_from") or earlier["machine"]["date"]
+    elif not args.no_cold:
         _log("first use (new processes):")
         results["first_use"] = measure_first_use(args.quick, args.setup_timeout)
 

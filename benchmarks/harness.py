@@ -783,13 +783,19 @@ def command_line(suite: Suite, argv: list[str]) -> str:
     return " ".join(["python", os.path.relpath(suite.script, REPO_ROOT)] + shown)
 
 
+def results_path(suite: Suite, args: argparse.Namespace) -> Path:
+    """The suite's results file: ``--out``, else ``results/<suite>.md``
+    (``-quick`` with ``--quick``)."""
+    return Path(args.out) if args.out else (
+        REPO_ROOT / "benchmarks" / "results" / (suite.name + ("-quick" if args.quick else "") + ".md"))
+
+
 def write_results(suite: Suite, results: dict, md: str, args: argparse.Namespace) -> int:
     """Write ``results/<suite>.md`` and ``.json`` (``-quick`` with ``--quick``; the
     documentation's benchmark pages include the .md), and with ``--write-readme`` the
     README's summary rows (``summary.py``), unless cdt_plugin's own column failed
     somewhere. Returns the exit status."""
-    out = Path(args.out) if args.out else (
-        REPO_ROOT / "benchmarks" / "results" / (suite.name + ("-quick" if args.quick else "") + ".md"))
+    out = results_path(suite, args)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(f"# {suite.title}\n\n{md}")
     out.with_suffix(".json").write_text(json.dumps(results, indent=1) + "\n")

@@ -474,27 +474,28 @@ def _stats(plc, algorithm, counts, kept, refine, seconds, tri) -> dict:
     the first ``kept`` are Steiner points; its other arrays are made only
     where a count needs them)."""
     segs = plc.segments
+    counts = counts.tolist()     # (Python ints at once: a dict of NumPy scalars one by one cost more)
     zero = []
     if counts[K_ZERO_SEGMENTS]:
         vertex_map = tri.vertex_map
         zero = np.flatnonzero(vertex_map[segs[:, 0]] == vertex_map[segs[:, 1]]).tolist()
     stats = {"algorithm": algorithm, "input_points": len(plc.vertices), "input_segments": len(segs),
-             "zero_length_segments": zero, "duplicate_segments": int(counts[K_DUPLICATE_SEGMENTS]),
-             "vertices_on_segments": int(counts[K_ON_SEGMENTS]),
-             "merged_overlaps": int(counts[K_MERGED_OVERLAPS]),
-             "intersection_points": int(counts[K_INTERSECTIONS]), "flips": int(counts[K_FLIPS]),
-             "duplicates": int(counts[K_DUPLICATES]), "merged_points": 0, "submerged": 0,
+             "zero_length_segments": zero, "duplicate_segments": counts[K_DUPLICATE_SEGMENTS],
+             "vertices_on_segments": counts[K_ON_SEGMENTS],
+             "merged_overlaps": counts[K_MERGED_OVERLAPS],
+             "intersection_points": counts[K_INTERSECTIONS], "flips": counts[K_FLIPS],
+             "duplicates": counts[K_DUPLICATES], "merged_points": 0, "submerged": 0,
              "vertices": len(tri.vertices),
              "triangles": len(tri.triangles), "steiner": len(tri.vertices) - kept, "seconds": seconds}
     if plc.empty_rings:
         stats["empty_rings"] = list(plc.empty_rings)
     if refine:
-        stats.update(refinement_steiner=int(counts[K_REF_STEINER]),
-                     refinement_segment_splits=int(counts[K_REF_SPLITS]),
-                     refinement_flips=int(counts[K_REF_FLIPS]),
-                     frozen_segment_pieces=int(counts[K_FROZEN]),
-                     refinement_attempts=int(counts[K_ATTEMPTS]),
-                     refinement_deferred=int(counts[K_DEFERRED]),
+        stats.update(refinement_steiner=counts[K_REF_STEINER],
+                     refinement_segment_splits=counts[K_REF_SPLITS],
+                     refinement_flips=counts[K_REF_FLIPS],
+                     frozen_segment_pieces=counts[K_FROZEN],
+                     refinement_attempts=counts[K_ATTEMPTS],
+                     refinement_deferred=counts[K_DEFERRED],
                      refinement_complete=bool(counts[K_REF_COMPLETE]),
                      below_min_angle=len(tri.below_min_angle))
     return stats

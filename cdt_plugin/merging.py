@@ -22,33 +22,29 @@ import dataclasses
 import numpy as np
 from numpy.typing import NDArray
 
-from ._core.merge import merge_representatives
-from ._core.ordering import lexicographic_order
+from ._core.merge import close_representatives
+from ._core.ordering import SMALL_SORT, lexicographic_order
 from .plc import PLC
-
-#: Cells are at least this fraction of the points' extent wide, so that the cell
-#: numbers (below 2**48) are exact whatever the distance: the rounding of
-#: ``(x - xmin) / width`` then moves a point by far less than half a cell.
-_CELL_FLOOR = 2.0 ** -48
 
 
 def close_point_representatives(xy: NDArray[np.float64], distance: float) -> NDArray[np.int64]:
     """The representative of every point of ``xy`` (n, 2) (its own index when
     kept) for merging points closer than ``distance`` (> 0)."""
-    x, y = np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1])
-    if len(x) == 0:
-        return np.empty(0, np.int64)
-    span = max(float(np.ptp(x)), float(np.ptp(y)))
-    width = max(2.0 * distance, span * _CELL_FLOOR)
-    return merge_representatives(x, y, lexicographic_order(x, y), _cell_numbers(x, width),
-                                 _cell_numbers(y, width), float(distance),
-                                 1 << (2 * len(x)).bit_length())
+    return _representatives(xy, distance)[0]
 
 
-def _cell_numbers(v: NDArray[np.float64], width: float) -> NDArray[np.int64]:
-    with np.errstate(over="ignore", invalid="ignore"):   # (a span beyond float64: one cell)
-        q = np.nan_to_num((v - v.min()) / width, nan=0.0, posinf=2.0 ** 50)
-    return np.floor(np.clip(q, 0.0, 2.0 ** 50)).astype(np.int64)
+def _representatives(xy: NDArray[np.float64], distance: float) -> tuple[NDArray[np.int64], int]:
+    """:func:`close_point_representatives`, and how many points move (exact
+    duplicates, which the engine merges anyway, are not counted): one
+    compiled call (the grid's cells, made there, were most of a small call's
+    time in NumPy), after NumPy's sort for many points."""
+    order = _SORTED_THERE
+    if len(xy) >= SMALL_SORT:
+        order = lexicographic_order(np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]))
+    return close_representatives(np.ascontiguousarray(xy, dtype=np.float64), order, float(distance))
+
+
+_SORTED_THERE = np.empty(0, np.int64)     # (few points: sorted in the compiled call)
 
 
 def merge_close_points(plc: PLC, distance: float) -> tuple[PLC, int]:
@@ -57,8 +53,7 @@ def merge_close_points(plc: PLC, distance: float) -> tuple[PLC, int]:
     points moved (exact duplicates, which the engine merges anyway, are not
     counted). Segments, rings, seeds, markers and attributes are kept as they
     are (the engine merges the moved points as exact duplicates)."""
-    rep = close_point_representatives(plc.vertices, distance)
-    count = int((plc.vertices[rep] != plc.vertices).any(axis=1).sum())
+    rep, count = _representatives(plc.vertices, distance)
     if count == 0:
         return plc, 0
     return dataclasses.replace(plc, vertices=plc.vertices[rep]), count

@@ -17,7 +17,8 @@ from cdt_plugin.merging import close_point_representatives
 from cdt_plugin.validate import as_points
 
 _EMPTY_COLLECTION = shapely.GeometryCollection()    # geometries are immutable: one serves all
-from cdt_plugin.adapters.shapely.building import to_shapely, triangle_shells
+from cdt_plugin.adapters.shapely.building import (PolygonRecords, polygon_collection, to_shapely,
+                                                  triangle_records)
 from cdt_plugin.adapters.shapely.cells import cells_to_polygons
 from cdt_plugin.adapters.shapely.validity import scaled
 from cdt_plugin.adapters.shapely.reading import (MULTIPOLYGON, POLYGON, collections_to_polygonal,
@@ -160,7 +161,7 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
         solid = ~shapely.is_empty(parts)
         parts, owner = parts[solid], idx[owner[solid]]
         plcs = geometry_plcs(parts, method, indexed=owner if indexed else False)
-        shells: list[list[NDArray[np.object_]]] = [[] for _ in range(len(flat))]
+        records: list[list[PolygonRecords]] = [[] for _ in range(len(flat))]
         for i, plc in zip(owner, plcs):
             assert plc is not None      # (only a missing geometry has none: these are polygons)
             try:
@@ -168,9 +169,9 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
                 tri = cdt_plugin.triangulate(dataclasses.replace(plc, z=None))
             except CDTError as e:
                 raise with_index(e, int(i), indexed)
-            shells[i].append(triangle_shells(tri, z=_vertex_z(tri, plc.z) if plc.z is not None else None))
+            records[i].append(triangle_records(tri, z=_vertex_z(tri, plc.z) if plc.z is not None else None))
         for i in idx:
-            out[i] = shapely.geometrycollections(np.concatenate(shells[i]) if shells[i] else [])
+            out[i] = polygon_collection(records[i])
     return _elementwise_output(out, arr.shape, geometry)
 
 

@@ -4,6 +4,7 @@ PLC of a geometry, one Triangulation per geometry (:func:`triangulate`) or a
 whole batch in one compiled call (:func:`triangulate_batch`)."""
 from __future__ import annotations
 
+import time
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -13,10 +14,11 @@ from numpy.typing import NDArray
 
 import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError, InvalidGeometryError, PLC, TooFewPointsError
+from cdt_plugin.cdt import triangulate_plc
 from cdt_plugin.batch import CHUNK, MeshBatch, check_batch_options, geometry_plc, triangulate_rings
 from cdt_plugin.parallel import map_ordered, resolve_workers
 from cdt_plugin.options import MeshOptions
-from cdt_plugin.plc import ring_markers, shapely_polygon_rings
+from cdt_plugin.plc import as_plc, ring_markers, shapely_polygon_rings
 import cdt_plugin.adapters.shapely.validity as validity
 
 if TYPE_CHECKING:
@@ -312,17 +314,24 @@ def mesh_if_plainly_valid(geometry: Any) -> cdt_plugin.Triangulation | None:
     test, the largest cost of a call after the mesh itself, is not needed.
     Anything else (a ring touching itself or another, a repeated point, an
     EMPTY hole) goes the general way, valid or not."""
-    if not (type(geometry) is shapely.Polygon and not geometry.is_empty and not geometry.has_z):
+    if type(geometry) is not shapely.Polygon:
         return None
-    try:
-        tri = cdt_plugin.triangulate(geometry)
+    t0 = time.perf_counter()      # (stats["seconds"] counts the reading, as triangulate's does)
+    try:       # (what cdt_plugin.triangulate(geometry) does, without its option checks)
+        plc = as_plc(geometry)
+        if plc.z is not None or plc.empty_rings or plc.ring_is_hole is None:
+            return None
+        tri = triangulate_plc(plc, _NO_OPTIONS, t0=t0, workers=None)
     except CDTError:
         return None
     s = tri.stats
     if s["duplicates"] or s["vertices_on_segments"] or s["merged_overlaps"] or s["duplicate_segments"]:
         return None
-    holes = int(shapely.get_num_interior_rings(geometry))
-    return tri if len(tri.triangles) == s["input_points"] + 2 * holes - 2 else None
+    holes = len(plc.ring_is_hole) - 1      # (the PLC of one Polygon: its shell, then its holes)
+    return tri if len(tri.triangles) == len(plc.vertices) + 2 * holes - 2 else None
+
+
+_NO_OPTIONS = MeshOptions.check()       # (cdt_plugin.triangulate's, without keywords)
 
 
 def plain_polygon(geometry: Any) -> bool:

@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from .jit import entry, kernel
+from .ordering import lexicographic_order_compiled
 
 
 @kernel
@@ -32,7 +33,64 @@ def cell_slot(table, cx, cy):
     return h
 
 
+#: Cells are at least this fraction of the points' extent wide, so that the cell
+#: numbers (below 2**48) are exact whatever the distance: the rounding of
+#: ``(x - xmin) / width`` then moves a point by far less than half a cell.
+CELL_FLOOR = 2.0 ** -48
+
+
+@kernel
+def cell_numbers(v, width):
+    """The cell of every coordinate of ``v`` along its axis, cells ``width``
+    wide from the least coordinate (a span beyond float64, or an infinite
+    width, puts the points in one cell at most 2**50 along)."""
+    n = v.shape[0]
+    lo = v[0]
+    for i in range(n):
+        lo = min(lo, v[i])
+    cells = np.empty(n, np.int64)
+    for i in range(n):
+        q = (v[i] - lo) / width
+        if not q > 0.0:                  # (0, or NaN: inf / inf)
+            q = 0.0
+        cells[i] = np.int64(math.floor(min(q, 2.0 ** 50)))
+    return cells
+
+
 @entry
+def close_representatives(xy, order, distance):
+    """The representative of every point of ``xy`` (n, 2) (itself when kept)
+    by the module's rule, the points taken in ``order`` (their lexicographic
+    order; empty: made here), in a grid of cells at least twice ``distance``
+    wide and at least ``CELL_FLOOR`` of the points' extent; and how many points
+    are moved (merged onto a representative at another position: exact
+    duplicates are not counted)."""
+    n = xy.shape[0]
+    if n == 0:
+        return np.empty(0, np.int64), 0
+    x, y = np.empty(n), np.empty(n)
+    for i in range(n):
+        x[i], y[i] = xy[i, 0], xy[i, 1]
+    if order.shape[0] != n:
+        order = lexicographic_order_compiled(x, y)
+    x_lo, x_hi, y_lo, y_hi = x[0], x[0], y[0], y[0]
+    for i in range(n):
+        x_lo, x_hi = min(x_lo, x[i]), max(x_hi, x[i])
+        y_lo, y_hi = min(y_lo, y[i]), max(y_hi, y[i])
+    width = max(2.0 * distance, max(x_hi - x_lo, y_hi - y_lo) * CELL_FLOOR)
+    table_size = np.int64(1)
+    while table_size <= 2 * n:
+        table_size *= 2
+    rep = merge_representatives(x, y, order, cell_numbers(x, width), cell_numbers(y, width),
+                                distance, table_size)
+    moved = 0
+    for i in range(n):
+        if x[rep[i]] != x[i] or y[rep[i]] != y[i]:
+            moved += 1
+    return rep, moved
+
+
+@kernel
 def merge_representatives(x, y, order, cell_x, cell_y, distance, table_size):
     """The representative of every point (itself when kept): the module's rule
     with the points taken in ``order``; ``(cell_x[i], cell_y[i])`` is point

@@ -280,6 +280,66 @@ def test_to_shapely_matches_geos_format():
     assert all(shapely.is_ccw(g.exterior) for g in ccw.geoms)
 
 
+def _random_polygon(rng, holes):
+    """A star-shaped polygon of random radii with ``holes`` small square holes
+    near its centre (valid by construction)."""
+    n = int(rng.integers(8, 40))
+    t = 2 * np.pi * (np.arange(n) + rng.uniform(0, 0.5, n)) / n    # (no side near the holes)
+    shell = np.column_stack([np.cos(t), np.sin(t)]) * rng.uniform(0.6, 1.0, n)[:, None]
+    inner = [np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]]) * 0.05 + [0.2 * np.cos(a), 0.2 * np.sin(a)]
+             for a in 2 * np.pi * np.arange(holes) / max(holes, 1)]
+    return shapely.Polygon(shell, inner)
+
+
+def _reference_collection(V, T, corners):
+    """The GeometryCollection of the triangles as it was built before the WKB
+    writer: one shapely Polygon per triangle ring, gathered by shapely."""
+    polygons = shapely.polygons(np.asarray(V, float)[np.asarray(T)[:, corners]]) if len(T) else []
+    return shapely.geometrycollections(polygons)
+
+
+@pytest.mark.parametrize("scale", [2.0 ** -1000, 1.0, 2.0 ** 1000])
+def test_collections_are_the_polygons_shapely_builds_bit_for_bit(scale):
+    # the GeometryCollection written as WKB and read by GEOS in one call holds the
+    # very Polygons (coordinates, orientation, ring start, dimension) that shapely's
+    # own constructors give from the same triangles
+    rng = np.random.default_rng(47)
+    for k in range(30):
+        poly = shapely.affinity.scale(_random_polygon(rng, k % 4), scale, scale, origin=(0, 0))
+        tri = cdt_plugin.triangulate(poly)
+        cw, ccw = [0, 2, 1, 0], [0, 1, 2, 0]
+        assert sa.to_shapely(tri).wkb == _reference_collection(tri.vertices, tri.triangles, cw).wkb
+        assert sa.to_shapely(tri, ccw=True).wkb == _reference_collection(tri.vertices, tri.triangles, ccw).wkb
+        z = rng.uniform(-1, 1, len(tri.vertices)) * scale
+        V3 = np.column_stack([tri.vertices, z])
+        assert sa.to_shapely(tri, z=z).wkb == _reference_collection(V3, tri.triangles, cw).wkb
+        # the drop-in: the same polygons, 2D and with z (each vertex's own)
+        assert sa.constrained_delaunay_triangles(poly).wkb == _reference_collection(
+            tri.vertices, tri.triangles, cw).wkb
+        coords = shapely.get_coordinates(poly)
+        poly3 = shapely.set_coordinates(shapely.force_3d(poly), np.column_stack(
+            [coords, coords[:, 0] * 0.5 + coords[:, 1]]))
+        tri3 = cdt_plugin.triangulate(shapely.force_2d(poly3))
+        V3 = np.column_stack([tri3.vertices, tri3.vertices[:, 0] * 0.5 + tri3.vertices[:, 1]])
+        assert sa.constrained_delaunay_triangles(poly3).wkb == _reference_collection(
+            V3, tri3.triangles, cw).wkb
+
+
+def test_collection_of_mixed_dimensions_and_of_nothing():
+    # a collection's members may differ in dimension (as GEOS's do): the 2D part
+    # stays 2D in a GEOMETRYCOLLECTION Z, as shapely's own constructors make it
+    flat, tilted = shapely.box(0, 0, 1, 1), shapely.Polygon([(5, 5, 1), (6, 5, 2), (6, 6, 3)])
+    ours = sa.constrained_delaunay_triangles(shapely.GeometryCollection([flat, tilted]))
+    t2, t3 = cdt_plugin.triangulate(flat), cdt_plugin.triangulate(shapely.force_2d(tilted))
+    V3 = np.column_stack([t3.vertices, [1.0, 2.0, 3.0]])      # (the input order: no point merged)
+    parts = list(_reference_collection(t2.vertices, t2.triangles, [0, 2, 1, 0]).geoms) + list(
+        _reference_collection(V3, t3.triangles, [0, 2, 1, 0]).geoms)
+    assert ours.wkb == shapely.geometrycollections(parts).wkb
+    assert shapely.has_z(ours) and not shapely.has_z(ours.geoms[0])
+    nothing = sa.to_shapely(cdt_plugin.delaunay([[0.0, 0.0], [1.0, 1.0]]))
+    assert nothing.wkb == shapely.GeometryCollection().wkb
+
+
 def test_min_angle_at_least_geos():
     # a polygon big enough that GEOS' capped flip passes may stop short of the CDT
     rng = np.random.default_rng(7)

@@ -1,0 +1,39 @@
+"""Well-known binary (WKB) of triangles, compiled: one Polygon record per
+triangle, written in one pass, for GEOS to read a whole GeometryCollection of
+them in one call (the shapely adapter's output of a mesh)."""
+from __future__ import annotations
+
+import numpy as np
+
+from .jit import entry
+
+#: The bytes of a Polygon record's header: byte order, type, rings, points
+POLYGON_HEADER_BYTES = 13
+
+
+@entry
+def triangle_polygon_records(coordinate_bytes, triangles, corners, header):
+    """The WKB records of one Polygon per row of ``triangles`` (k, 3): each
+    ``header`` (its 13 bytes: byte order, type, one ring, four points)
+    followed by the closed ring of the triangle's corners ``corners`` (4
+    positions into the row, the last repeating the first), each corner the row
+    of ``coordinate_bytes`` (n, 8 * dimension) that holds its vertex's
+    coordinates as they lie in memory. ``k * (13 + 32 * dimension)`` bytes,
+    coordinates bit for bit. (The loops run over fixed counts of bytes, 13 and
+    8, which the compiler unrolls: twice as fast as over the row's length.)"""
+    k = triangles.shape[0]
+    dimension = coordinate_bytes.shape[1] // 8
+    size = POLYGON_HEADER_BYTES + 32 * dimension
+    out = np.empty(k * size, np.uint8)
+    for t in range(k):
+        p = t * size
+        for j in range(POLYGON_HEADER_BYTES):
+            out[p + j] = header[j]
+        p += POLYGON_HEADER_BYTES
+        for c in range(4):
+            v = triangles[t, corners[c]]
+            for i in range(dimension):
+                for j in range(8):
+                    out[p + j] = coordinate_bytes[v, 8 * i + j]
+                p += 8
+    return out
