@@ -275,8 +275,8 @@ def triangulate_polygon(polygon: shapely.Geometry | None, triangle_args: str | N
         polygon = shapely.force_2d(polygon)      # (in x, y whatever its plane)
     tri = cdt_plugin.triangulate(polygon, **kwargs)
     if force_vertices and len(tri.steiner):
-        raise ValueError(f"the triangulation inserted {len(tri.steiner)} vertices "
-                         "(segment intersections or refinement) and force_vertices is set")
+        raise cdt_plugin.CDTError(f"the triangulation inserted {len(tri.steiner)} vertices "
+                                  "(segment intersections or refinement) and force_vertices is set")
     return _compact(np.asarray(tri.vertices, np.float64), np.asarray(tri.triangles, np.int64))
 
 

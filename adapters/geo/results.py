@@ -40,7 +40,8 @@ class GeoMesh:
     z : (n,) float64 or None
         Z of every vertex when the layer has Z (0 for features without Z).
     triangles : (k, 3) int64
-        Counter-clockwise (in the meshing CRS), grouped by feature.
+        Counter-clockwise where the vertices are (the source CRS when mapped back:
+        a triangle that a projection folds is repaired by an edge flip), grouped by feature.
     position : (k,) int64
         The source row (0-based position) of each triangle.
     part : (k,) int64
