@@ -5,7 +5,7 @@ import os
 import sys
 import warnings
 from types import FrameType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 import numpy as np
 import shapely
@@ -64,6 +64,22 @@ def relabel(e: CDTError, i: int, frame: GeoDataFrame, target: pyproj.CRS | None)
     e.args = (f"feature {label}: {message}",) + tuple(e.args[1:])
     e.index, e.feature = i, label
     return e
+
+
+def feature_errors(kind: type[CDTError], frame: GeoDataFrame, rows: Iterable[int],
+                   reason: Callable[[int], str], errors: str) -> dict[int, CDTError]:
+    """A ``kind`` error for each of ``rows`` (``feature <label>: <reason(row)>``,
+    its ``index`` and ``feature`` set), by row; the first is raised when
+    ``errors == "raise"``."""
+    out: dict[int, CDTError] = {}
+    for i in rows:
+        label = plain(frame.index[i])
+        e = kind(f"feature {label}: {reason(i)}")
+        e.index, e.feature = i, label
+        if errors == "raise":
+            raise e
+        out[i] = e
+    return out
 
 
 def plain(value: Any) -> Any:

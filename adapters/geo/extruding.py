@@ -17,6 +17,7 @@ from cdt_plugin.adapters.geo.errors import (
     SkippedFeaturesWarning,
     caller_stacklevel,
     describe,
+    feature_errors,
     is_geographic,
     plain,
 )
@@ -235,14 +236,8 @@ def _not_polygonal(frame: GeoDataFrame, offsets: NDArray[np.int64], failed: dict
     if not bad:
         return {}
     geoms = np.asarray(frame.geometry.array, dtype=object)
-    out = {}
-    for i in bad:
-        e = NotPolygonalError(f"feature {plain(frame.index[i])}: no polygon to extrude "
-                              f"({describe(geoms[i:i + 1]).split(': ', 1)[1]})")
-        e.index, e.feature = i, plain(frame.index[i])
-        if errors == "raise":
-            raise e
-        out[i] = e
+    out = feature_errors(NotPolygonalError, frame, bad, lambda i: "no polygon to extrude "
+                         f"({describe(geoms[i:i + 1]).split(': ', 1)[1]})", errors)
     labels = [str(e.feature) for e in out.values()]
     warnings.warn(SkippedFeaturesWarning(
         f"{len(out)} feature(s) have no polygon to extrude and no solid "

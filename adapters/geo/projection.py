@@ -19,7 +19,7 @@ import numpy as np
 import shapely
 
 from cdt_plugin._core.certify import orientation_signs
-from cdt_plugin.adapters.geo.errors import ProjectionError, plain
+from cdt_plugin.adapters.geo.errors import ProjectionError, feature_errors
 from cdt_plugin.adapters.shapely.reading import MULTIPOLYGON, POLYGON
 
 if TYPE_CHECKING:
@@ -173,14 +173,9 @@ def project_geometries(geoms: np.ndarray, frame: GeoDataFrame, target: Any,
     bad = np.zeros(len(geoms), bool)
     bad[feature[~finite]] = True
     bad |= shapely.is_missing(projected) & ~shapely.is_missing(geoms)
-    failed: dict[int, ProjectionError] = {}
-    for i in map(int, np.flatnonzero(bad)):
-        e = ProjectionError(f"feature {plain(frame.index[i])}: coordinates do not project to "
-                            f"finite values in {target.name!r}")
-        e.index, e.feature = i, plain(frame.index[i])
-        if errors == "raise":
-            raise e
-        failed[i] = e
+    failed = feature_errors(ProjectionError, frame, map(int, np.flatnonzero(bad)), lambda i:
+                            f"coordinates do not project to finite values in {target.name!r}",
+                            errors)
     if failed:
         projected = projected.copy()
         projected[bad] = shapely.Polygon()
@@ -389,7 +384,9 @@ def with_touching_vertices(geoms: np.ndarray) -> np.ndarray:
     there is none). Only features with two rings or more can have one; candidates
     come from bounding boxes, the decision is exact."""
     polygonal = np.isin(shapely.get_type_id(geoms), (POLYGON, MULTIPOLYGON))
-    parts, feature_of_part = shapely.get_parts(np.where(polygonal, geoms, None), return_index=True)
+    chosen = geoms.copy()
+    chosen[~polygonal] = None               # (only polygons' rings can touch)
+    parts, feature_of_part = shapely.get_parts(chosen, return_index=True)
     rings, part_of_ring = shapely.get_rings(parts, return_index=True)
     if len(rings) == len(np.unique(feature_of_part[part_of_ring])):
         return geoms                        # one ring per feature: nothing can touch
