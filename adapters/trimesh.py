@@ -23,6 +23,8 @@ extrude_polygon(polygon, height, transform=None, mid_plane=False, **kwargs)
     Drop-in for ``trimesh.creation.extrude_polygon``: a watertight solid.
 extrude_path(path, height, **kwargs)
     Every polygon of a ``Path2D`` extruded, one ``Trimesh`` each.
+path_polygons(path)
+    The polygons a ``Path2D``'s closed loops bound, exact where loops touch.
 sweep_polygon(polygon, path, angles=None, cap=True, connect=True)
     Drop-in for ``trimesh.creation.sweep_polygon``: a watertight sweep.
 Extrusion(polygon, transform=None, height=1.0, mutable=True, mid_plane=False)
@@ -96,7 +98,7 @@ if TYPE_CHECKING:
     from cdt_plugin import Triangulation
 
 __all__ = ["from_path2d", "from_path3d", "to_trimesh", "triangulate_polygon", "extrude_polygon",
-           "extrude_triangulation", "extrude_path", "sweep_polygon", "slice_plane", "Extrusion",
+           "extrude_triangulation", "extrude_path", "path_polygons", "sweep_polygon", "slice_plane", "Extrusion",
            "register", "unregister", "registered", "is_registered", "ENGINE", "DroppedZWarning"]
 
 ENGINE = "cdt_plugin"
@@ -383,18 +385,73 @@ def extrude_polygon(polygon: shapely.Geometry, height: float, transform: ArrayLi
     return extrude_triangulation(vertices, faces, height, transform=transform, **constructor)
 
 
+def path_polygons(path: trimesh.path.Path2D) -> list[shapely.Polygon]:
+    """The polygons a ``Path2D``'s closed loops bound, decided by the engine.
+
+    trimesh's ``path.polygons_full`` finds closed loops by a graph search that,
+    at a vertex where loops touch (a hole touching its shell or another hole, as
+    a ``Trimesh.section`` through such a solid gives), can join or split rings
+    into wrong polygons. Here every segment of the entities in closed loops
+    (curves discretised as trimesh does) is meshed at once, inside by parity
+    (odd numbers of segments crossed from outside), and the triangles are
+    joined into polygons by dropping the edges they share (GEOS's coverage
+    union: no arithmetic), rings that touch at a point kept apart as OGC wants;
+    in the order of ``polygons_full`` where it has the same polygon.
+
+    >>> import shapely, trimesh
+    >>> square = [(0, 0), (10, 0), (10, 10), (0, 10)]
+    >>> p = shapely.Polygon(square, [[(0, 5), (3, 4), (3, 6)], [(3, 4), (5, 2), (5, 4)]])
+    >>> path = trimesh.load_path(p)
+    >>> [q.area for q in path_polygons(path)]
+    [95.0]
+    """
+    vertices = np.asarray(path.vertices, dtype=np.float64)
+    dangling = set(map(int, path.dangling))
+    points, segments, start = [], [], 0
+    for index, entity in enumerate(path.entities):
+        if index in dangling:
+            continue
+        line = np.asarray(entity.discrete(vertices, scale=path.scale), dtype=np.float64)
+        if line.ndim != 2 or len(line) < 2:
+            continue                              # (Text entities: no segments)
+        points.append(line[:, :2])
+        k = np.arange(start, start + len(line) - 1)
+        segments.append(np.column_stack([k, k + 1]))
+        start += len(line)
+    if not points:
+        return []
+    V, inverse = np.unique(np.concatenate(points), axis=0, return_inverse=True)
+    S = inverse.reshape(-1)[np.concatenate(segments)]
+    S = S[S[:, 0] != S[:, 1]]
+    if not len(S):
+        return []
+    tri = cdt_plugin.triangulate(V, S)
+    import shapely                                # (only here: trimesh's polygons are shapely's)
+    V, T = np.asarray(tri.vertices, np.float64), np.asarray(tri.triangles, np.int64)
+    # the triangles share their edges exactly: a coverage union only drops the shared
+    # edges (no arithmetic) and gives each polygon in OGC's form (touching rings apart)
+    union = shapely.coverage_union_all(shapely.polygons(V[T]))
+    parts = [part for part in shapely.get_parts(union).tolist() if not part.is_empty]
+    # in the order of polygons_full where trimesh found the same polygon
+    theirs = [p for p in path.polygons_full if p is not None and not p.is_empty]
+    where = [next((i for i, p in enumerate(theirs) if p.equals(part)), len(theirs) + k)
+             for k, part in enumerate(parts)]
+    return [parts[k] for k in np.argsort(where, kind="stable")]
+
+
 def extrude_path(path: trimesh.path.Path2D, height: float, transform: ArrayLike | None = None,
                  mid_plane: bool = False, **kwargs: Any) -> list[trimesh.Trimesh]:
-    """Every polygon of ``path.polygons_full`` extruded by ``height``: one
-    watertight ``Trimesh`` per polygon, in the order of ``polygons_full``
-    (``Path2D.extrude`` returns trimesh ``Extrusion`` primitives the same way;
-    this always returns a list). Use ``trimesh.util.concatenate`` for one mesh.
-    Keywords go to :func:`cdt_plugin.triangulate`.
+    """Every polygon of the path (:func:`path_polygons`: its closed loops'
+    polygons, decided exactly, also where loops touch) extruded by ``height``:
+    one watertight ``Trimesh`` per polygon (``Path2D.extrude`` returns trimesh
+    ``Extrusion`` primitives the same way; this always returns a list). Use
+    ``trimesh.util.concatenate`` for one mesh. Keywords go to
+    :func:`cdt_plugin.triangulate`.
     """
     if not isinstance(path, trimesh.path.Path2D):
         raise TypeError(f"expected a trimesh.path.Path2D, got {type(path).__name__}")
     return [extrude_polygon(polygon, height, transform=transform, mid_plane=mid_plane, **kwargs)
-            for polygon in path.polygons_full if polygon is not None and not polygon.is_empty]
+            for polygon in path_polygons(path)]
 
 
 def _sweep_frames(path: NDArray[np.float64], angles: NDArray[np.float64],
@@ -746,10 +803,25 @@ def _slice_hook(mesh: trimesh.Trimesh, plane_normal: ArrayLike, plane_origin: Ar
 def _path_extrude_hook(self: trimesh.path.Path2D, height: float,
                        **kwargs: Any) -> Extrusion | list[Extrusion]:
     """``Path2D.extrude`` under ``register(default=True)``: trimesh's lazy
-    primitives, one per polygon of ``polygons_full`` (one alone, not in a list,
-    as trimesh returns it), of class :class:`Extrusion`."""
-    result = [Extrusion(polygon=polygon, height=height, **kwargs) for polygon in self.polygons_full]
+    primitives, one per polygon of :func:`path_polygons` (one alone, not in a
+    list, as trimesh returns it), of class :class:`Extrusion`."""
+    result = [Extrusion(polygon=polygon, height=height, **kwargs) for polygon in path_polygons(self)]
     return result[0] if len(result) == 1 else result
+
+
+def _path_triangulate_hook(self: trimesh.path.Path2D,
+                           **kwargs: Any) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """``Path2D.triangulate`` while :func:`register` is in force: with this
+    engine, the polygons of :func:`path_polygons` meshed by
+    :func:`triangulate_polygon` and appended as trimesh appends them."""
+    if not _ours(kwargs.get("engine")):
+        if "engine" in kwargs:
+            kwargs["engine"] = _engine_name(kwargs["engine"])
+        return _original("triangulate")(self, **kwargs)
+    kwargs.pop("engine", None)
+    pieces = [triangulate_polygon(polygon, **kwargs) for polygon in path_polygons(self)]
+    v, f = trimesh.util.append_faces([v for v, _ in pieces], [f for _, f in pieces])
+    return np.asarray(v, np.float64), np.asarray(f, np.int64)
 
 
 # What register() replaces: (module or class, attribute) -> the replacement.
@@ -758,6 +830,7 @@ _HOOKS: dict[tuple[Any, str], Any] = {
     (trimesh.creation, "triangulate_polygon"): _hook,
     (trimesh.creation, "extrude_polygon"): _extrude_hook,
     (trimesh.creation, "sweep_polygon"): _sweep_hook,
+    (trimesh.path.Path2D, "triangulate"): _path_triangulate_hook,
     (trimesh.intersections, "slice_mesh_plane"): _slice_hook,
 }
 _DEFAULT_HOOKS: dict[tuple[Any, str], Any] = {(trimesh.path.Path2D, "extrude"): _path_extrude_hook}

@@ -231,6 +231,32 @@ def test_path_extrude_is_ours_whether_touched_inside_or_after_the_block(polygons
     _check_solid(moved, moved.primitive.polygon.area * 2 * HEIGHT, "Extrusion rebuilt")
 
 
+def test_sections_through_touching_holes_mesh_exactly(polygons):
+    """A section of a solid with touching holes is a Path2D whose loops touch;
+    trimesh's loop search joins or splits rings there, path_polygons does not,
+    and Path2D.extrude / Path2D.triangulate use it under the registration."""
+    hard = [p for p in polygons if _pinched(p)][::3]
+    wrong = 0
+    for polygon in hard:
+        solid = ct.extrude_polygon(polygon, HEIGHT)
+        path = solid.section([0, 0, 1], [0, 0, HEIGHT / 2]).to_2D()[0]
+        theirs = [p for p in path.polygons_full if p is not None]
+        wrong += len(theirs) != 1 or abs(theirs[0].area - polygon.area) > 1e-9 * polygon.area
+        mine = ct.path_polygons(path)
+        assert len(mine) == 1 and mine[0].is_valid
+        assert len(mine[0].interiors) == len(polygon.interiors)
+        assert mine[0].area == pytest.approx(polygon.area, rel=1e-9)
+        with ct.registered(default=True):
+            parts = path.extrude(HEIGHT)
+            v, f = path.triangulate()
+        parts = parts if isinstance(parts, list) else [parts]
+        assert len(parts) == 1
+        _check_solid(parts[0], polygon.area * HEIGHT, "Path2D.extrude of a section")
+        _check_flat(v, f, polygon.area, "Path2D.triangulate of a section")
+        _check_solid(ct.extrude_path(path, HEIGHT)[0], polygon.area * HEIGHT, "extrude_path")
+    assert wrong > 5                               # trimesh's own polygons are wrong on some
+
+
 def test_ours_directly(polygons):
     for polygon in polygons:
         _check_solid(ct.extrude_polygon(polygon, HEIGHT), polygon.area * HEIGHT, "extrude_polygon")

@@ -21,7 +21,7 @@ TRIMESH_TRIANGULATE = trimesh.creation.triangulate_polygon
 TRIMESH_OWN = {(module, name): getattr(module, name) for module, name in
                [(trimesh.creation, "triangulate_polygon"), (trimesh.creation, "extrude_polygon"),
                 (trimesh.creation, "sweep_polygon"), (trimesh.intersections, "slice_mesh_plane"),
-                (trimesh.path.Path2D, "extrude")]}
+                (trimesh.path.Path2D, "extrude"), (trimesh.path.Path2D, "triangulate")]}
 L_SHAPE = shapely.Polygon([(0, 0), (4, 0), (4, 1), (1, 1), (1, 3), (0, 3)])
 
 
@@ -41,7 +41,7 @@ def trimesh_left_unpatched():
 def test_unregister_restores_every_replaced_attribute(default):
     ct.register(default=default)
     replaced = [key for key, own in TRIMESH_OWN.items() if getattr(*key) is not own]
-    assert len(replaced) == 4 + default         # Path2D.extrude only with default
+    assert len(replaced) == 5 + default         # Path2D.extrude only with default
     ct.register(default=not default)            # again: only the default changes
     ct.unregister()
     assert all(getattr(*key) is own for key, own in TRIMESH_OWN.items())
