@@ -247,8 +247,9 @@ def triangulate_polygon(polygon: shapely.Geometry | None, triangle_args: str | N
         Accepted for signature compatibility and ignored: this function *is*
         the engine.
     force_vertices : bool
-        Raise ``ValueError`` if the triangulation has a vertex that is not an
-        input vertex (intersections with ``"split"``, or quality refinement).
+        Raise :class:`cdt_plugin.CDTError` (a ``ValueError``, as trimesh
+        raises) if the triangulation has a vertex that is not an input vertex
+        (intersections with ``"split"``, or quality refinement).
     **kwargs
         Passed to :func:`cdt_plugin.triangulate` (``intersections=``, ...);
         ``merge_distance`` defaults to ``trimesh.tol.merge`` (see the module's
