@@ -87,12 +87,14 @@ def plain(value: Any) -> Any:
     return value.item() if isinstance(value, np.generic) else value
 
 
-def warn_skipped(failed: dict, frame: GeoDataFrame) -> None:
+def warn_skipped(failed: dict, frame: GeoDataFrame,
+                 what: str = "could not be meshed and have no triangles",
+                 where: str = '; their errors are in result.attrs["cdt_errors"]') -> None:
+    """A SkippedFeaturesWarning: ``N feature(s) <what> (<labels>)<where>``."""
     labels = [str(plain(frame.index[i])) for i in sorted(failed)]
     shown = ", ".join(labels[:10]) + (", ..." if len(labels) > 10 else "")
-    warnings.warn(SkippedFeaturesWarning(
-        f"{len(failed)} feature(s) could not be meshed and have no triangles ({shown}); "
-        'their errors are in result.attrs["cdt_errors"]'), stacklevel=caller_stacklevel())
+    warnings.warn(SkippedFeaturesWarning(f"{len(failed)} feature(s) {what} ({shown}){where}"),
+                  stacklevel=caller_stacklevel())
 
 
 def is_geographic(crs: Any) -> bool:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import datetime
 import math
-import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Union
@@ -14,21 +13,13 @@ import numpy as np
 from cdt_plugin.adapters.geo.errors import (
     HeightError,
     NotPolygonalError,
-    SkippedFeaturesWarning,
-    caller_stacklevel,
     describe,
     feature_errors,
-    is_geographic,
     plain,
+    warn_skipped,
 )
 from cdt_plugin.adapters.geo.meshing import mesh_layer
-from cdt_plugin.adapters.geo.projection import (
-    ProjectLike,
-    centred,
-    layer_extent,
-    project_geometries,
-    target_crs,
-)
+from cdt_plugin.adapters.geo.projection import ProjectLike
 from cdt_plugin.adapters.layers import LayerLike, read
 from cdt_plugin.adapters.shapely import Repair
 from numpy.typing import ArrayLike, NDArray
@@ -135,13 +126,12 @@ def extrude(data: LayerLike, height: HeightLike, *, base: HeightLike = 0.0,
     require("trimesh", "cdt_plugin.adapters.geo.extrude", extra="trimesh")     # before any work
     frame = read(data, layer=layer)
     top, bottom = layer_heights(frame, height, base)
-    projected, unprojected = _projected(frame, project, errors)
-    mesh = mesh_layer(projected, project=None, repair=repair, errors=errors, progress=progress,
-                      options=options, require_polygons=True, warn=True)
-    failed = {**unprojected, **mesh.errors}
+    mesh = mesh_layer(frame, project=project, repair=repair, errors=errors, progress=progress,
+                      options=options, require_polygons=True, warn=True, map_back=False)
+    failed = dict(mesh.errors)
     failed.update(_not_polygonal(frame, mesh.offsets, failed, errors))
     solids = extrude_mesh(frame, mesh.vertices, mesh.triangles, mesh.position, bottom, top,
-                          crs=projected.crs, errors=failed)
+                          crs=mesh.mesh_crs or frame.crs, errors=failed)
     if output == "solids":
         return solids
     if output == "merged":
@@ -208,25 +198,6 @@ def _check_values(frame: GeoDataFrame, values: NDArray[np.float64], given: Heigh
     raise e
 
 
-def _projected(frame: GeoDataFrame, project: ProjectLike,
-               errors: str) -> tuple[GeoDataFrame, dict[int, CDTError]]:
-    """The layer in the CRS ``project`` names, chosen and projected as
-    :func:`~cdt_plugin.adapters.geo.triangulate` does (the same functions), and the
-    features that do not project (``errors="skip"``). The solids stay in that CRS:
-    nothing is mapped back."""
-    if project is None:
-        return frame, {}
-    import geopandas
-
-    geoms = np.asarray(frame.geometry.array, dtype=object)
-    extent = layer_extent(geoms, is_geographic(frame.crs)) if centred(project) else None
-    target = target_crs(project, frame.crs, extent)
-    moved, failed = project_geometries(geoms, frame, target, errors)
-    out = frame.copy()
-    out[frame.geometry.name] = geopandas.GeoSeries(moved, index=frame.index, crs=target)
-    return out.set_crs(target, allow_override=True), failed
-
-
 def _not_polygonal(frame: GeoDataFrame, offsets: NDArray[np.int64], failed: dict[int, CDTError],
                    errors: str) -> dict[int, CDTError]:
     """The rows without triangles that did not fail: no polygon (a point, a line, an
@@ -238,11 +209,7 @@ def _not_polygonal(frame: GeoDataFrame, offsets: NDArray[np.int64], failed: dict
     geoms = np.asarray(frame.geometry.array, dtype=object)
     out = feature_errors(NotPolygonalError, frame, bad, lambda i: "no polygon to extrude "
                          f"({describe(geoms[i:i + 1]).split(': ', 1)[1]})", errors)
-    labels = [str(e.feature) for e in out.values()]
-    warnings.warn(SkippedFeaturesWarning(
-        f"{len(out)} feature(s) have no polygon to extrude and no solid "
-        f"({', '.join(labels[:10])}{', ...' if len(labels) > 10 else ''})"),
-        stacklevel=caller_stacklevel())
+    warn_skipped(out, frame, "have no polygon to extrude and no solid", "")
     return out
 
 

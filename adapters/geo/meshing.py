@@ -11,8 +11,9 @@ import shapely
 from cdt_plugin import CDTError, NoPolygonsError
 from cdt_plugin.batch import check_batch_options
 from cdt_plugin.optional import require
-from cdt_plugin.adapters.geo.errors import (ProjectionError, describe, is_geographic, plain,
-                                            relabel, warn_geographic, warn_skipped)
+from cdt_plugin.adapters.geo.errors import (ProjectionError, describe, feature_errors,
+                                            is_geographic, relabel, warn_geographic,
+                                            warn_skipped)
 from cdt_plugin.adapters.geo.projection import (ProjectLike, centred, counter_clockwise,
                                                 fold_cause, layer_extent, project_geometries,
                                                 restore, target_crs, unfold)
@@ -163,9 +164,11 @@ def triangulate(data: LayerLike, *, output: str = "geodataframe", project: Proje
 
 def mesh_layer(frame: GeoDataFrame, *, project: ProjectLike, repair: Repair, errors: str,
                progress: Any, options: dict[str, Any], require_polygons: bool,
-               warn: bool, sizing: LayerSizing | None = None) -> GeoMesh:
+               warn: bool, sizing: LayerSizing | None = None, map_back: bool = True) -> GeoMesh:
     """Mesh the features of ``frame`` (one batch call) into a :class:`GeoMesh`,
-    refined to ``sizing`` (in the meshing CRS) when given."""
+    refined to ``sizing`` (in the meshing CRS) when given. With ``map_back=False``
+    the vertices stay in the meshing CRS (``mesh_crs``), for a caller that keeps
+    them there (:func:`~cdt_plugin.adapters.geo.extrude`)."""
     check_batch_options(errors=errors, **options)
     geoms = np.asarray(frame.geometry.array, dtype=object)
     if require_polygons:
@@ -197,7 +200,7 @@ def mesh_layer(frame: GeoDataFrame, *, project: ProjectLike, repair: Repair, err
                                    for i, e in batch.errors.items()}
     failed.update(unprojected)
     T, position, part, vertices = batch.triangles, batch.geometry, batch.region, batch.vertices
-    if target is not None:
+    if target is not None and map_back:
         vertices = restore(vertices, T, geoms, meshed, target, frame.crs)
         T = unfold(vertices, T, position, part)
         folded = _folded_features(vertices, T, position, frame, target, errors)
@@ -215,18 +218,11 @@ def mesh_layer(frame: GeoDataFrame, *, project: ProjectLike, repair: Repair, err
 def _folded_features(V, T, position, frame, target, errors) -> dict:
     """Features with triangles that are no longer counter-clockwise once mapped back
     to the layer's CRS: a ProjectionError each (raised at once with ``errors="raise"``)."""
-    bad = position[~counter_clockwise(V, T)]
-    out = {}
-    for i, count in zip(*np.unique(bad, return_counts=True)):
-        e = ProjectionError(
-            f"feature {plain(frame.index[i])}: {count} of its triangles turn clockwise when mapped "
-            f"back from {target.name!r} to {frame.crs.name!r}: "
-            f"{fold_cause(frame.geometry.iloc[i], frame.crs)}")
-        e.index, e.feature = int(i), plain(frame.index[i])
-        if errors == "raise":
-            raise e
-        out[int(i)] = e
-    return out
+    rows, counts = np.unique(position[~counter_clockwise(V, T)], return_counts=True)
+    count = dict(zip(rows.tolist(), counts.tolist()))
+    return feature_errors(ProjectionError, frame, count, lambda i: (
+        f"{count[i]} of its triangles turn clockwise when mapped back from {target.name!r} to "
+        f"{frame.crs.name!r}: {fold_cause(frame.geometry.iloc[i], frame.crs)}"), errors)
 
 
 def _uniform_z(geoms: np.ndarray) -> np.ndarray:
