@@ -603,19 +603,26 @@ def _cut(vertices: NDArray[np.float64], faces: NDArray[np.int64], origin: NDArra
     points = vertices[u] + t[:, None] * (vertices[w] - vertices[u])
     cut_vertex = np.full(a.shape, -1, np.int64)
     cut_vertex[cut] = len(vertices) + index
-    clipped = []
-    for corners, cuts, signs in zip(crossing, cut_vertex, sign[crossing]):
-        ring = []                   # the face's part on the positive side, in its order
-        for k in range(3):
-            if signs[k] >= 0:
-                ring.append(corners[k])
-            if cuts[k] >= 0:
-                ring.append(cuts[k])
-        clipped += [(ring[0], ring[m], ring[m + 1]) for m in range(1, len(ring) - 1)]
     vertices = np.concatenate([vertices, points])
-    faces = np.concatenate([keep, np.asarray(clipped, np.int64).reshape(-1, 3)])
+    faces = np.concatenate([keep, _clipped(crossing, cut_vertex, sign[crossing] >= 0)])
     on_plane = np.concatenate([sign == 0, np.ones(len(points), bool)])
     return vertices, np.concatenate([faces, _cap(vertices, faces, on_plane, origin, normal)])
+
+
+def _clipped(crossing: NDArray[np.int64], cut_vertex: NDArray[np.int64],
+             kept: NDArray[np.bool_]) -> NDArray[np.int64]:
+    """The parts of the ``crossing`` faces on the positive side, as fans: each
+    face's ring is its kept corners and the cut vertices of its edges (-1: not
+    cut), in the face's order (corner k, then the cut of edge k -> k+1); a plane
+    leaves 3 or 4 of them, which give 1 or 2 faces, face by face."""
+    if not len(crossing):
+        return np.empty((0, 3), np.int64)
+    values = np.stack([crossing, cut_vertex], axis=2).reshape(-1, 6)
+    present = np.stack([kept, cut_vertex >= 0], axis=2).reshape(-1, 6)
+    ring = np.take_along_axis(values, np.argsort(~present, axis=1, kind="stable"), axis=1)
+    fans = np.stack([ring[:, [0, 1, 2]], ring[:, [0, 2, 3]]], axis=1)     # (m, 2, 3)
+    second = present.sum(axis=1) == 4
+    return fans[np.column_stack([np.ones(len(ring), bool), second])]
 
 
 def _cap(vertices: NDArray[np.float64], faces: NDArray[np.int64], on_plane: NDArray[np.bool_],
