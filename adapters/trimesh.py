@@ -90,6 +90,7 @@ except ImportError as exc:
 import cdt_plugin
 from cdt_plugin import PLC
 from cdt_plugin import solids
+from cdt_plugin.plain import plain_mesh
 from cdt_plugin.switches import options_from_switches
 
 if TYPE_CHECKING:
@@ -266,6 +267,10 @@ def triangulate_polygon(polygon: shapely.Geometry | None, triangle_args: str | N
     faces : (m, 3) int64
         Counter-clockwise triangles.
     """
+    if triangle_args is None and not kwargs:     # (most calls: one compiled call, or None)
+        plain = plain_mesh(polygon, trimesh.tol.merge)
+        if plain is not None:
+            return plain
     if triangle_args is not None:
         kwargs = {**options_from_switches(triangle_args), **kwargs}
     kwargs = _engine_options(kwargs) if kwargs else {"merge_distance": trimesh.tol.merge}

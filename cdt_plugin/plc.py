@@ -89,7 +89,7 @@ def _read_geometry(obj, required):
     :func:`shapely_polygon_rings`, anything else through its GeoJSON-like
     mapping (:func:`geojson_parts`). None for input that is no geometry,
     unless ``required``."""
-    shapely = _shapely_of(obj)
+    shapely = shapely_of(obj)
     kind = type(obj)
     if shapely is not None and (kind is shapely.Polygon or kind is shapely.MultiPolygon):
         # (the one Polygon's reader called directly: a small call pays for every Python call)
@@ -304,7 +304,7 @@ def _rank_in_polygon(ring_polygon: NDArray[np.int64]) -> NDArray[np.int64]:
     return rank
 
 
-def _shapely_of(geometry):
+def shapely_of(geometry: object) -> Any:
     """The shapely module when ``geometry`` is a shapely geometry (shapely is
     then imported already), else None: shapely is not a dependency here."""
     return sys.modules.get("shapely") if type(geometry).__module__.startswith("shapely.") else None

@@ -16,6 +16,7 @@ from shapely.io import DecodingErrorOptions
 import cdt_plugin
 from cdt_plugin._core.wkb import triangle_polygon_records
 from cdt_plugin.parallel import map_ordered, resolve_workers
+from cdt_plugin.plain import plain_collection_wkb
 
 
 def to_shapely(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = None,
@@ -64,6 +65,7 @@ _POLYGON_HEADER = {2: np.frombuffer(_header(3, 1, 4), np.uint8),          # Poly
                    3: np.frombuffer(_header(1003, 1, 4), np.uint8)}       # (ISO WKB: Z is +1000)
 _COLLECTION_HEADER = {2: _header(7), 3: _header(1007)}                    # (then the count)
 _COUNT = struct.Struct("=I")
+_PLAIN_COLLECTION_HEADER = np.frombuffer(_COLLECTION_HEADER[2], np.uint8)
 
 
 class PolygonRecords(NamedTuple):
@@ -103,6 +105,19 @@ def polygon_collection(parts: list[PolygonRecords]) -> shapely.GeometryCollectio
     head = _COLLECTION_HEADER[max((p.dim for p in parts), default=2)]
     count = _COUNT.pack(sum(p.polygons for p in parts))
     return _from_wkb(b"".join([head, count] + [p.data.tobytes() for p in parts]))
+
+
+def plain_triangles(geometry: object) -> shapely.GeometryCollection | None:
+    """:func:`to_shapely` of the triangulation of a small 2D Polygon that is
+    plainly valid (:mod:`cdt_plugin.plain`: one compiled call from its
+    coordinates to the collection's WKB, then one GEOS call); None for any
+    other geometry, which the caller takes the general way.
+
+    >>> plain_triangles(shapely.box(0, 0, 1, 1)).wkt
+    'GEOMETRYCOLLECTION (POLYGON ((1 1, 0 0, 0 1, 1 1)), POLYGON ((1 0, 0 0, 1 1, 1 0)))'
+    """
+    data = plain_collection_wkb(geometry, _PLAIN_COLLECTION_HEADER, _POLYGON_HEADER[2], _CW)
+    return None if data is None else _from_wkb(data)
 
 
 _RAISE = np.uint8(DecodingErrorOptions.get_value("raise"))

@@ -17,8 +17,8 @@ from cdt_plugin.merging import close_point_representatives
 from cdt_plugin.validate import as_points
 
 _EMPTY_COLLECTION = shapely.GeometryCollection()    # geometries are immutable: one serves all
-from cdt_plugin.adapters.shapely.building import (PolygonRecords, polygon_collection, to_shapely,
-                                                  triangle_records)
+from cdt_plugin.adapters.shapely.building import (PolygonRecords, plain_triangles, polygon_collection,
+                                                  to_shapely, triangle_records)
 from cdt_plugin.adapters.shapely.cells import cells_to_polygons
 from cdt_plugin.adapters.shapely.validity import scaled
 from cdt_plugin.adapters.shapely.reading import (MULTIPOLYGON, POLYGON, collections_to_polygonal,
@@ -141,7 +141,10 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
     """
     _reject_ufunc_kwargs("constrained_delaunay_triangles", kwargs)
     method = repair_method(repair)
-    tri = mesh_if_plainly_valid(geometry)
+    plain = plain_triangles(geometry)
+    if plain is not None:
+        return plain
+    tri = mesh_if_plainly_valid(geometry)      # (a large Polygon)
     if tri is not None:
         return to_shapely(tri)
     arr = _geometry_array(geometry)

@@ -759,6 +759,30 @@ def put(dst, p, src):
     return p + src.shape[0]
 
 
+# ------------------------------------------------------------------ flat rings
+@kernel
+def rings_route(x, y, ring_start, r0, r1, ring_polygon, ring_is_hole, options, keep):
+    """:func:`cdt_route` of the rings ``r0:r1`` of flat ring arrays (ring ``r``
+    the vertices ``ring_start[r]..ring_start[r + 1] - 1`` of ``x, y``, without
+    its closing point), without seeds, in vertex ids from ``ring_start[r0]``;
+    ``keep`` (at least ``r1 - r0`` flags, all set) as :func:`.rings.ring_segments`
+    takes it. Returns ``(degenerate, status, counts, out)`` as :func:`cdt_route`,
+    ``degenerate`` set (and nothing routed) when a ring has no area
+    (:func:`.rings.ring_is_degenerate`)."""
+    v0 = ring_start[r0]
+    v1 = ring_start[r1]
+    for r in range(r0, r1):
+        if ring_is_degenerate(x, y, ring_start[r], ring_start[r + 1]):
+            return True, ROUTE_INTERNAL, np.zeros(NCOUNTS, np.int64), no_mesh()
+    segs, ring_of = ring_segments(ring_start, r0, r1, keep)
+    plc = (x[v0:v1], y[v0:v1], segs, ring_of, ring_polygon[r0:r1], ring_is_hole[r0:r1],
+           np.empty((0, 2)), np.empty((0, 4)))
+    no_order = np.empty(0, np.int64)
+    not_snapped = (np.empty(0), np.empty(0), np.empty((0, 3), np.int64))
+    status, _, counts, out = cdt_route(plc, (no_order, no_order), options, not_snapped, no_store())
+    return False, status, counts, out
+
+
 # ------------------------------------------------------------------ many geometries
 @entry
 def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hole, g0, g1,
@@ -782,31 +806,18 @@ def mesh_geometries(x, y, ring_start, geom_ring_start, ring_polygon, ring_is_hol
     ns = np.int64(0)    # (typed, not literal: see copy_rows below)
     k = np.int64(0)
     failed = np.zeros(g1 - g0, np.bool_)
-    no_seeds = np.empty((0, 2))
-    no_regions = np.empty((0, 4))
-    no_order = np.empty(0, np.int64)
-    not_snapped = (np.empty(0), np.empty(0), np.empty((0, 3), np.int64))
     options = named(options)
     keep_all = np.ones(geom_ring_start[g1] - geom_ring_start[g0] + 1, np.bool_)
-    build_here = no_store()
     for g in range(g0, g1):
         r0 = geom_ring_start[g]
         r1 = geom_ring_start[g + 1]
         if r0 == r1:
             continue
         v0 = ring_start[r0]
-        v1 = ring_start[r1]
-        degenerate = False
-        for r in range(r0, r1):
-            degenerate = degenerate or ring_is_degenerate(x, y, ring_start[r], ring_start[r + 1])
-        if degenerate:        # the single call reports it (or, splitting, keeps its points)
-            failed[g - g0] = True
-            continue
-        segs, ring_of = ring_segments(ring_start, r0, r1, keep_all)
-        plc = (x[v0:v1], y[v0:v1], segs, ring_of, ring_polygon[r0:r1], ring_is_hole[r0:r1],
-               no_seeds, no_regions)
-        status, _, _, out = cdt_route(plc, (no_order, no_order), options, not_snapped, build_here)
-        if status != ROUTE_OK:
+        # (a degenerate ring: the single call reports it, or, splitting, keeps its points)
+        degenerate, status, _, out = rings_route(x, y, ring_start, r0, r1, ring_polygon, ring_is_hole,
+                                                 options, keep_all)
+        if degenerate or status != ROUTE_OK:
             failed[g - g0] = True
             continue
         vertices, triangles, _, _, _, _, regions, _, kept, _ = out

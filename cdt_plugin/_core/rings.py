@@ -137,3 +137,39 @@ def open_rings(coords, hole_sizes):
         ring_len[r + 1] = hole_sizes[r]
         ring_len[0] -= hole_sizes[r]
     return drop_closing_points(coords, ring_len)
+
+
+@kernel
+def closed_rings(coords, rings):
+    """The closed rings one after another in ``coords`` (n, 2 or more columns,
+    as GEOS gives a polygon's coordinates: the shell, then the holes) split
+    where each ring's first point comes back in x and y, closing points dropped:
+    ``(xy, ring_start)``, ``xy`` (n - rings, 2), ring ``r`` being
+    ``xy[ring_start[r]:ring_start[r + 1]]``. An empty ``ring_start`` unless
+    that gives exactly ``rings`` rings of at least three points: every ring
+    ends at the first return of its first point, so a ring that passes
+    through its first point before its end splits early, and the count shows
+    it (such a ring is never valid: whoever splits the coordinates this way
+    leaves that polygon to a reader that takes the ring sizes from GEOS)."""
+    n = coords.shape[0]
+    xy = np.empty((max(n - rings, 0), 2))
+    ring_start = np.empty(rings + 1, np.int64)
+    refused = np.empty(0, np.int64)
+    ring_start[0] = 0
+    r = 0
+    first = 0
+    k = 0
+    for i in range(1, n):
+        if i > first and coords[i, 0] == coords[first, 0] and coords[i, 1] == coords[first, 1]:
+            if r == rings or i - first < 3:
+                return xy, refused
+            for j in range(first, i):
+                xy[k, 0] = coords[j, 0]
+                xy[k, 1] = coords[j, 1]
+                k += 1
+            r += 1
+            ring_start[r] = k
+            first = i + 1
+    if r != rings or first != n:
+        return xy, refused
+    return xy, ring_start

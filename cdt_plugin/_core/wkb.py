@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import entry
+from .jit import entry, kernel
 
 #: The bytes of a Polygon record's header: byte order, type, rings, points
 POLYGON_HEADER_BYTES = 13
@@ -19,14 +19,21 @@ def triangle_polygon_records(coordinate_bytes, triangles, corners, header):
     positions into the row, the last repeating the first), each corner the row
     of ``coordinate_bytes`` (n, 8 * dimension) that holds its vertex's
     coordinates as they lie in memory. ``k * (13 + 32 * dimension)`` bytes,
-    coordinates bit for bit. (The loops run over fixed counts of bytes, 13 and
-    8, which the compiler unrolls: twice as fast as over the row's length.)"""
-    k = triangles.shape[0]
+    coordinates bit for bit."""
+    size = POLYGON_HEADER_BYTES + 4 * coordinate_bytes.shape[1]
+    out = np.empty(triangles.shape[0] * size, np.uint8)
+    write_polygon_records(out, np.int64(0), coordinate_bytes, triangles, corners, header)
+    return out
+
+
+@kernel
+def write_polygon_records(out, at, coordinate_bytes, triangles, corners, header):
+    """:func:`triangle_polygon_records` written into ``out`` from byte ``at``.
+    (The loops run over fixed counts of bytes, 13 and 8, which the compiler
+    unrolls: twice as fast as over the row's length.)"""
     dimension = coordinate_bytes.shape[1] // 8
-    size = POLYGON_HEADER_BYTES + 32 * dimension
-    out = np.empty(k * size, np.uint8)
-    for t in range(k):
-        p = t * size
+    p = at
+    for t in range(triangles.shape[0]):
         for j in range(POLYGON_HEADER_BYTES):
             out[p + j] = header[j]
         p += POLYGON_HEADER_BYTES
@@ -36,4 +43,3 @@ def triangle_polygon_records(coordinate_bytes, triangles, corners, header):
                 for j in range(8):
                     out[p + j] = coordinate_bytes[v, 8 * i + j]
                 p += 8
-    return out

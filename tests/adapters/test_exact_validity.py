@@ -20,6 +20,7 @@ from cdt_plugin import InvalidGeometryError, SegmentIntersectionError  # noqa: E
 from cdt_plugin.adapters import shapely as sa  # noqa: E402
 from cdt_plugin.adapters.shapely import validity  # noqa: E402
 from checker import assert_valid  # noqa: E402
+from polygons import random_polygon  # noqa: E402
 
 #: (WKT, valid by GEOS's rules at ordinary magnitudes); small integer coordinates, so that
 #: every transform below is exact
@@ -188,29 +189,6 @@ def test_coordinates_no_scale_keeps_are_the_engines_range_error():
     assert list(batch.errors) == [0] and isinstance(batch.errors[0], cdt_plugin.CoordinateRangeError)
 
 
-def _random_polygon(rng):
-    """A random polygon of the kinds that are valid or not by a hair: a jagged
-    shell, holes that are small and inside, or cross it, lie outside, touch it at a
-    vertex or an edge, nest, or repeat points; coordinates on a coarse grid so that
-    touching and collinear cases happen."""
-    n = int(rng.integers(3, 12))
-    angle = np.sort(rng.random(n)) * 2 * np.pi
-    radius = rng.integers(2, 9, n)
-    shell = np.round(np.column_stack([radius * np.cos(angle), radius * np.sin(angle)]))
-    holes = []
-    for _ in range(int(rng.integers(0, 4))):
-        centre = rng.integers(-9, 10, 2)
-        size = rng.integers(1, 4)
-        k = int(rng.integers(3, 6))
-        a = np.sort(rng.random(k)) * 2 * np.pi
-        holes.append(np.round(centre + size * np.column_stack([np.cos(a), np.sin(a)])))
-    if rng.random() < 0.2 and len(holes):          # a hole through a shell vertex
-        holes[0][0] = shell[int(rng.integers(n))]
-    if rng.random() < 0.1:                          # a repeated point
-        shell = np.insert(shell, 1, shell[1], axis=0)
-    return shapely.Polygon(shell, holes)
-
-
 def test_the_fast_path_meshes_only_polygons_geos_calls_valid():
     """The single-polygon path trusts the engine's mesh instead of asking GEOS
     (reading.mesh_if_plainly_valid): it must never mesh a polygon that is
@@ -220,7 +198,7 @@ def test_the_fast_path_meshes_only_polygons_geos_calls_valid():
     rng = np.random.default_rng(3)
     taken = valid_count = 0
     for _ in range(600):
-        g = _random_polygon(rng)
+        g = random_polygon(rng)
         valid = bool(validity.is_valid(np.array([g]))[0])
         valid_count += valid
         for k in (0, -1000, 1000):

@@ -41,7 +41,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
         "cdt_plugin.planar",      # planes of 3D input
     )),
     ("plc", ("cdt_plugin.plc", "cdt_plugin.merging")),
-    ("route drivers", ("cdt_plugin._routes",)),
+    ("route drivers", ("cdt_plugin._routes", "cdt_plugin.plain")),
     ("services of the results", ("cdt_plugin.queries", "cdt_plugin.report", "cdt_plugin.plot",
                                  "cdt_plugin.voronoi", "cdt_plugin.markers",
                                  "cdt_plugin.quadratic", "cdt_plugin.refining", "cdt_plugin.fem",

@@ -68,6 +68,7 @@ TYPED_MODULES = [
     "cdt_plugin.optional",
     "cdt_plugin.options",
     "cdt_plugin.parallel",
+    "cdt_plugin.plain",
     "cdt_plugin.plc",
     "cdt_plugin.plot",
     "cdt_plugin.markers",
