@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from .arrays import copy_rows
+from .borrow import unowned
 from .jit import entry, kernel
 from .kernel import edge_is_illegal
 from .mesh import DEAD, flip, prv
@@ -43,6 +44,8 @@ def flip_from_stack(mesh, weights, stack, sp, max_flips):
     """
     tri, twin, cons, x, y, inf = mesh
     w, weighted = weights
+    # (views that own nothing: the calls in the loop pass them without reference counting)
+    tri, twin, cons, x, y, w = unowned(tri), unowned(twin), unowned(cons), unowned(x), unowned(y), unowned(w)
     flips = 0
     while sp > 0:
         sp -= 1
@@ -68,7 +71,7 @@ def flip_from_stack(mesh, weights, stack, sp, max_flips):
     return flips
 
 
-@kernel
+@kernel(inline="always")
 def push_outer_edges(stack, sp, e, f):
     """After ``flip(e)`` (``f`` its old twin): push the four outer edges of the
     quadrilateral (the stack must have room). Returns the new stack size."""
