@@ -20,23 +20,18 @@ from numpy.typing import NDArray
 
 from ._core.ordering import SMALL_SORT
 from ._core.plain import plain_polygon_collection, plain_polygon_faces
-from .options import MeshOptions
 from .plc import shapely_of
 
-#: The route's options without keywords (triangulate's defaults), as the compiled call takes them
-_DEFAULTS = MeshOptions.check().route_args()
-
-
-def _plain_input(polygon: Any) -> tuple[NDArray[np.float64], int] | None:
-    """The coordinates (shell, then holes, each closed) and the number of holes
-    of a small 2D shapely Polygon; None for anything else."""
+def _plain_input(polygon: Any) -> NDArray[np.float64] | None:
+    """The coordinates of a small 2D shapely Polygon (shell, then holes, each
+    closed), read by one GEOS call; None for anything else."""
     shapely = shapely_of(polygon)
     if shapely is None or type(polygon) is not shapely.Polygon or shapely.lib.has_z(polygon):
         return None
-    coords = shapely.get_coordinates(polygon)
-    if len(coords) >= SMALL_SORT:      # (the general way sorts with NumPy, on threads when large)
-        return None
-    return coords, int(shapely.lib.get_num_interior_rings(polygon))
+    one = np.empty(1, object)       # (shapely.get_coordinates without its argument handling)
+    one[0] = polygon
+    coords = shapely.lib.get_coordinates(one, False, False, False)
+    return coords if len(coords) < SMALL_SORT else None    # (larger: NumPy's sorts, threads)
 
 
 def plain_mesh(polygon: Any, merge_distance: float | None = None
@@ -57,21 +52,17 @@ def plain_mesh(polygon: Any, merge_distance: float | None = None
     if read is None:
         return None
     distance = -1.0 if merge_distance is None else float(merge_distance)
-    plain, vertices, triangles = plain_polygon_faces(read[0], read[1], distance, _DEFAULTS)
+    plain, vertices, triangles = plain_polygon_faces(read, distance)
     return (vertices, triangles) if plain else None
 
 
-def plain_collection_wkb(polygon: Any, collection_header: NDArray[np.uint8],
-                         polygon_header: NDArray[np.uint8], corners: NDArray[np.int64]) -> bytes | None:
+def plain_collection_wkb(polygon: Any) -> bytes | None:
     """The well-known binary of the GeometryCollection of the triangles of a
-    plainly valid small 2D shapely Polygon (as ``plain_mesh`` makes them): the
-    ``collection_header`` (byte order and type), the count, then one Polygon
-    record per triangle, ``polygon_header`` and the closed ring of the
-    triangle's ``corners`` (see :func:`cdt_plugin._core.plain.plain_polygon_collection`);
-    None for any other geometry."""
+    plainly valid small 2D shapely Polygon (as :func:`plain_mesh` makes them),
+    in the form ``shapely.constrained_delaunay_triangles`` returns (each
+    triangle a Polygon, its ring clockwise); None for any other geometry."""
     read = _plain_input(polygon)
     if read is None:
         return None
-    plain, data = plain_polygon_collection(read[0], read[1], _DEFAULTS, collection_header,
-                                           polygon_header, corners)
+    plain, data = plain_polygon_collection(read)
     return data.tobytes() if plain else None

@@ -25,7 +25,6 @@ from .delaunay import PARALLEL_POINTS, delaunay
 from .dynamic import DynamicCDT
 from .errors import CDTError, SegmentIntersectionError
 from .nearness import size_near
-from .options import MeshOptions
 
 
 def _square():
@@ -51,9 +50,8 @@ def _triangulate():
     polygon_rings(xy, bounds[:-1], bounds[1:])
     drop_closing_points(np.zeros((4, 2)), np.array([4]))    # ... of MultiPolygons and layers
     closed = np.array([[0, 0], [1, 0], [1, 1], [0, 0.0]])     # the drop-ins' one-polygon route
-    plain_polygon_faces(closed, 0, 1e-9, MeshOptions.check().route_args())
-    plain_polygon_collection(closed, 0, MeshOptions.check().route_args(), np.zeros(5, np.uint8),
-                             np.zeros(13, np.uint8), np.zeros(4, np.int64))
+    plain_polygon_faces(closed, 1e-9)
+    plain_polygon_collection(closed)
     n = PARALLEL_VERTICES
     t = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
     ring = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])

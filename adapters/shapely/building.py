@@ -5,7 +5,6 @@ GeometryCollection of triangles (:func:`to_shapely`, one GEOS call:
 from __future__ import annotations
 
 import struct
-import sys
 from typing import NamedTuple
 
 import numpy as np
@@ -14,7 +13,8 @@ from numpy.typing import ArrayLike, NDArray
 from shapely.io import DecodingErrorOptions
 
 import cdt_plugin
-from cdt_plugin._core.wkb import triangle_polygon_records
+from cdt_plugin._core.wkb import (COLLECTION_HEADER_2D, COLLECTION_HEADER_3D, CCW_CORNERS, CW_CORNERS,
+                                  POLYGON_HEADER_2D, POLYGON_HEADER_3D, triangle_polygon_records)
 from cdt_plugin.parallel import map_ordered, resolve_workers
 from cdt_plugin.plain import plain_collection_wkb
 
@@ -53,19 +53,9 @@ def to_shapely(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = None,
 # one compiled pass (cdt_plugin._core.wkb). GEOS makes the Polygons straight into the
 # collection: Polygons made first (shapely.from_ragged_array) and gathered with
 # shapely.geometrycollections, which copies each one, took 2-3x as long.
-_ORDER = 1 if sys.byteorder == "little" else 0      # (the coordinates go as they lie in memory)
-
-
-def _header(*values: int) -> bytes:
-    """A WKB header: the byte order, then 32-bit integers in that order."""
-    return struct.pack("=B" + "I" * len(values), _ORDER, *values)
-
-
-_POLYGON_HEADER = {2: np.frombuffer(_header(3, 1, 4), np.uint8),          # Polygon, 1 ring, 4 points
-                   3: np.frombuffer(_header(1003, 1, 4), np.uint8)}       # (ISO WKB: Z is +1000)
-_COLLECTION_HEADER = {2: _header(7), 3: _header(1007)}                    # (then the count)
+_POLYGON_HEADER = {2: POLYGON_HEADER_2D, 3: POLYGON_HEADER_3D}
+_COLLECTION_HEADER = {2: COLLECTION_HEADER_2D.tobytes(), 3: COLLECTION_HEADER_3D.tobytes()}   # (then the count)
 _COUNT = struct.Struct("=I")
-_PLAIN_COLLECTION_HEADER = np.frombuffer(_COLLECTION_HEADER[2], np.uint8)
 
 
 class PolygonRecords(NamedTuple):
@@ -88,7 +78,7 @@ def triangle_records(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = Non
         V = np.column_stack([V, zz])
     V = np.ascontiguousarray(V, dtype=np.float64)
     dim = V.shape[1]
-    data = triangle_polygon_records(V.view(np.uint8), T, _CCW if ccw else _CW, _POLYGON_HEADER[dim])
+    data = triangle_polygon_records(V.view(np.uint8), T, CCW_CORNERS if ccw else CW_CORNERS, _POLYGON_HEADER[dim])
     return PolygonRecords(data, len(T), dim)
 
 
@@ -116,7 +106,7 @@ def plain_triangles(geometry: object) -> shapely.GeometryCollection | None:
     >>> plain_triangles(shapely.box(0, 0, 1, 1)).wkt
     'GEOMETRYCOLLECTION (POLYGON ((1 1, 0 0, 0 1, 1 1)), POLYGON ((1 0, 0 0, 1 1, 1 0)))'
     """
-    data = plain_collection_wkb(geometry, _PLAIN_COLLECTION_HEADER, _POLYGON_HEADER[2], _CW)
+    data = plain_collection_wkb(geometry)
     return None if data is None else _from_wkb(data)
 
 
@@ -131,8 +121,6 @@ def _from_wkb(data: bytes) -> shapely.Geometry:
     return shapely.lib.from_wkb(wkb, _RAISE)
 
 
-_CCW = np.array([0, 1, 2, 0], np.int64)     # (corner orders of the closed shells)
-_CW = np.array([0, 2, 1, 0], np.int64)
 
 
 #: Triangles per thread worth starting one for when making their polygons

@@ -25,32 +25,49 @@ from __future__ import annotations
 import numpy as np
 
 from .checks import first_nonfinite_row
+from .ears import counter_clockwise, ear_store, ring_is_simple
+from .flips import flip_to_delaunay
 from .jit import entry, kernel
 from .merge import close_representatives
-from .options import named
+from .options import RouteOptions, named, plain
 from .pipeline import (K_DUPLICATE_SEGMENTS, K_DUPLICATES, K_MERGED_OVERLAPS, K_ON_SEGMENTS,
                        rings_route)
+from .output import min_first
 from .rings import closed_rings
+from .scaling import NO_FIT, fit_shift, scaled
 from .status import ROUTE_OK
-from .wkb import POLYGON_HEADER_BYTES, write_polygon_records
+from .wkb import (COLLECTION_HEADER_2D, CW_CORNERS, POLYGON_HEADER_2D, POLYGON_HEADER_BYTES,
+                  write_polygon_records)
+
+
+#: The route's default options (triangulate's without keywords), as the kernels take them
+DEFAULTS = plain(RouteOptions())
+
+#: Rings of at most this many vertices (a polygon without holes) are cut into ears
+#: and flipped (:func:`ear_route`); larger ones, or with holes, take the general route,
+#: which the ear tests' quadratic worst case would lose to
+EAR_RING_MAX = 128
+#: The ear tests may look at this many vertices per vertex of the ring before they give
+#: way to the general route (a spiral of 128 vertices takes 200; most rings a few)
+EAR_WORK = 256
 
 
 @kernel
-def plain_polygon_route(coords, holes, merge_distance, options):
-    """The constrained Delaunay triangulation of one polygon of ``holes`` holes
-    from its coordinates (n, 2 or more columns; see :func:`.rings.closed_rings`)
+def plain_polygon_route(coords, merge_distance, options):
+    """The constrained Delaunay triangulation of one polygon from its
+    coordinates (n, 2 or more columns; see :func:`.rings.closed_rings`)
     when it is plainly valid (the module's rule): ``(True, vertices,
     triangles)``, the vertices those of the rings without their closing points
     (every one used), the triangles counter-clockwise; ``(False, ...)``
     otherwise. With ``merge_distance`` >= 0 a polygon with two vertices closer
     than it (:func:`.merge.close_representatives`) is refused too (merging
-    them is the general way's). ``options``: :func:`.options.plain` of the
-    route's default options."""
+    them is the general way's). ``options``: :data:`DEFAULTS`."""
     no = (False, np.empty((0, 2)), np.empty((0, 3), np.int64))
-    rings = holes + 1
-    xy, ring_start = closed_rings(coords, rings)
+    xy, ring_start = closed_rings(coords)
     if ring_start.shape[0] == 0 or first_nonfinite_row(xy) >= 0:
         return no
+    rings = ring_start.shape[0] - 1
+    holes = rings - 1
     n = xy.shape[0]
     if merge_distance >= 0:
         _, moved = close_representatives(xy, np.empty(0, np.int64), merge_distance)
@@ -61,6 +78,12 @@ def plain_polygon_route(coords, holes, merge_distance, options):
     for i in range(n):
         x[i] = xy[i, 0]
         y[i] = xy[i, 1]
+    if holes == 0 and n <= EAR_RING_MAX:
+        status, triangles = ear_route(x, y)
+        if status == EARS_DONE:
+            return True, xy, triangles
+        if status == EARS_NOT_SIMPLE:
+            return no
     ring_is_hole = np.ones(rings, np.bool_)
     ring_is_hole[0] = False
     degenerate, status, counts, out = rings_route(x, y, ring_start, np.int64(0), np.int64(rings),
@@ -77,34 +100,70 @@ def plain_polygon_route(coords, holes, merge_distance, options):
     return True, vertices, triangles
 
 
+EARS_DONE = 0           # the triangles are the constrained Delaunay triangulation
+EARS_NOT_SIMPLE = 1     # the ring is not simple: not plainly valid
+EARS_ELSEWHERE = 2      # out of the predicates' range, or out of ear tests: the general route
+
+
+@kernel
+def ear_route(x, y):
+    """The constrained Delaunay triangulation of the polygon of one ring,
+    vertices ``0..n-1`` of ``x, y``: the ring checked simple
+    (:func:`.ears.ring_is_simple`), cut into ears (:func:`.ears.ear_store`), then
+    flipped until every edge that is not on the ring is locally Delaunay (the
+    modified flip algorithm, Sec. 2.10.3), with the same perturbed in-circle
+    test as the general route, so the same triangles: ``(status, triangles)``,
+    each triangle counter-clockwise from its smallest vertex id."""
+    n = x.shape[0]
+    no = np.empty((0, 3), np.int64)
+    shift, _, _ = fit_shift(x, y, np.empty(0))
+    if shift == NO_FIT:
+        return EARS_ELSEWHERE, no
+    if shift != 0:
+        x = scaled(x, shift)
+        y = scaled(y, shift)
+    if not ring_is_simple(x, y):
+        return EARS_NOT_SIMPLE, no
+    done, tri, twin, cons = ear_store(x, y, counter_clockwise(x, y), np.int64(EAR_WORK * n))
+    if not done:
+        return EARS_ELSEWHERE, no
+    k = n - 2
+    flip_to_delaunay(tri, twin, cons, x, y, x, np.bool_(False), np.int64(n), np.int64(k))
+    triangles = np.empty((k, 3), np.int64)
+    for t in range(k):
+        r = min_first(tri[3 * t], tri[3 * t + 1], tri[3 * t + 2])
+        for j in range(3):
+            triangles[t, j] = tri[3 * t + (j + r) % 3]
+    return EARS_DONE, triangles
+
+
 @entry
-def plain_polygon_faces(coords, holes, merge_distance, options):
+def plain_polygon_faces(coords, merge_distance):
     """:func:`plain_polygon_route` from Python: ``(plain, vertices, triangles)``."""
-    return plain_polygon_route(coords, holes, merge_distance, options)
+    return plain_polygon_route(coords, merge_distance, DEFAULTS)
 
 
 @entry
-def plain_polygon_collection(coords, holes, options, collection_header, polygon_header, corners):
+def plain_polygon_collection(coords):
     """The well-known binary of the GeometryCollection of the triangles of
-    :func:`plain_polygon_route`: ``collection_header`` (byte order and type,
-    5 bytes), the number of triangles (a 32-bit integer in this machine's byte
-    order, which the header names), then one Polygon record per triangle
-    (:func:`.wkb.write_polygon_records` with ``polygon_header`` and the
-    ring's ``corners``). ``(False, empty)`` when the polygon is not plainly
-    valid."""
-    plain, vertices, triangles = plain_polygon_route(coords, holes, -1.0, options)
+    :func:`plain_polygon_route`, as GEOS gives them: the collection's header,
+    the number of triangles (a 32-bit integer in this machine's byte order,
+    which the header names), then one Polygon record per triangle, its ring
+    clockwise (:func:`.wkb.write_polygon_records`). ``(False, empty)`` when
+    the polygon is not plainly valid."""
+    plain, vertices, triangles = plain_polygon_route(coords, -1.0, DEFAULTS)
     if not plain:
         return False, np.empty(0, np.uint8)
     coordinate_bytes = vertices.view(np.uint8)
-    head = collection_header.shape[0]
+    head = COLLECTION_HEADER_2D.shape[0]
     size = POLYGON_HEADER_BYTES + 4 * coordinate_bytes.shape[1]
     out = np.empty(head + 4 + triangles.shape[0] * size, np.uint8)
     for j in range(head):
-        out[j] = collection_header[j]
+        out[j] = COLLECTION_HEADER_2D[j]
     count = np.empty(1, np.uint32)
     count[0] = triangles.shape[0]
     count_bytes = count.view(np.uint8)
     for j in range(4):
         out[head + j] = count_bytes[j]
-    write_polygon_records(out, head + 4, coordinate_bytes, triangles, corners, polygon_header)
+    write_polygon_records(out, head + 4, coordinate_bytes, triangles, CW_CORNERS, POLYGON_HEADER_2D)
     return True, out

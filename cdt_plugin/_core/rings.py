@@ -140,20 +140,19 @@ def open_rings(coords, hole_sizes):
 
 
 @kernel
-def closed_rings(coords, rings):
+def closed_rings(coords):
     """The closed rings one after another in ``coords`` (n, 2 or more columns,
     as GEOS gives a polygon's coordinates: the shell, then the holes) split
-    where each ring's first point comes back in x and y, closing points dropped:
-    ``(xy, ring_start)``, ``xy`` (n - rings, 2), ring ``r`` being
-    ``xy[ring_start[r]:ring_start[r + 1]]``. An empty ``ring_start`` unless
-    that gives exactly ``rings`` rings of at least three points: every ring
-    ends at the first return of its first point, so a ring that passes
-    through its first point before its end splits early, and the count shows
-    it (such a ring is never valid: whoever splits the coordinates this way
-    leaves that polygon to a reader that takes the ring sizes from GEOS)."""
+    where each ring's first point comes back in x and y, closing points
+    dropped: ``(xy, ring_start)``, ``xy`` (n - rings, 2), ring ``r`` being
+    ``xy[ring_start[r]:ring_start[r + 1]]``. An empty ``ring_start`` if a ring
+    has fewer than three points or the last one does not close. A ring that
+    passes through its first point before its end splits there: the pieces
+    then share that point, which the route counts as a repeated vertex (such
+    a ring is never valid)."""
     n = coords.shape[0]
-    xy = np.empty((max(n - rings, 0), 2))
-    ring_start = np.empty(rings + 1, np.int64)
+    xy = np.empty((n, 2))
+    ring_start = np.empty(n // 3 + 2, np.int64)
     refused = np.empty(0, np.int64)
     ring_start[0] = 0
     r = 0
@@ -161,7 +160,7 @@ def closed_rings(coords, rings):
     k = 0
     for i in range(1, n):
         if i > first and coords[i, 0] == coords[first, 0] and coords[i, 1] == coords[first, 1]:
-            if r == rings or i - first < 3:
+            if i - first < 3:
                 return xy, refused
             for j in range(first, i):
                 xy[k, 0] = coords[j, 0]
@@ -170,6 +169,6 @@ def closed_rings(coords, rings):
             r += 1
             ring_start[r] = k
             first = i + 1
-    if r != rings or first != n:
+    if r == 0 or first != n:
         return xy, refused
-    return xy, ring_start
+    return xy[:k], ring_start[:r + 1]

@@ -3,12 +3,33 @@ triangle, written in one pass, for GEOS to read a whole GeometryCollection of
 them in one call (the shapely adapter's output of a mesh)."""
 from __future__ import annotations
 
+import struct
+import sys
+
 import numpy as np
 
 from .jit import entry, kernel
 
 #: The bytes of a Polygon record's header: byte order, type, rings, points
 POLYGON_HEADER_BYTES = 13
+#: WKB's name of this machine's byte order (1: little-endian): the coordinates go as they lie in memory
+BYTE_ORDER = 1 if sys.byteorder == "little" else 0
+
+
+def header(*values: int) -> bytes:
+    """A WKB header: the byte order, then 32-bit integers in that order."""
+    return struct.pack("=B" + "I" * len(values), BYTE_ORDER, *values)
+
+
+#: The header of a triangle's Polygon record: type, one ring, four points (ISO WKB: Z is +1000)
+POLYGON_HEADER_2D = np.frombuffer(header(3, 1, 4), np.uint8)
+POLYGON_HEADER_3D = np.frombuffer(header(1003, 1, 4), np.uint8)
+#: The header of a GeometryCollection (then the number of members, then the members)
+COLLECTION_HEADER_2D = np.frombuffer(header(7), np.uint8)
+COLLECTION_HEADER_3D = np.frombuffer(header(1007), np.uint8)
+#: The corners of a triangle's closed ring, clockwise (as GEOS gives them) and counter-clockwise
+CW_CORNERS = np.array([0, 2, 1, 0], np.int64)
+CCW_CORNERS = np.array([0, 1, 2, 0], np.int64)
 
 
 @entry
