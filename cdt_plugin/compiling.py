@@ -38,7 +38,10 @@ _ENTRY_NAMES = {
     "cdt_route_packed": "the constrained Delaunay route (triangulate)",
     "route_points_for_threads": "the constrained Delaunay route on two threads (triangulate)",
     "mesh_geometries": "the batch route (triangulate_rings)",
+    "plain_ring_faces": "the one-polygon route of the drop-ins (trimesh's triangulate_polygon)",
     "plain_polygon_faces": "the one-polygon route of the drop-ins (trimesh's triangulate_polygon)",
+    "plain_ring_collection": "the one-polygon route of the drop-ins (shapely's "
+                             "constrained_delaunay_triangles)",
     "plain_polygon_collection": "the one-polygon route of the drop-ins (shapely's "
                                 "constrained_delaunay_triangles)",
     "build_mesh": "the Delaunay route (delaunay)",

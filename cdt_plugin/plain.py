@@ -19,7 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._core.ordering import SMALL_SORT
-from ._core.plain import plain_polygon_collection, plain_polygon_faces
+from ._core.plain import (PLAIN_DONE, PLAIN_ELSEWHERE, plain_polygon_collection, plain_polygon_faces,
+                          plain_ring_collection, plain_ring_faces)
 from .plc import shapely_of
 
 def _plain_input(polygon: Any) -> NDArray[np.float64] | None:
@@ -52,8 +53,10 @@ def plain_mesh(polygon: Any, merge_distance: float | None = None
     if read is None:
         return None
     distance = -1.0 if merge_distance is None else float(merge_distance)
-    plain, vertices, triangles = plain_polygon_faces(read, distance)
-    return (vertices, triangles) if plain else None
+    status, vertices, triangles = plain_ring_faces(read, distance)
+    if status == PLAIN_ELSEWHERE:     # (holes, or a large ring: the other route, compiled apart)
+        status, vertices, triangles = plain_polygon_faces(read, distance)
+    return (vertices, triangles) if status == PLAIN_DONE else None
 
 
 def plain_collection_wkb(polygon: Any) -> bytes | None:
@@ -64,5 +67,7 @@ def plain_collection_wkb(polygon: Any) -> bytes | None:
     read = _plain_input(polygon)
     if read is None:
         return None
-    plain, data = plain_polygon_collection(read)
-    return data.tobytes() if plain else None
+    status, data = plain_ring_collection(read)
+    if status == PLAIN_ELSEWHERE:
+        status, data = plain_polygon_collection(read)
+    return data.tobytes() if status == PLAIN_DONE else None

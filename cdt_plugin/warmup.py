@@ -16,7 +16,8 @@ from typing import Callable, Iterable
 
 import numpy as np
 
-from ._core.plain import plain_polygon_collection, plain_polygon_faces
+from ._core.plain import (plain_polygon_collection, plain_polygon_faces, plain_ring_collection,
+                          plain_ring_faces)
 from ._core.rings import drop_closing_points, open_rings, polygon_rings
 from .batch import triangulate_rings
 from .cdt import PARALLEL_VERTICES, triangulate
@@ -50,8 +51,10 @@ def _triangulate():
     polygon_rings(xy, bounds[:-1], bounds[1:])
     drop_closing_points(np.zeros((4, 2)), np.array([4]))    # ... of MultiPolygons and layers
     closed = np.array([[0, 0], [1, 0], [1, 1], [0, 0.0]])     # the drop-ins' one-polygon route
-    plain_polygon_faces(closed, 1e-9)
-    plain_polygon_collection(closed)
+    for route in (plain_ring_faces, plain_polygon_faces):
+        route(closed, 1e-9)
+    for route in (plain_ring_collection, plain_polygon_collection):
+        route(closed)
     n = PARALLEL_VERTICES
     t = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
     ring = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])

@@ -1,24 +1,35 @@
 """One plain polygon per call, compiled from its coordinates to its output.
 
 What most single calls of the drop-ins pass is one valid Polygon without
-options. :func:`plain_polygon_route` meshes it in one compiled call from the
-coordinates GEOS gives (shell, then holes, each closed) and shows on the way
-that it is valid, exactly and at every magnitude: the engine refuses rings
-that cross, a hole outside its shell or inside another, and counts repeated
-points and points on other rings' edges; rings that are simple and pairwise
-disjoint, with every hole inside the shell and in no other hole, make a valid
-polygon, whose constrained triangulation without Steiner points has ``n + 2h
-- 2`` triangles (``n`` vertices, ``h`` holes). Anything else (a ring touching
-itself or another, a repeated point, a ring without area) is refused here and
-goes the general way, which names the defect or meshes what is valid.
+options. The routes here mesh it in one compiled call from the coordinates
+GEOS gives (shell, then holes, each closed) and show on the way that it is
+valid, exactly and at every magnitude, or refuse it:
 
-The two entries give what the two drop-ins return: the vertices and triangles
+* :func:`plain_ring_route`, a polygon without holes of up to
+  :data:`EAR_RING_MAX` vertices (most of them): its ring checked simple, cut
+  into ears and flipped to the constrained Delaunay triangulation
+  (:func:`ear_route`, :mod:`.ears`), a few times faster than the general route,
+  which builds the Delaunay triangulation of the vertices first;
+* :func:`plain_polygon_route`, any other polygon, by the general route
+  (:func:`.pipeline.rings_route`): the engine refuses rings that cross, a hole
+  outside its shell or inside another, and counts repeated points and points
+  on other rings' edges; rings that are simple and pairwise disjoint, with
+  every hole inside the shell and in no other hole, make a valid polygon, whose
+  constrained triangulation without Steiner points has ``n + 2h - 2``
+  triangles (``n`` vertices, ``h`` holes).
+
+Anything else (a ring touching itself or another, a repeated point, a ring
+without area) is refused here and goes the general way, which names the
+defect or meshes what is valid. The two routes are compiled apart (a first
+use with a polygon without holes compiles the first only).
+
+The entries give what the two drop-ins return: the vertices and triangles
 (trimesh's ``triangulate_polygon``), and the well-known binary of the
 GeometryCollection of the triangles (shapely's ``constrained_delaunay_triangles``),
 which GEOS reads in one call. A small call pays about a microsecond for each
 call from Python and each array handed back: one call instead of the reader's,
 the route's and the writer's, and no :class:`cdt_plugin.Triangulation` in
-between, is most of what makes the drop-ins as fast as ``triangulate``.
+between.
 """
 from __future__ import annotations
 
@@ -52,52 +63,90 @@ EAR_RING_MAX = 128
 EAR_WORK = 256
 
 
+# What a one-polygon route gives: the mesh, a refusal (not plainly valid), or the word
+# that the polygon is for the other route (holes, a large ring, one out of ear tests)
+PLAIN_DONE = 0
+PLAIN_REFUSED = 1
+PLAIN_ELSEWHERE = 2
+
+
 @kernel
-def plain_polygon_route(coords, merge_distance, options):
-    """The constrained Delaunay triangulation of one polygon from its
-    coordinates (n, 2 or more columns; see :func:`.rings.closed_rings`)
-    when it is plainly valid (the module's rule): ``(True, vertices,
-    triangles)``, the vertices those of the rings without their closing points
-    (every one used), the triangles counter-clockwise; ``(False, ...)``
-    otherwise. With ``merge_distance`` >= 0 a polygon with two vertices closer
-    than it (:func:`.merge.close_representatives`) is refused too (merging
-    them is the general way's). ``options``: :data:`DEFAULTS`."""
-    no = (False, np.empty((0, 2)), np.empty((0, 3), np.int64))
+def plain_rings(coords, merge_distance):
+    """The rings of one polygon from its coordinates (see
+    :func:`.rings.closed_rings`) as the one-polygon routes take them:
+    ``(status, xy, ring_start)``, PLAIN_REFUSED for rings that do not close,
+    a non-finite coordinate, or (``merge_distance`` >= 0) two vertices closer
+    than it (:func:`.merge.close_representatives`: merging them is the general
+    way's)."""
     xy, ring_start = closed_rings(coords)
     if ring_start.shape[0] == 0 or first_nonfinite_row(xy) >= 0:
-        return no
-    rings = ring_start.shape[0] - 1
-    holes = rings - 1
-    n = xy.shape[0]
+        return PLAIN_REFUSED, xy, ring_start
     if merge_distance >= 0:
         _, moved = close_representatives(xy, np.empty(0, np.int64), merge_distance)
         if moved > 0:
-            return no
+            return PLAIN_REFUSED, xy, ring_start
+    return PLAIN_DONE, xy, ring_start
+
+
+@kernel
+def plain_ring_route(coords, merge_distance):
+    """The constrained Delaunay triangulation of a polygon without holes of at
+    most :data:`EAR_RING_MAX` vertices from its coordinates, when it is plainly
+    valid (the module's rule), by :func:`ear_route`: ``(status, vertices,
+    triangles)``, PLAIN_DONE with the vertices of the ring without its closing
+    point (every one used) and the triangles counter-clockwise; PLAIN_REFUSED
+    (not plainly valid, see :func:`plain_rings`); PLAIN_ELSEWHERE for
+    :func:`plain_polygon_route`. Apart from it so that a first use with such a
+    polygon compiles no more than this."""
+    no = np.empty((0, 3), np.int64)
+    status, xy, ring_start = plain_rings(coords, merge_distance)
+    n = xy.shape[0]
+    if status != PLAIN_DONE:
+        return status, xy, no
+    if ring_start.shape[0] != 2 or n > EAR_RING_MAX:
+        return PLAIN_ELSEWHERE, xy, no
     x = np.empty(n)
     y = np.empty(n)
     for i in range(n):
         x[i] = xy[i, 0]
         y[i] = xy[i, 1]
-    if holes == 0 and n <= EAR_RING_MAX:
-        status, triangles = ear_route(x, y)
-        if status == EARS_DONE:
-            return True, xy, triangles
-        if status == EARS_NOT_SIMPLE:
-            return no
+    status, triangles = ear_route(x, y)
+    if status == EARS_DONE:
+        return PLAIN_DONE, xy, triangles
+    if status == EARS_NOT_SIMPLE:
+        return PLAIN_REFUSED, xy, no
+    return PLAIN_ELSEWHERE, xy, no
+
+
+@kernel
+def plain_polygon_route(coords, merge_distance):
+    """:func:`plain_ring_route` of any polygon, by the general route
+    (:func:`.pipeline.rings_route`): PLAIN_DONE or PLAIN_REFUSED."""
+    no = np.empty((0, 3), np.int64)
+    status, xy, ring_start = plain_rings(coords, merge_distance)
+    if status != PLAIN_DONE:
+        return status, xy, no
+    rings = ring_start.shape[0] - 1
+    n = xy.shape[0]
+    x = np.empty(n)
+    y = np.empty(n)
+    for i in range(n):
+        x[i] = xy[i, 0]
+        y[i] = xy[i, 1]
     ring_is_hole = np.ones(rings, np.bool_)
     ring_is_hole[0] = False
     degenerate, status, counts, out = rings_route(x, y, ring_start, np.int64(0), np.int64(rings),
                                                   np.zeros(rings, np.int64), ring_is_hole,
-                                                  named(options), np.ones(rings, np.bool_))
+                                                  named(DEFAULTS), np.ones(rings, np.bool_))
     if degenerate or status != ROUTE_OK:
-        return no
+        return PLAIN_REFUSED, xy, no
     if (counts[K_DUPLICATES] or counts[K_ON_SEGMENTS] or counts[K_MERGED_OVERLAPS]
             or counts[K_DUPLICATE_SEGMENTS]):
-        return no
+        return PLAIN_REFUSED, xy, no
     vertices, triangles = out[0], out[1]
-    if triangles.shape[0] != n + 2 * holes - 2:
-        return no
-    return True, vertices, triangles
+    if triangles.shape[0] != n + 2 * (rings - 1) - 2:
+        return PLAIN_REFUSED, xy, no
+    return PLAIN_DONE, vertices, triangles
 
 
 EARS_DONE = 0           # the triangles are the constrained Delaunay triangulation
@@ -138,22 +187,41 @@ def ear_route(x, y):
 
 
 @entry
+def plain_ring_faces(coords, merge_distance):
+    """:func:`plain_ring_route` from Python: ``(status, vertices, triangles)``."""
+    return plain_ring_route(coords, merge_distance)
+
+
+@entry
 def plain_polygon_faces(coords, merge_distance):
-    """:func:`plain_polygon_route` from Python: ``(plain, vertices, triangles)``."""
-    return plain_polygon_route(coords, merge_distance, DEFAULTS)
+    """:func:`plain_polygon_route` from Python: ``(status, vertices, triangles)``."""
+    return plain_polygon_route(coords, merge_distance)
+
+
+@entry
+def plain_ring_collection(coords):
+    """The well-known binary of the GeometryCollection of the triangles of
+    :func:`plain_ring_route` (:func:`collection_wkb`): ``(status, bytes)``."""
+    status, vertices, triangles = plain_ring_route(coords, -1.0)
+    return status, collection_wkb(vertices, triangles, status == PLAIN_DONE)
 
 
 @entry
 def plain_polygon_collection(coords):
-    """The well-known binary of the GeometryCollection of the triangles of
-    :func:`plain_polygon_route`, as GEOS gives them: the collection's header,
-    the number of triangles (a 32-bit integer in this machine's byte order,
-    which the header names), then one Polygon record per triangle, its ring
-    clockwise (:func:`.wkb.write_polygon_records`). ``(False, empty)`` when
-    the polygon is not plainly valid."""
-    plain, vertices, triangles = plain_polygon_route(coords, -1.0, DEFAULTS)
-    if not plain:
-        return False, np.empty(0, np.uint8)
+    """:func:`plain_ring_collection` by :func:`plain_polygon_route`."""
+    status, vertices, triangles = plain_polygon_route(coords, -1.0)
+    return status, collection_wkb(vertices, triangles, status == PLAIN_DONE)
+
+
+@kernel
+def collection_wkb(vertices, triangles, made):
+    """The well-known binary of the GeometryCollection of ``triangles``, as
+    GEOS gives them: the collection's header, the number of triangles (a
+    32-bit integer in this machine's byte order, which the header names), then
+    one Polygon record per triangle, its ring clockwise
+    (:func:`.wkb.write_polygon_records`); empty unless ``made``."""
+    if not made:
+        return np.empty(0, np.uint8)
     coordinate_bytes = vertices.view(np.uint8)
     head = COLLECTION_HEADER_2D.shape[0]
     size = POLYGON_HEADER_BYTES + 4 * coordinate_bytes.shape[1]
@@ -166,4 +234,4 @@ def plain_polygon_collection(coords):
     for j in range(4):
         out[head + j] = count_bytes[j]
     write_polygon_records(out, head + 4, coordinate_bytes, triangles, CW_CORNERS, POLYGON_HEADER_2D)
-    return True, out
+    return out
