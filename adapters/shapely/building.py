@@ -76,10 +76,18 @@ def triangle_records(tri: cdt_plugin.Triangulation, *, z: ArrayLike | None = Non
     elif z is not None:
         zz = np.broadcast_to(np.asarray(z, dtype=np.float64), (len(V),))
         V = np.column_stack([V, zz])
-    V = np.ascontiguousarray(V, dtype=np.float64)
+    return mesh_records(V, T, ccw=ccw)
+
+
+def mesh_records(vertices: NDArray[np.float64], triangles: NDArray[np.int64], *,
+                 ccw: bool = False) -> PolygonRecords:
+    """The Polygons of the ``triangles`` (k, 3) of ``vertices`` (n, 2 or 3), as
+    WKB records (one per triangle, in order; clockwise unless ``ccw``)."""
+    V = np.ascontiguousarray(vertices, dtype=np.float64)
     dim = V.shape[1]
-    data = triangle_polygon_records(V.view(np.uint8), T, CCW_CORNERS if ccw else CW_CORNERS, _POLYGON_HEADER[dim])
-    return PolygonRecords(data, len(T), dim)
+    data = triangle_polygon_records(V.view(np.uint8), np.ascontiguousarray(triangles, dtype=np.int64),
+                                    CCW_CORNERS if ccw else CW_CORNERS, _POLYGON_HEADER[dim])
+    return PolygonRecords(data, len(triangles), dim)
 
 
 def polygon_collection(parts: list[PolygonRecords]) -> shapely.GeometryCollection:
@@ -104,7 +112,7 @@ def plain_triangles(geometry: object) -> shapely.GeometryCollection | None:
     other geometry, which the caller takes the general way.
 
     >>> plain_triangles(shapely.box(0, 0, 1, 1)).wkt
-    'GEOMETRYCOLLECTION (POLYGON ((1 1, 0 0, 0 1, 1 1)), POLYGON ((1 0, 0 0, 1 1, 1 0)))'
+    'GEOMETRYCOLLECTION (POLYGON ((1 0, 0 0, 1 1, 1 0)), POLYGON ((1 1, 0 0, 0 1, 1 1)))'
     """
     data = plain_collection_wkb(geometry)
     return None if data is None else _from_wkb(data)

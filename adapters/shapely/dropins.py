@@ -14,11 +14,12 @@ from numpy.typing import ArrayLike, NDArray
 import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError
 from cdt_plugin.merging import close_point_representatives
+from cdt_plugin.plain import plain_mesh
 from cdt_plugin.validate import as_points
 
 _EMPTY_COLLECTION = shapely.GeometryCollection()    # geometries are immutable: one serves all
-from cdt_plugin.adapters.shapely.building import (PolygonRecords, plain_triangles, polygon_collection,
-                                                  to_shapely, triangle_records)
+from cdt_plugin.adapters.shapely.building import (PolygonRecords, mesh_records, plain_triangles,
+                                                  polygon_collection, to_shapely, triangle_records)
 from cdt_plugin.adapters.shapely.cells import cells_to_polygons
 from cdt_plugin.adapters.shapely.validity import scaled
 from cdt_plugin.adapters.shapely.reading import (MULTIPOLYGON, POLYGON, collections_to_polygonal,
@@ -163,16 +164,26 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
         parts, owner = shapely.get_parts(flat[idx], return_index=True)
         solid = ~shapely.is_empty(parts)
         parts, owner = parts[solid], idx[owner[solid]]
-        plcs = geometry_plcs(parts, method, indexed=owner if indexed else False)
-        records: list[list[PolygonRecords]] = [[] for _ in range(len(flat))]
-        for i, plc in zip(owner, plcs):
+        # a Polygon that the one-polygon path takes is meshed as a single call meshes it
+        # (the same triangles in the same order); the others the general way
+        part_records: list[PolygonRecords | None] = []
+        for part in parts:
+            mesh = plain_mesh(part)
+            part_records.append(None if mesh is None else mesh_records(*mesh))
+        general = np.array([j for j, r in enumerate(part_records) if r is None], dtype=np.int64)
+        plcs = geometry_plcs(parts[general], method, indexed=owner[general] if indexed else False)
+        for j, plc in zip(general, plcs):
             assert plc is not None      # (only a missing geometry has none: these are polygons)
             try:
                 # (in x, y as GEOS: a polygon with Z need not be planar; z goes on afterwards)
                 tri = cdt_plugin.triangulate(dataclasses.replace(plc, z=None))
             except CDTError as e:
-                raise with_index(e, int(i), indexed)
-            records[i].append(triangle_records(tri, z=_vertex_z(tri, plc.z) if plc.z is not None else None))
+                raise with_index(e, int(owner[j]), indexed)
+            part_records[j] = triangle_records(tri, z=_vertex_z(tri, plc.z) if plc.z is not None else None)
+        records: list[list[PolygonRecords]] = [[] for _ in range(len(flat))]
+        for i, r in zip(owner, part_records):
+            assert r is not None
+            records[i].append(r)
         for i in idx:
             out[i] = polygon_collection(records[i])
     return _elementwise_output(out, arr.shape, geometry)

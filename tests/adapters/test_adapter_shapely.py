@@ -8,6 +8,7 @@ import cdt_plugin  # noqa: E402
 from cdt_plugin import PLC  # noqa: E402
 from cdt_plugin.adapters import shapely as sa  # noqa: E402
 from cdt_plugin.adapters.shapely import reading  # noqa: E402
+from cdt_plugin.plain import plain_mesh  # noqa: E402
 
 from checker import assert_valid, canonical_triangles, check_collinear_edges  # noqa: E402
 
@@ -313,9 +314,10 @@ def test_collections_are_the_polygons_shapely_builds_bit_for_bit(scale):
         z = rng.uniform(-1, 1, len(tri.vertices)) * scale
         V3 = np.column_stack([tri.vertices, z])
         assert sa.to_shapely(tri, z=z).wkb == _reference_collection(V3, tri.triangles, cw).wkb
-        # the drop-in: the same polygons, 2D and with z (each vertex's own)
-        assert sa.constrained_delaunay_triangles(poly).wkb == _reference_collection(
-            tri.vertices, tri.triangles, cw).wkb
+        # the drop-in: the same polygons, 2D and with z (each vertex's own); a polygon the
+        # one-polygon path takes comes in its order (cdt_plugin.plain: the same triangles)
+        mesh = plain_mesh(poly) or (tri.vertices, tri.triangles)
+        assert sa.constrained_delaunay_triangles(poly).wkb == _reference_collection(*mesh, cw).wkb
         coords = shapely.get_coordinates(poly)
         poly3 = shapely.set_coordinates(shapely.force_3d(poly), np.column_stack(
             [coords, coords[:, 0] * 0.5 + coords[:, 1]]))
@@ -330,9 +332,9 @@ def test_collection_of_mixed_dimensions_and_of_nothing():
     # stays 2D in a GEOMETRYCOLLECTION Z, as shapely's own constructors make it
     flat, tilted = shapely.box(0, 0, 1, 1), shapely.Polygon([(5, 5, 1), (6, 5, 2), (6, 6, 3)])
     ours = sa.constrained_delaunay_triangles(shapely.GeometryCollection([flat, tilted]))
-    t2, t3 = cdt_plugin.triangulate(flat), cdt_plugin.triangulate(shapely.force_2d(tilted))
+    t2, t3 = plain_mesh(flat), cdt_plugin.triangulate(shapely.force_2d(tilted))  # (the box: plain)
     V3 = np.column_stack([t3.vertices, [1.0, 2.0, 3.0]])      # (the input order: no point merged)
-    parts = list(_reference_collection(t2.vertices, t2.triangles, [0, 2, 1, 0]).geoms) + list(
+    parts = list(_reference_collection(*t2, [0, 2, 1, 0]).geoms) + list(
         _reference_collection(V3, t3.triangles, [0, 2, 1, 0]).geoms)
     assert ours.wkb == shapely.geometrycollections(parts).wkb
     assert shapely.has_z(ours) and not shapely.has_z(ours.geoms[0])
