@@ -18,9 +18,7 @@ shapely = pytest.importorskip("shapely")
 import cdt_plugin  # noqa: E402
 from cdt_plugin import InvalidGeometryError, SegmentIntersectionError  # noqa: E402
 from cdt_plugin.adapters import shapely as sa  # noqa: E402
-from cdt_plugin.adapters.shapely import validity  # noqa: E402
 from checker import assert_valid  # noqa: E402
-from polygons import random_polygon  # noqa: E402
 
 #: (WKT, valid by GEOS's rules at ordinary magnitudes); small integer coordinates, so that
 #: every transform below is exact
@@ -187,23 +185,3 @@ def test_coordinates_no_scale_keeps_are_the_engines_range_error():
             call(thin)
     batch = sa.triangulate_batch([thin, shapely.box(0, 0, 1, 1)], errors="skip")
     assert list(batch.errors) == [0] and isinstance(batch.errors[0], cdt_plugin.CoordinateRangeError)
-
-
-def test_the_fast_path_meshes_only_polygons_geos_calls_valid():
-    """The single-polygon path trusts the engine's mesh instead of asking GEOS
-    (reading.mesh_if_plainly_valid): it must never mesh a polygon that is
-    invalid (decided exactly, at unit scale), at any scale, and must take the
-    plain valid ones."""
-    from cdt_plugin.adapters.shapely.reading import mesh_if_plainly_valid
-    rng = np.random.default_rng(3)
-    taken = valid_count = 0
-    for _ in range(600):
-        g = random_polygon(rng)
-        valid = bool(validity.is_valid(np.array([g]))[0])
-        valid_count += valid
-        for k in (0, -1000, 1000):
-            tri = mesh_if_plainly_valid(moved(g, k, 0.0))
-            if tri is not None:
-                assert valid, shapely.to_wkt(g)
-                taken += k == 0
-    assert valid_count > 100 and taken > 0.5 * valid_count      # the path serves most valid ones
