@@ -71,16 +71,19 @@ PLAIN_ELSEWHERE = 2
 
 
 @kernel
-def plain_rings(coords, merge_distance):
+def plain_rings(coords, merge_distance, max_rings, max_points):
     """The rings of one polygon from its coordinates (see
     :func:`.rings.closed_rings`) as the one-polygon routes take them:
     ``(status, xy, ring_start)``, PLAIN_REFUSED for rings that do not close,
     a non-finite coordinate, or (``merge_distance`` >= 0) two vertices closer
     than it (:func:`.merge.close_representatives`: merging them is the general
-    way's)."""
+    way's); PLAIN_ELSEWHERE, before that search, for more than ``max_rings``
+    rings or ``max_points`` points."""
     xy, ring_start = closed_rings(coords)
     if ring_start.shape[0] == 0 or first_nonfinite_row(xy) >= 0:
         return PLAIN_REFUSED, xy, ring_start
+    if ring_start.shape[0] - 1 > max_rings or xy.shape[0] > max_points:
+        return PLAIN_ELSEWHERE, xy, ring_start
     if merge_distance >= 0:
         _, moved = close_representatives(xy, np.empty(0, np.int64), merge_distance)
         if moved > 0:
@@ -99,12 +102,10 @@ def plain_ring_route(coords, merge_distance):
     :func:`plain_polygon_route`. Apart from it so that a first use with such a
     polygon compiles no more than this."""
     no = np.empty((0, 3), np.int64)
-    status, xy, ring_start = plain_rings(coords, merge_distance)
+    status, xy, ring_start = plain_rings(coords, merge_distance, np.int64(1), np.int64(EAR_RING_MAX))
     n = xy.shape[0]
     if status != PLAIN_DONE:
         return status, xy, no
-    if ring_start.shape[0] != 2 or n > EAR_RING_MAX:
-        return PLAIN_ELSEWHERE, xy, no
     x = np.empty(n)
     y = np.empty(n)
     for i in range(n):
@@ -123,7 +124,8 @@ def plain_polygon_route(coords, merge_distance):
     """:func:`plain_ring_route` of any polygon, by the general route
     (:func:`.pipeline.rings_route`): PLAIN_DONE or PLAIN_REFUSED."""
     no = np.empty((0, 3), np.int64)
-    status, xy, ring_start = plain_rings(coords, merge_distance)
+    status, xy, ring_start = plain_rings(coords, merge_distance, np.int64(coords.shape[0]),
+                                         np.int64(coords.shape[0]))
     if status != PLAIN_DONE:
         return status, xy, no
     rings = ring_start.shape[0] - 1
