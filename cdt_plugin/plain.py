@@ -23,6 +23,7 @@ from ._core.plain import (PLAIN_DONE, PLAIN_ELSEWHERE, plain_polygon_collection,
                           plain_ring_collection, plain_ring_faces)
 from .plc import shapely_of
 
+
 def _plain_input(polygon: Any) -> NDArray[np.float64] | None:
     """The coordinates of a small 2D shapely Polygon (shell, then holes, each
     closed), read by one GEOS call; None for anything else."""
@@ -41,6 +42,8 @@ def plain_mesh(polygon: Any, merge_distance: float | None = None
     merge_distance=merge_distance) <cdt_plugin.triangulate>` for a plainly
     valid small 2D shapely Polygon with no two vertices closer than
     ``merge_distance`` (every vertex is used, none is added); None otherwise.
+    The same vertices and the same triangles, each from its smallest vertex;
+    a polygon without holes gets them in the order its ears make them.
 
     >>> import shapely
     >>> vertices, triangles = plain_mesh(shapely.box(0, 0, 2, 1))
