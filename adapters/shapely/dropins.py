@@ -13,6 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 
 import cdt_plugin
 from cdt_plugin import CDTError, InputShapeError
+from cdt_plugin._core.ordering import SMALL_SORT
 from cdt_plugin.merging import close_point_representatives
 from cdt_plugin.plain import plain_mesh
 from cdt_plugin.validate import as_points
@@ -145,9 +146,10 @@ def constrained_delaunay_triangles(geometry: Any, *, repair: bool | str = False,
     plain = plain_triangles(geometry)
     if plain is not None:
         return plain
-    tri = mesh_if_plainly_valid(geometry)      # (a large Polygon)
-    if tri is not None:
-        return to_shapely(tri)
+    if type(geometry) is shapely.Polygon and shapely.get_num_coordinates(geometry) >= SMALL_SORT:
+        tri = mesh_if_plainly_valid(geometry)      # (a large one: a small one was refused just now)
+        if tri is not None:
+            return to_shapely(tri)
     arr = _geometry_array(geometry)
     flat = arr.ravel().copy()
     _check_geometries(flat)

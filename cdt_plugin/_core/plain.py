@@ -74,21 +74,28 @@ PLAIN_ELSEWHERE = 2
 def plain_rings(coords, merge_distance, max_rings, max_points):
     """The rings of one polygon from its coordinates (see
     :func:`.rings.closed_rings`) as the one-polygon routes take them:
-    ``(status, xy, ring_start)``, PLAIN_REFUSED for rings that do not close,
+    ``(status, xy, x, y, ring_start)`` (``x, y`` the columns of ``xy``),
+    PLAIN_REFUSED for rings that do not close,
     a non-finite coordinate, or (``merge_distance`` >= 0) two vertices closer
     than it (:func:`.merge.close_representatives`: merging them is the general
     way's); PLAIN_ELSEWHERE, before that search, for more than ``max_rings``
     rings or ``max_points`` points."""
     xy, ring_start = closed_rings(coords)
+    n = xy.shape[0]
+    x = np.empty(n)
+    y = np.empty(n)
+    for i in range(n):
+        x[i] = xy[i, 0]
+        y[i] = xy[i, 1]
     if ring_start.shape[0] == 0 or first_nonfinite_row(xy) >= 0:
-        return PLAIN_REFUSED, xy, ring_start
-    if ring_start.shape[0] - 1 > max_rings or xy.shape[0] > max_points:
-        return PLAIN_ELSEWHERE, xy, ring_start
+        return PLAIN_REFUSED, xy, x, y, ring_start
+    if ring_start.shape[0] - 1 > max_rings or n > max_points:
+        return PLAIN_ELSEWHERE, xy, x, y, ring_start
     if merge_distance >= 0:
         _, moved = close_representatives(xy, np.empty(0, np.int64), merge_distance)
         if moved > 0:
-            return PLAIN_REFUSED, xy, ring_start
-    return PLAIN_DONE, xy, ring_start
+            return PLAIN_REFUSED, xy, x, y, ring_start
+    return PLAIN_DONE, xy, x, y, ring_start
 
 
 @kernel
@@ -101,22 +108,11 @@ def plain_ring_route(coords, merge_distance):
     (not plainly valid, see :func:`plain_rings`); PLAIN_ELSEWHERE for
     :func:`plain_polygon_route`. Apart from it so that a first use with such a
     polygon compiles no more than this."""
-    no = np.empty((0, 3), np.int64)
-    status, xy, ring_start = plain_rings(coords, merge_distance, np.int64(1), np.int64(EAR_RING_MAX))
-    n = xy.shape[0]
+    status, xy, x, y, _ = plain_rings(coords, merge_distance, np.int64(1), np.int64(EAR_RING_MAX))
     if status != PLAIN_DONE:
-        return status, xy, no
-    x = np.empty(n)
-    y = np.empty(n)
-    for i in range(n):
-        x[i] = xy[i, 0]
-        y[i] = xy[i, 1]
+        return status, xy, np.empty((0, 3), np.int64)
     status, triangles = ear_route(x, y)
-    if status == EARS_DONE:
-        return PLAIN_DONE, xy, triangles
-    if status == EARS_NOT_SIMPLE:
-        return PLAIN_REFUSED, xy, no
-    return PLAIN_ELSEWHERE, xy, no
+    return status, xy, triangles
 
 
 @kernel
@@ -124,17 +120,12 @@ def plain_polygon_route(coords, merge_distance):
     """:func:`plain_ring_route` of any polygon, by the general route
     (:func:`.pipeline.rings_route`): PLAIN_DONE or PLAIN_REFUSED."""
     no = np.empty((0, 3), np.int64)
-    status, xy, ring_start = plain_rings(coords, merge_distance, np.int64(coords.shape[0]),
-                                         np.int64(coords.shape[0]))
+    status, xy, x, y, ring_start = plain_rings(coords, merge_distance, np.int64(coords.shape[0]),
+                                               np.int64(coords.shape[0]))
     if status != PLAIN_DONE:
         return status, xy, no
     rings = ring_start.shape[0] - 1
     n = xy.shape[0]
-    x = np.empty(n)
-    y = np.empty(n)
-    for i in range(n):
-        x[i] = xy[i, 0]
-        y[i] = xy[i, 1]
     ring_is_hole = np.ones(rings, np.bool_)
     ring_is_hole[0] = False
     degenerate, status, counts, out = rings_route(x, y, ring_start, np.int64(0), np.int64(rings),
@@ -151,11 +142,6 @@ def plain_polygon_route(coords, merge_distance):
     return PLAIN_DONE, vertices, triangles
 
 
-EARS_DONE = 0           # the triangles are the constrained Delaunay triangulation
-EARS_NOT_SIMPLE = 1     # the ring is not simple: not plainly valid
-EARS_ELSEWHERE = 2      # out of the predicates' range, or out of ear tests: the general route
-
-
 @kernel
 def ear_route(x, y):
     """The constrained Delaunay triangulation of the polygon of one ring,
@@ -164,20 +150,22 @@ def ear_route(x, y):
     flipped until every edge that is not on the ring is locally Delaunay (the
     modified flip algorithm, Sec. 2.10.3), with the same perturbed in-circle
     test as the general route, so the same triangles: ``(status, triangles)``,
-    each triangle counter-clockwise from its smallest vertex id."""
+    each triangle counter-clockwise from its smallest vertex id; PLAIN_REFUSED
+    for a ring that is not simple, PLAIN_ELSEWHERE for one out of the
+    predicates' range or out of ear tests."""
     n = x.shape[0]
     no = np.empty((0, 3), np.int64)
     shift, _, _ = fit_shift(x, y, np.empty(0))
     if shift == NO_FIT:
-        return EARS_ELSEWHERE, no
+        return PLAIN_ELSEWHERE, no
     if shift != 0:
         x = scaled(x, shift)
         y = scaled(y, shift)
     if not ring_is_simple(x, y):
-        return EARS_NOT_SIMPLE, no
+        return PLAIN_REFUSED, no
     done, tri, twin, cons = ear_store(x, y, counter_clockwise(x, y), np.int64(EAR_WORK * n))
     if not done:
-        return EARS_ELSEWHERE, no
+        return PLAIN_ELSEWHERE, no
     k = n - 2
     flip_to_delaunay(tri, twin, cons, x, y, x, np.bool_(False), np.int64(n), np.int64(k))
     triangles = np.empty((k, 3), np.int64)
@@ -185,7 +173,7 @@ def ear_route(x, y):
         r = min_first(tri[3 * t], tri[3 * t + 1], tri[3 * t + 2])
         for j in range(3):
             triangles[t, j] = tri[3 * t + (j + r) % 3]
-    return EARS_DONE, triangles
+    return PLAIN_DONE, triangles
 
 
 @entry

@@ -14,7 +14,7 @@ shapely = pytest.importorskip("shapely")
 
 import cdt_plugin  # noqa: E402
 from cdt_plugin._core.ordering import SMALL_SORT  # noqa: E402
-from cdt_plugin._core.plain import EAR_RING_MAX, EARS_DONE, ear_route  # noqa: E402
+from cdt_plugin._core.plain import EAR_RING_MAX, PLAIN_DONE, ear_route  # noqa: E402
 from cdt_plugin._core.rings import closed_rings  # noqa: E402
 from cdt_plugin.adapters.shapely import constrained_delaunay_triangles  # noqa: E402
 from cdt_plugin.adapters.shapely import validity  # noqa: E402
@@ -135,7 +135,7 @@ def test_the_ear_route_gives_the_constrained_delaunay_triangulation():
                 assert_valid(plain[0], plain[1], segments=tri.segments, domain="segments")
                 if len(plain[0]) <= EAR_RING_MAX:       # (taken by the ear route itself)
                     status, triangles = ear_route(plain[0][:, 0].copy(), plain[0][:, 1].copy())
-                    assert status == EARS_DONE and same_triangles(triangles, tri.triangles)
+                    assert status == PLAIN_DONE and same_triangles(triangles, tri.triangles)
     assert taken > 400
 
 
